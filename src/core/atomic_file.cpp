@@ -1,0 +1,70 @@
+#include "inhap/core/atomic_file.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap {
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  tmp_ = path_ + ".tmp." + std::to_string(::getpid());
+  errno = 0;
+  file_ = std::fopen(tmp_.c_str(), "wb");
+  if (!file_) throw IoError(path_, "cannot open for writing");
+  static thread_local char buffer[1 << 16];
+  std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_) {
+    std::fclose(file_);
+    std::remove(tmp_.c_str());
+  }
+}
+
+void AtomicFile::write(std::string_view bytes) { write(bytes.data(), bytes.size()); }
+
+void AtomicFile::write(const void* data, std::size_t size) {
+  if (size == 0) return;
+  errno = 0;
+  if (std::fwrite(data, 1, size, file_) != size) throw IoError(path_, "write failed");
+}
+
+void AtomicFile::commit() {
+  errno = 0;
+  bool ok = std::fflush(file_) == 0;
+  ok = (std::fclose(file_) == 0) && ok;
+  file_ = nullptr;
+  if (!ok) {
+    std::remove(tmp_.c_str());
+    throw IoError(path_, "write failed");
+  }
+  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+    std::remove(tmp_.c_str());
+    throw IoError(path_, "cannot rename temporary file onto");
+  }
+}
+
+void write_file_atomic(const std::string& path, std::string_view content) {
+  AtomicFile f(path);
+  f.write(content);
+  f.commit();
+}
+
+std::string read_file(const std::string& path) {
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw IoError(path, "read failed");
+  return ss.str();
+}
+
+}  // namespace inhap
