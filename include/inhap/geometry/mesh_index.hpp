@@ -1,0 +1,69 @@
+// Spatial queries on a triangle mesh: first hit of a segment and closest point on the surface.
+// Units: mm. Queries are const, thread-safe, allocation-free and exception-free (servo-ready).
+// A query against a mesh translated by t is answered by querying with (point - t): the index
+// never needs rebuilding for a rigid translation (TCA-MESH relies on this).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "inhap/geometry/trimesh.hpp"
+
+namespace inhap {
+
+/// A point on the surface: triangle id and barycentric weights of its vertices t[0], t[1], t[2]
+/// (bary sums to 1; point = sum bary[i] * positions[t[i]]).
+struct SurfacePoint {
+  std::int32_t triangle = -1;  ///< -1: none
+  Vec3 bary = Vec3::Zero();
+  Vec3 point = Vec3::Zero();
+  bool valid() const { return triangle >= 0; }
+};
+
+struct SegmentHit : SurfacePoint {
+  double t = 0;           ///< segment parameter in [0, 1] (point = a + t (b - a))
+  bool entering = false;  ///< the segment goes against the face normal (from outside to inside)
+};
+
+struct ClosestPoint : SurfacePoint {
+  double distance2 = std::numeric_limits<double>::infinity();  ///< squared distance, mm^2
+};
+
+/// Bounding-volume hierarchy over the triangles of a mesh (binned SAH build, flat node array,
+/// triangle data stored in leaf order for cache locality). Keeps its own copy of the geometry;
+/// the mesh may be destroyed afterwards.
+class MeshIndex {
+ public:
+  MeshIndex() = default;
+  explicit MeshIndex(const TriMesh& mesh);
+
+  /// First intersection of the closed segment a->b with the surface (smallest t), any face
+  /// orientation. Degenerate segments (a == b) return nullopt.
+  std::optional<SegmentHit> first_hit(const Vec3& a, const Vec3& b) const;
+  /// True if the segment intersects the surface anywhere.
+  bool any_hit(const Vec3& a, const Vec3& b) const;
+  /// Closest surface point to p; triangle == -1 when none lies within max_distance (mm).
+  ClosestPoint closest_point(const Vec3& p,
+                             double max_distance = std::numeric_limits<double>::infinity()) const;
+
+  std::size_t num_triangles() const { return tri_ids_.size(); }
+  Box3 bounds() const;
+  std::size_t memory_bytes() const;
+
+ private:
+  struct Node {
+    float lo[3], hi[3];     // bounds (float, conservatively rounded outwards)
+    std::int32_t first;     // leaf: first triangle slot; inner: index of the right child
+    std::int32_t count;     // leaf: number of triangles (>0); inner: 0 (left child = this + 1)
+  };
+  struct TriData {
+    Vec3 v0, e1, e2;  // v1 = v0 + e1, v2 = v0 + e2
+  };
+  std::vector<Node> nodes_;
+  std::vector<TriData> tris_;            // leaf order
+  std::vector<std::int32_t> tri_ids_;    // leaf slot -> original triangle id
+};
+
+}  // namespace inhap
