@@ -11,6 +11,7 @@
 #include <string>
 
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 #include "inhap/geometry/volume.hpp"
 #include "support/temp_dir.hpp"
 
@@ -247,4 +248,32 @@ TEST(Volume, CtHeadGivesOneBigSkinComponentWithStiffnessInRange) {
   const auto [lo, hi] = std::minmax_element(k.begin(), k.end());
   EXPECT_NEAR(*lo, 0.4, 1e-12);
   EXPECT_NEAR(*hi, 1.0, 1e-12);
+}
+
+TEST(Volume, CommandWritesAScaledHeadMesh) {
+  test::TempDir dir;
+  const Vec3 c(20, 20, 20), cb(23, 20, 20);
+  const auto header = write_volume(dir, 41, 41, 41, Vec3(1.0, 1.0, 1.0), [&](const Vec3& p) {
+    return std::max(std::min(500 + 40 * (15 - (p - c).norm()), 1100.0),
+                    1150 + 300 * (7 - (p - cb).norm()));
+  });
+  const std::string out = dir.path("head.ply");
+  const std::string cmd = std::string(INHAP_CLI) + " mesh from-volume " + header +
+                          " --iso 500 --bone-iso 1150 --k-range 0.4 1.0 --fit-mm 100 --out " + out +
+                          " > " + dir.path("log.txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const TriMesh m = read_mesh(out);
+  EXPECT_NEAR(m.bbox().size().maxCoeff(), 100.0, 1e-6);
+  EXPECT_NEAR(m.bbox().min.minCoeff(), 0.0, 1e-6);
+  const auto& k = m.property("stiffness");
+  EXPECT_NEAR(*std::min_element(k.begin(), k.end()), 0.4, 1e-6);
+  // Skin-to-bone distances run from 5 to 11 mm: the nearest skin is 0.4 * d_far / 5 ~ 0.87 N/mm.
+  EXPECT_GT(*std::max_element(k.begin(), k.end()), 0.8);
+  EXPECT_LE(*std::max_element(k.begin(), k.end()), 1.0);
+  EXPECT_TRUE(m.has_property("bone_distance"));
+  EXPECT_GT(signed_volume(m), 0);
+  // Bad flags: one line naming what was expected, status 1.
+  const std::string bad = std::string(INHAP_CLI) + " mesh from-volume " + header +
+                          " --k-range 1.0 0.4 --out " + out + " 2> " + dir.path("err.txt");
+  EXPECT_NE(std::system(bad.c_str()), 0);
 }

@@ -98,14 +98,15 @@ TEST(Participant, FlatUniformPlaneIsFlatAndSame) {
 }
 
 TEST(Participant, SameAnswerRateOnUniformPlaneFollowsTheWeberFraction) {
-  // With per-tap noise sigma = ln(1.22) / (0.6745 sqrt 2) and 2 + 2 taps, "same" is answered
-  // with probability P(|N(0, sigma)| < ln 1.22) = P(|z| < 0.954) = 0.66.
+  // With per-tap noise sigma = ln(1.22) / (0.6745 sqrt 2) = 0.209 and 3 + 3 taps the centre-minus-
+  // surround log ratio has SD 0.209 sqrt(2/3) = 0.171, so "same" is answered with probability
+  // P(|z| < ln(1.22) / 0.171) = P(|z| < 1.164) = 0.756.
   const Model plane = plane_model(0.5, 0.0);
   VirtualParticipant vp(no_lapse(5));
-  int same = 0, n = 60;
+  int same = 0, n = 100;
   for (int i = 0; i < n; ++i)
     same += run_session(vp, vp, plane, Algorithm::kCBA, one_cell(Task::kStiffness)).labels[0] == 0;
-  EXPECT_NEAR(double(same) / n, 0.66, 0.2);
+  EXPECT_NEAR(double(same) / n, 0.756, 0.12);
 }
 
 TEST(Participant, RigidThreeMillimetreBumpIsABump) {

@@ -37,7 +37,7 @@ struct ParticipantProfile {
   std::array<double, 4> fluctuation_phase{0, 1.6, 3.1, 4.7};         ///< rad
   int strokes_per_model = 3;  ///< strokes through the centre, in as many directions
   double stroke_half_length_mm = 13.5;
-  int taps_per_site = 2;  ///< taps at the centre and at the surround each
+  int taps_per_site = 3;  ///< taps at the centre and at the surround each
   double tap_speed_mm_s = 40;
   double surround_tap_radius_mm = 11;
   double aim_sd_mm = 0.4;         ///< SD of where a stroke or tap lands around the aim
