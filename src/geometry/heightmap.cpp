@@ -116,8 +116,8 @@ Grid read_pgm(const std::string& path, const std::string& data) {
 }  // namespace
 
 Grid read_grid(const std::string& path) {
-  // TODO(wsxm): dispatch .top files to read_wsxm_top once it lands.
   std::string data = read_file(path);
+  if (data.rfind("WSxM file copyright", 0) == 0) return read_wsxm_top(path);  // AFM topography
   if (data.empty()) throw ParseError(path, 0, "empty file: expected a height/stiffness grid (CSV or PGM)");
   if (data.size() >= 2 && data[0] == 'P' && (data[1] == '2' || data[1] == '5')) return read_pgm(path, data);
   if (data.size() >= 2 && data[0] == 'P')
