@@ -56,6 +56,14 @@ TEST(Wsxm, ReadsSamplesRowMajorScaledToZAmplitude) {
   EXPECT_DOUBLE_EQ(g.max() - g.min(), 10.0);
 }
 
+TEST(Wsxm, ReadGridRecognisesWsxmFiles) {
+  test::TempDir dir;
+  const auto path = write_top(dir, "g.top", 2, 2, {0, 100, 200, 1000});
+  Grid g = read_grid(path);
+  ASSERT_EQ(g.width, 2);
+  EXPECT_DOUBLE_EQ(g.at(1, 1), 10.0);
+}
+
 TEST(Wsxm, WithoutAmplitudeKeepsRawLevels) {
   test::TempDir dir;
   const auto path = write_top(dir, "b.top", 2, 1, {-7, 12}, "Comments: none\r\n");
