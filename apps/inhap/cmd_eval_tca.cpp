@@ -136,6 +136,7 @@ nlohmann::json condition_json(const render::ConditionSummary& c) {
   j["sd_trials"] = c.sd_trials;
   j["per_participant"] = c.per_participant;
   j["model_correct_ratio"] = c.model_ratio;
+  j["mean_time_s"] = c.mean_time_s;
   return j;
 }
 
@@ -183,6 +184,9 @@ void run_eval_tca(EvalTcaOptions o) {
              tk.sd_participants, ck.mean, ck.sd_participants, "22.7 / 22.7");
   fmt::print("{:<28} {:>14.3f} {:>14.3f}\n", "distortion RMS (mm)", ts.distortion_rms_mm,
              cs.distortion_rms_mm);
+  fmt::print("{:<28} {:>6.0f} / {:<6.0f} {:>6.0f} / {:<6.0f} {:>16}\n",
+             "trial time shape/stiff. (s)", ts.mean_time_s, tk.mean_time_s, cs.mean_time_s,
+             ck.mean_time_s, "163/119 211/114");
   fmt::print("CBA confused models (ratio < 0.5): {}\n", fmt::join(confused, " "));
   fmt::print("TCA confused models:               {}\n",
              tca_confused.empty() ? "none" : fmt::format("{}", fmt::join(tca_confused, " ")));

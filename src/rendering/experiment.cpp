@@ -216,9 +216,11 @@ StudySummary summarize(const std::vector<TrialResult>& results) {
           right[m] += r.answer[m] == truth;
         }
         sq += r.session.distortion_sq_sum;
+        c.mean_time_s += r.time_s;
         c.distortion_samples += r.session.distortion_samples;
       }
       if (c.trials == 0) continue;
+      c.mean_time_s /= c.trials;
       for (const auto& [p, v] : by_participant)
         c.per_participant.push_back(std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()));
       c.mean = std::accumulate(c.per_participant.begin(), c.per_participant.end(), 0.0) /

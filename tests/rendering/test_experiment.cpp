@@ -184,6 +184,7 @@ TEST(Experiment, SummaryMeansSdsAndModelRatios) {
     r.correct = correct;
     r.session.distortion_sq_sum = 4.0;
     r.session.distortion_samples = 100;
+    r.time_s = 100.0 + correct;
     return r;
   };
   rs.push_back(make(0, 25, {}));
@@ -203,5 +204,6 @@ TEST(Experiment, SummaryMeansSdsAndModelRatios) {
   EXPECT_EQ(s.misjudged_models(Algorithm::kCBA, Task::kShape), (std::vector<int>{2}));
   EXPECT_EQ(s.misjudged_models(Algorithm::kCBA, Task::kShape, 0.6), (std::vector<int>{1, 2, 3, 4}));
   EXPECT_NEAR(c.distortion_rms_mm, 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(c.mean_time_s, 122.5);
   EXPECT_THROW(s.get(Algorithm::kTCA, Task::kShape), Error);
 }

@@ -142,6 +142,7 @@ struct ConditionSummary {
   double sd_trials = 0;        ///< SD over all trials
   std::vector<double> per_participant;
   std::array<double, kNumModels> model_ratio{};  ///< fraction of trials model M was right
+  double mean_time_s = 0;                        ///< mean trial completion time (simulated), s
   double distortion_rms_mm = 0;                  ///< shape task: RMS over strokes on K1-K4 models
   long distortion_samples = 0;
 };
