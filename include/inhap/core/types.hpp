@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <limits>
 #include <cstdint>
 
 namespace inhap {
