@@ -1,0 +1,545 @@
+// Bounding-volume hierarchy over a triangle mesh: binned SAH build, allocation-free queries.
+// Units: mm. See docs/spatial-queries.md for the algorithms and their guarantees.
+#include "inhap/geometry/mesh_index.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "inhap/core/error.hpp"
+
+// The watertight segment/triangle test relies on the edge function of a shared edge being the
+// exact negation in both triangles (a*b - c*d vs c*d - a*b). A fused multiply-add would round
+// the two differently, so CMakeLists.txt compiles this file with -ffp-contract=off (a pragma
+// would stop GCC from inlining Eigen into this file).
+
+namespace inhap {
+namespace {
+
+constexpr int kBins = 16;
+constexpr int kMaxLeaf = 4;
+// SAH splits down to this depth, then object-median splits (halving the count each level), so
+// the depth never exceeds kSahDepth + 32 and the traversal stack never overflows.
+constexpr int kSahDepth = 40;
+constexpr int kStackSize = 96;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Ize (2013): relative error bound of a slab-test parameter, 2 * gamma(3).
+constexpr double kSlabSlack = 2.0 * 3.0 * std::numeric_limits<double>::epsilon();
+
+// Float bounds rounded outwards, then one more ulp outwards so that no vertex lies exactly on
+// a box face (keeps the slab test conservative for axis-parallel segments).
+float round_down(double x) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (x > kMax) return std::numeric_limits<float>::max();
+  if (x < -kMax) return -std::numeric_limits<float>::infinity();
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return std::nextafter(f, -std::numeric_limits<float>::infinity());
+}
+float round_up(double x) {
+  return -round_down(-x);
+}
+
+struct Aabb {
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  void grow(const Vec3& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  void grow(const Aabb& b) {
+    lo = lo.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  double half_area() const {
+    if (lo.x() > hi.x()) return 0;
+    const Vec3 d = hi - lo;
+    return d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
+  }
+};
+
+struct BuildNode {
+  float lo[3], hi[3];
+  std::int32_t first, count;
+};
+
+// Top-down binned SAH builder over a permutation of the triangle ids.
+class Builder {
+ public:
+  Builder(std::vector<Aabb> boxes, std::vector<Vec3> centroids)
+      : boxes_(std::move(boxes)), centroids_(std::move(centroids)) {
+    order_.resize(boxes_.size());
+    for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = static_cast<std::int32_t>(i);
+    nodes_.reserve(2 * order_.size());
+  }
+  void run() {
+    if (!order_.empty()) build(0, static_cast<std::int32_t>(order_.size()), 0);
+  }
+  std::vector<BuildNode> nodes_;
+  std::vector<std::int32_t> order_;
+  int max_depth_ = 0;
+
+ private:
+  struct Split {
+    int axis = -1, bin = 0;
+    double cost = kInf;
+  };
+  struct Bin {
+    Aabb box;
+    std::int32_t count = 0;
+  };
+
+  int bin_of(const Vec3& c, int axis, const Aabb& cb) const {
+    const double extent = cb.hi[axis] - cb.lo[axis];
+    const int b = static_cast<int>(kBins * ((c[axis] - cb.lo[axis]) / extent));
+    return std::clamp(b, 0, kBins - 1);
+  }
+
+  Split best_sah_split(std::int32_t begin, std::int32_t end, const Aabb& cb) const {
+    Split best;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(cb.hi[axis] > cb.lo[axis])) continue;
+      std::array<Bin, kBins> bins{};
+      for (std::int32_t i = begin; i < end; ++i) {
+        Bin& b = bins[bin_of(centroids_[order_[i]], axis, cb)];
+        b.box.grow(boxes_[order_[i]]);
+        ++b.count;
+      }
+      std::array<double, kBins> right_cost{};
+      Aabb acc;
+      std::int32_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.grow(bins[b].box);
+        n += bins[b].count;
+        right_cost[b] = n ? acc.half_area() * n : kInf;
+      }
+      acc = Aabb{};
+      n = 0;
+      for (int b = 0; b < kBins - 1; ++b) {  // split between bin b and b + 1
+        acc.grow(bins[b].box);
+        n += bins[b].count;
+        if (n == 0) continue;
+        const double cost = acc.half_area() * n + right_cost[b + 1];
+        if (cost < best.cost) best = {axis, b + 1, cost};
+      }
+    }
+    return best;
+  }
+
+  // Returns the first index of the right half.
+  std::int32_t split(std::int32_t begin, std::int32_t end, const Aabb& cb, int depth) {
+    if (depth < kSahDepth) {
+      const Split s = best_sah_split(begin, end, cb);
+      if (s.axis >= 0) {
+        auto* mid = std::partition(order_.data() + begin, order_.data() + end, [&](std::int32_t t) {
+          return bin_of(centroids_[t], s.axis, cb) < s.bin;
+        });
+        const auto m = static_cast<std::int32_t>(mid - order_.data());
+        if (m > begin && m < end) return m;
+      }
+    }
+    // Object median along the widest centroid axis (also handles identical centroids).
+    int axis = 0;
+    const Vec3 ext = cb.hi - cb.lo;
+    if (ext.y() > ext[axis]) axis = 1;
+    if (ext.z() > ext[axis]) axis = 2;
+    const std::int32_t m = begin + (end - begin) / 2;
+    std::nth_element(
+        order_.data() + begin, order_.data() + m, order_.data() + end,
+        [&](std::int32_t a, std::int32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
+    return m;
+  }
+
+  void build(std::int32_t begin, std::int32_t end, int depth) {
+    max_depth_ = std::max(max_depth_, depth);
+    Aabb box, cb;
+    for (std::int32_t i = begin; i < end; ++i) {
+      box.grow(boxes_[order_[i]]);
+      cb.grow(centroids_[order_[i]]);
+    }
+    const auto self = nodes_.size();
+    BuildNode node{};
+    for (int k = 0; k < 3; ++k) {
+      node.lo[k] = round_down(box.lo[k]);
+      node.hi[k] = round_up(box.hi[k]);
+    }
+    if (end - begin <= kMaxLeaf) {
+      node.first = begin;
+      node.count = end - begin;
+      nodes_.push_back(node);
+      return;
+    }
+    node.count = 0;
+    nodes_.push_back(node);
+    const std::int32_t mid = split(begin, end, cb, depth);
+    build(begin, mid, depth + 1);  // left child = self + 1
+    nodes_[self].first = static_cast<std::int32_t>(nodes_.size());
+    build(mid, end, depth + 1);
+  }
+
+  std::vector<Aabb> boxes_;
+  std::vector<Vec3> centroids_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Segment a + t (b - a), prepared for the slab test and the watertight triangle test
+// (Woop, Benthin & Wald 2013: translate to the origin, permute so that z is the dominant
+// direction axis, shear so that the ray is the +z axis, then 2D edge functions).
+struct Ray {
+  Vec3 o, inv;
+  std::array<bool, 3> flat{};  // direction component ~0: slab test becomes "o inside the slab"
+  int kx = 0, ky = 1, kz = 2;
+  double sx = 0, sy = 0, sz = 1;
+
+  Ray(const Vec3& a, const Vec3& d) : o(a) {
+    for (int k = 0; k < 3; ++k) {
+      flat[k] = std::abs(d[k]) < 1e-300;
+      inv[k] = flat[k] ? 0.0 : 1.0 / d[k];
+    }
+    const Vec3 ad = d.cwiseAbs();
+    kz = ad.x() > ad.y() ? (ad.x() > ad.z() ? 0 : 2) : (ad.y() > ad.z() ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
+    sx = d[kx] / d[kz];
+    sy = d[ky] / d[kz];
+    sz = 1.0 / d[kz];
+  }
+};
+
+// Slab test of the segment restricted to t in [0, tmax]; tnear is the entry parameter.
+template <class N>
+inline bool hit_box(const N& n, const Ray& r, double tmax, double& tnear) {
+  double t0 = 0, t1 = tmax;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = n.lo[k], hi = n.hi[k];
+    if (r.flat[k]) {
+      if (r.o[k] < lo || r.o[k] > hi) return false;
+      continue;
+    }
+    double a = (lo - r.o[k]) * r.inv[k], b = (hi - r.o[k]) * r.inv[k];
+    if (a > b) std::swap(a, b);
+    b += kSlabSlack * std::abs(b);
+    t0 = a > t0 ? a : t0;
+    t1 = b < t1 ? b : t1;
+  }
+  tnear = t0;
+  return t0 <= t1;
+}
+
+struct TriHit {
+  double t, u, v, w;
+};
+
+// Watertight test; accepts t in [0, tmax]. u, v, w are the weights of v0, v1, v2.
+template <class T>
+inline bool hit_triangle(const T& tri, const Ray& r, double tmax, TriHit& h) {
+  const Vec3 A = tri.v0 - r.o, B = tri.v1 - r.o, C = tri.v2 - r.o;
+  const double ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
+  const double bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
+  const double cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+  // Edge functions, all in the form qx * py - qy * px for the directed edge p -> q, so that a
+  // shared edge gives exactly opposite values in its two triangles. Zero counts as inside.
+  const double u = cx * by - cy * bx;  // edge v1 -> v2
+  const double v = ax * cy - ay * cx;  // edge v2 -> v0
+  const double w = bx * ay - by * ax;  // edge v0 -> v1
+  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return false;
+  const double det = u + v + w;
+  if (det == 0 || !std::isfinite(det)) return false;
+  const double tt = u * (r.sz * A[r.kz]) + v * (r.sz * B[r.kz]) + w * (r.sz * C[r.kz]);
+  const double t = tt / det;
+  if (!(t >= 0 && t <= tmax)) return false;
+  h = {t, u / det, v / det, w / det};
+  return true;
+}
+
+// Closest point on segment p0 p1 to p: parameter in [0, 1].
+inline double closest_on_segment(const Vec3& p, const Vec3& p0, const Vec3& p1) {
+  const Vec3 e = p1 - p0;
+  const double len2 = e.squaredNorm();
+  return len2 > 0 ? std::clamp((p - p0).dot(e) / len2, 0.0, 1.0) : 0.0;
+}
+
+// Zero-area triangle: closest point over its three edges.
+template <class T>
+Vec3 closest_bary_degenerate(const Vec3& p, const T& tri) {
+  const Vec3* v[3] = {&tri.v0, &tri.v1, &tri.v2};
+  Vec3 best(1, 0, 0);
+  double best_d2 = kInf;
+  for (int e = 0; e < 3; ++e) {
+    const int i = e, j = (e + 1) % 3;
+    const double s = closest_on_segment(p, *v[i], *v[j]);
+    const double d2 = (p - ((1 - s) * *v[i] + s * *v[j])).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best.setZero();
+      best[i] = 1 - s;
+      best[j] = s;
+    }
+  }
+  return best;
+}
+
+// Barycentric weights of the point of the triangle closest to p: Voronoi regions of the
+// vertices, then of the edges, else the face (Ericson, Real-Time Collision Detection 5.1.5).
+template <class T>
+Vec3 closest_bary(const Vec3& p, const T& tri) {
+  const Vec3 ab = tri.v1 - tri.v0, ac = tri.v2 - tri.v0;
+  if (ab.cross(ac).squaredNorm() == 0) return closest_bary_degenerate(p, tri);
+  const Vec3 ap = p - tri.v0;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const Vec3 bp = p - tri.v1;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double s = d1 / (d1 - d3);
+    return {1 - s, s, 0};
+  }
+  const Vec3 cp = p - tri.v2;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double s = d2 / (d2 - d6);
+    return {1 - s, 0, s};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double s = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - s, s};
+  }
+  const double denom = va + vb + vc;
+  if (!(denom > 0)) return closest_bary_degenerate(p, tri);
+  const double v = vb / denom, w = vc / denom;
+  return {1 - v - w, v, w};
+}
+
+// Squared distance from p to a box (0 inside).
+template <class N>
+inline double box_distance2(const N& n, const Vec3& p) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = n.lo[k], hi = n.hi[k];
+    const double d = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+MeshIndex::MeshIndex(const TriMesh& mesh) {
+  const std::size_t nf = mesh.triangles.size();
+  const auto nv = static_cast<std::int64_t>(mesh.positions.size());
+  std::vector<Aabb> boxes(nf);
+  std::vector<Vec3> centroids(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t i = mesh.triangles[f][c];
+      if (i < 0 || i >= nv)
+        throw Error(
+            fmt::format("MeshIndex: face {}: vertex index {} out of range [0, {})", f, i, nv));
+      const Vec3& p = mesh.positions[i];
+      if (!p.allFinite())
+        throw Error(fmt::format("MeshIndex: face {}: vertex {} is not finite ({}, {}, {})", f, i,
+                                p.x(), p.y(), p.z()));
+      boxes[f].grow(p);
+      bounds_.extend(p);
+    }
+    centroids[f] = 0.5 * (boxes[f].lo + boxes[f].hi);
+  }
+  Builder builder(std::move(boxes), std::move(centroids));
+  builder.run();
+  assert(builder.max_depth_ + 1 < kStackSize);
+
+  nodes_.resize(builder.nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const BuildNode& b = builder.nodes_[i];
+    Node& n = nodes_[i];
+    std::copy(b.lo, b.lo + 3, n.lo);
+    std::copy(b.hi, b.hi + 3, n.hi);
+    n.first = b.first;
+    n.count = b.count;
+  }
+  tri_ids_ = std::move(builder.order_);
+  tris_.resize(nf);
+  for (std::size_t s = 0; s < nf; ++s) {
+    const Tri& t = mesh.triangles[tri_ids_[s]];
+    tris_[s] = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+  }
+}
+
+Box3 MeshIndex::bounds() const {
+  return bounds_;
+}
+
+std::size_t MeshIndex::memory_bytes() const {
+  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + tris_.capacity() * sizeof(TriData) +
+         tri_ids_.capacity() * sizeof(std::int32_t);
+}
+
+std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) const {
+  if (nodes_.empty() || !a.allFinite() || !b.allFinite() || a == b) return std::nullopt;
+  const Vec3 d = b - a;
+  if (!d.allFinite()) return std::nullopt;
+  const Ray ray(a, d);
+  struct Entry {
+    std::int32_t node;
+    double tnear;
+  };
+  Entry stack[kStackSize];
+  int sp = 0;
+  double best_t = 1.0;
+  std::int32_t best_slot = -1;
+  TriHit best{};
+  double tnear = 0;
+  std::int32_t node = 0;
+  if (!hit_box(nodes_[0], ray, best_t, tnear)) return std::nullopt;
+  auto pop = [&] {  // next subtree that can still hold a nearer hit
+    while (sp > 0) {
+      const Entry& e = stack[--sp];
+      if (e.tnear <= best_t) {
+        node = e.node;
+        return true;
+      }
+    }
+    return false;
+  };
+  for (;;) {
+    const Node& n = nodes_[node];
+    if (n.count > 0) {
+      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+        TriHit h;
+        if (hit_triangle(tris_[s], ray, best_t, h) && (best_slot < 0 || h.t < best_t)) {
+          best = h;
+          best_t = h.t;
+          best_slot = s;
+        }
+      }
+    } else {
+      std::int32_t l = node + 1, r = n.first;
+      double tl = 0, tr = 0;
+      const bool hl = hit_box(nodes_[l], ray, best_t, tl);
+      const bool hr = hit_box(nodes_[r], ray, best_t, tr);
+      if (hl && hr) {
+        if (tr < tl) {
+          std::swap(l, r);
+          std::swap(tl, tr);
+        }
+        stack[sp++] = {r, tr};  // far child later, near child now
+        node = l;
+        continue;
+      }
+      if (hl || hr) {
+        node = hl ? l : r;
+        continue;
+      }
+    }
+    if (!pop()) break;
+  }
+  if (best_slot < 0) return std::nullopt;
+  const TriData& tri = tris_[best_slot];
+  SegmentHit hit;
+  hit.triangle = tri_ids_[best_slot];
+  hit.bary = Vec3(best.u, best.v, best.w);
+  hit.point = best.u * tri.v0 + best.v * tri.v1 + best.w * tri.v2;
+  hit.t = best.t;
+  hit.entering = d.dot((tri.v1 - tri.v0).cross(tri.v2 - tri.v0)) < 0;
+  return hit;
+}
+
+bool MeshIndex::any_hit(const Vec3& a, const Vec3& b) const {
+  if (nodes_.empty() || !a.allFinite() || !b.allFinite() || a == b) return false;
+  const Vec3 d = b - a;
+  if (!d.allFinite()) return false;
+  const Ray ray(a, d);
+  std::int32_t stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const std::int32_t node = stack[--sp];
+    const Node& n = nodes_[node];
+    double tnear;
+    if (!hit_box(n, ray, 1.0, tnear)) continue;
+    if (n.count > 0) {
+      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+        TriHit h;
+        if (hit_triangle(tris_[s], ray, 1.0, h)) return true;
+      }
+    } else {
+      stack[sp++] = n.first;
+      stack[sp++] = node + 1;
+    }
+  }
+  return false;
+}
+
+ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const {
+  ClosestPoint out;
+  if (nodes_.empty() || !p.allFinite() || !(max_distance >= 0)) return out;
+  struct Entry {
+    std::int32_t node;
+    double d2;
+  };
+  Entry stack[kStackSize];
+  int sp = 0;
+  double best_d2 = max_distance * max_distance;
+  std::int32_t best_slot = -1;
+  Vec3 best_bary = Vec3::Zero();
+  std::int32_t node = 0;
+  if (box_distance2(nodes_[0], p) > best_d2) return out;
+  auto pop = [&] {  // next subtree that can still hold a nearer point
+    while (sp > 0) {
+      const Entry& e = stack[--sp];
+      if (e.d2 <= best_d2) {
+        node = e.node;
+        return true;
+      }
+    }
+    return false;
+  };
+  for (;;) {
+    const Node& n = nodes_[node];
+    if (n.count > 0) {
+      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+        const TriData& tri = tris_[s];
+        const Vec3 w = closest_bary(p, tri);
+        const double d2 = (p - (w[0] * tri.v0 + w[1] * tri.v1 + w[2] * tri.v2)).squaredNorm();
+        if (d2 < best_d2 || (best_slot < 0 && d2 <= best_d2)) {
+          best_d2 = d2;
+          best_slot = s;
+          best_bary = w;
+        }
+      }
+    } else {
+      std::int32_t l = node + 1, r = n.first;
+      double dl = box_distance2(nodes_[l], p), dr = box_distance2(nodes_[r], p);
+      if (dr < dl) {
+        std::swap(l, r);
+        std::swap(dl, dr);
+      }
+      if (dl <= best_d2) {
+        if (dr <= best_d2) stack[sp++] = {r, dr};
+        node = l;
+        continue;
+      }
+    }
+    if (!pop()) break;
+  }
+  if (best_slot < 0) return out;
+  const TriData& tri = tris_[best_slot];
+  out.triangle = tri_ids_[best_slot];
+  out.bary = best_bary;
+  out.point = best_bary[0] * tri.v0 + best_bary[1] * tri.v1 + best_bary[2] * tri.v2;
+  out.distance2 = best_d2;
+  return out;
+}
+
+}  // namespace inhap
