@@ -185,6 +185,32 @@ class Builder {
   std::vector<Vec3> centroids_;
 };
 
+// Binary build nodes (left child = self + 1) -> nodes holding the boxes of both children, inner
+// nodes numbered in the same depth-first order. Empty when the root is a leaf.
+template <class N>
+std::vector<N> to_child_box_nodes(const std::vector<BuildNode>& bn) {
+  std::vector<std::int32_t> id(bn.size(), -1);
+  std::int32_t inner = 0;
+  for (std::size_t i = 0; i < bn.size(); ++i)
+    if (bn[i].count == 0) id[i] = inner++;
+  std::vector<N> nodes(static_cast<std::size_t>(inner));
+  for (std::size_t i = 0; i < bn.size(); ++i) {
+    if (bn[i].count != 0) continue;
+    N& n = nodes[id[i]];
+    const std::size_t kids[2] = {i + 1, static_cast<std::size_t>(bn[i].first)};
+    for (int c = 0; c < 2; ++c) {
+      const BuildNode& k = bn[kids[c]];
+      for (int a = 0; a < 3; ++a) {
+        n.lo[a][c] = k.lo[a];
+        n.hi[a][c] = k.hi[a];
+      }
+      n.child[c] = k.count > 0 ? k.first : id[kids[c]];
+      n.count[c] = k.count;
+    }
+  }
+  return nodes;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Segment a + t (b - a), prepared for the slab test and the watertight triangle test
 // (Woop, Benthin & Wald 2013: translate to the origin, permute so that z is the dominant
@@ -211,12 +237,14 @@ struct Ray {
   }
 };
 
-// Slab test of the segment restricted to t in [0, tmax]; tnear is the entry parameter.
+// Slab test of child c of node n for the segment restricted to t in [0, tmax]; tnear is the
+// entry parameter. Conservative: the boxes are padded and the exit parameter is enlarged by
+// its rounding-error bound (Ize 2013), so a box is never missed because of rounding.
 template <class N>
-inline bool hit_box(const N& n, const Ray& r, double tmax, double& tnear) {
+inline bool hit_box(const N& n, int c, const Ray& r, double tmax, double& tnear) {
   double t0 = 0, t1 = tmax;
   for (int k = 0; k < 3; ++k) {
-    const double lo = n.lo[k], hi = n.hi[k];
+    const double lo = n.lo[k][c], hi = n.hi[k][c];
     if (r.flat[k]) {
       if (r.o[k] < lo || r.o[k] > hi) return false;
       continue;
@@ -320,16 +348,55 @@ Vec3 closest_bary(const Vec3& p, const T& tri) {
   return {1 - v - w, v, w};
 }
 
-// Squared distance from p to a box (0 inside).
+// Squared distance from p to the box of child c of node n (0 inside).
 template <class N>
-inline double box_distance2(const N& n, const Vec3& p) {
+inline double box_distance2(const N& n, int c, const Vec3& p) {
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
-    const double lo = n.lo[k], hi = n.hi[k];
+    const double lo = n.lo[k][c], hi = n.hi[k][c];
     const double d = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
     d2 += d * d;
   }
   return d2;
+}
+
+// 0 or 1: the child whose box centre is nearer to p.
+template <class N>
+inline int nearer_centre(const N& n, const Vec3& p) {
+  double d0 = 0, d1 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double c0 = 0.5 * (double(n.lo[k][0]) + n.hi[k][0]) - p[k];
+    const double c1 = 0.5 * (double(n.lo[k][1]) + n.hi[k][1]) - p[k];
+    d0 += c0 * c0;
+    d1 += c1 * c1;
+  }
+  return d1 < d0 ? 1 : 0;
+}
+
+// A subtree: inner node `index` (count == 0) or the leaf of triangle slots [index, index+count).
+struct Ref {
+  std::int32_t index, count;
+};
+
+template <class N>
+inline Ref child_ref(const N& n, int c) {
+  return {n.child[c], n.count[c]};
+}
+
+// Starts loading a subtree that will probably be visited soon (a stack push).
+template <class N, class T>
+inline void prefetch(const std::vector<N>& nodes, const std::vector<T>& tris, Ref r) {
+#if defined(__GNUC__)
+  if (r.count == 0) {
+    __builtin_prefetch(&nodes[r.index]);
+  } else {
+    const char* p = reinterpret_cast<const char*>(&tris[r.index]);
+    const char* end = reinterpret_cast<const char*>(&tris[r.index] + r.count);
+    for (; p < end; p += 64) __builtin_prefetch(p);
+  }
+#else
+  (void)nodes, (void)tris, (void)r;
+#endif
 }
 
 }  // namespace
@@ -358,16 +425,7 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
   Builder builder(std::move(boxes), std::move(centroids));
   builder.run();
   assert(builder.max_depth_ + 1 < kStackSize);
-
-  nodes_.resize(builder.nodes_.size());
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    const BuildNode& b = builder.nodes_[i];
-    Node& n = nodes_[i];
-    std::copy(b.lo, b.lo + 3, n.lo);
-    std::copy(b.hi, b.hi + 3, n.hi);
-    n.first = b.first;
-    n.count = b.count;
-  }
+  nodes_ = to_child_box_nodes<Node>(builder.nodes_);
   tri_ids_ = std::move(builder.order_);
   tris_.resize(nf);
   for (std::size_t s = 0; s < nf; ++s) {
@@ -386,12 +444,12 @@ std::size_t MeshIndex::memory_bytes() const {
 }
 
 std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) const {
-  if (nodes_.empty() || !a.allFinite() || !b.allFinite() || a == b) return std::nullopt;
+  if (tris_.empty() || !a.allFinite() || !b.allFinite() || a == b) return std::nullopt;
   const Vec3 d = b - a;
   if (!d.allFinite()) return std::nullopt;
   const Ray ray(a, d);
   struct Entry {
-    std::int32_t node;
+    Ref ref;
     double tnear;
   };
   Entry stack[kStackSize];
@@ -399,23 +457,20 @@ std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) con
   double best_t = 1.0;
   std::int32_t best_slot = -1;
   TriHit best{};
-  double tnear = 0;
-  std::int32_t node = 0;
-  if (!hit_box(nodes_[0], ray, best_t, tnear)) return std::nullopt;
+  Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
   auto pop = [&] {  // next subtree that can still hold a nearer hit
     while (sp > 0) {
       const Entry& e = stack[--sp];
       if (e.tnear <= best_t) {
-        node = e.node;
+        cur = e.ref;
         return true;
       }
     }
     return false;
   };
   for (;;) {
-    const Node& n = nodes_[node];
-    if (n.count > 0) {
-      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+    if (cur.count > 0) {
+      for (std::int32_t s = cur.index; s < cur.index + cur.count; ++s) {
         TriHit h;
         if (hit_triangle(tris_[s], ray, best_t, h) && (best_slot < 0 || h.t < best_t)) {
           best = h;
@@ -424,21 +479,17 @@ std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) con
         }
       }
     } else {
-      std::int32_t l = node + 1, r = n.first;
-      double tl = 0, tr = 0;
-      const bool hl = hit_box(nodes_[l], ray, best_t, tl);
-      const bool hr = hit_box(nodes_[r], ray, best_t, tr);
-      if (hl && hr) {
-        if (tr < tl) {
-          std::swap(l, r);
-          std::swap(tl, tr);
+      const Node& n = nodes_[cur.index];
+      double t[2] = {0, 0};
+      const bool h0 = hit_box(n, 0, ray, best_t, t[0]);
+      const bool h1 = hit_box(n, 1, ray, best_t, t[1]);
+      if (h0 || h1) {
+        const int near = h0 && (!h1 || t[0] <= t[1]) ? 0 : 1;
+        if (h0 && h1) {  // far child later, near child now
+          stack[sp++] = {child_ref(n, 1 - near), t[1 - near]};
+          prefetch(nodes_, tris_, stack[sp - 1].ref);
         }
-        stack[sp++] = {r, tr};  // far child later, near child now
-        node = l;
-        continue;
-      }
-      if (hl || hr) {
-        node = hl ? l : r;
+        cur = child_ref(n, near);
         continue;
       }
     }
@@ -456,36 +507,35 @@ std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) con
 }
 
 bool MeshIndex::any_hit(const Vec3& a, const Vec3& b) const {
-  if (nodes_.empty() || !a.allFinite() || !b.allFinite() || a == b) return false;
+  if (tris_.empty() || !a.allFinite() || !b.allFinite() || a == b) return false;
   const Vec3 d = b - a;
   if (!d.allFinite()) return false;
   const Ray ray(a, d);
-  std::int32_t stack[kStackSize];
+  Ref stack[kStackSize];
   int sp = 0;
-  stack[sp++] = 0;
+  stack[sp++] = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
   while (sp > 0) {
-    const std::int32_t node = stack[--sp];
-    const Node& n = nodes_[node];
-    double tnear;
-    if (!hit_box(n, ray, 1.0, tnear)) continue;
-    if (n.count > 0) {
-      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+    const Ref r = stack[--sp];
+    if (r.count > 0) {
+      for (std::int32_t s = r.index; s < r.index + r.count; ++s) {
         TriHit h;
         if (hit_triangle(tris_[s], ray, 1.0, h)) return true;
       }
-    } else {
-      stack[sp++] = n.first;
-      stack[sp++] = node + 1;
+      continue;
     }
+    const Node& n = nodes_[r.index];
+    double tnear;
+    for (int c = 1; c >= 0; --c)
+      if (hit_box(n, c, ray, 1.0, tnear)) stack[sp++] = child_ref(n, c);
   }
   return false;
 }
 
 ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const {
   ClosestPoint out;
-  if (nodes_.empty() || !p.allFinite() || !(max_distance >= 0)) return out;
+  if (tris_.empty() || !p.allFinite() || !(max_distance >= 0)) return out;
   struct Entry {
-    std::int32_t node;
+    Ref ref;
     double d2;
   };
   Entry stack[kStackSize];
@@ -493,23 +543,25 @@ ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const 
   double best_d2 = max_distance * max_distance;
   std::int32_t best_slot = -1;
   Vec3 best_bary = Vec3::Zero();
-  std::int32_t node = 0;
-  if (box_distance2(nodes_[0], p) > best_d2) return out;
+  Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
   auto pop = [&] {  // next subtree that can still hold a nearer point
     while (sp > 0) {
       const Entry& e = stack[--sp];
       if (e.d2 <= best_d2) {
-        node = e.node;
+        cur = e.ref;
         return true;
       }
     }
     return false;
   };
   for (;;) {
-    const Node& n = nodes_[node];
-    if (n.count > 0) {
-      for (std::int32_t s = n.first; s < n.first + n.count; ++s) {
+    if (cur.count > 0) {
+      for (std::int32_t s = cur.index; s < cur.index + cur.count; ++s) {
         const TriData& tri = tris_[s];
+        // Cheap rejection: the triangle's own bounding box is already too far.
+        const Vec3 lo = tri.v0.cwiseMin(tri.v1).cwiseMin(tri.v2);
+        const Vec3 hi = tri.v0.cwiseMax(tri.v1).cwiseMax(tri.v2);
+        if ((lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm() > best_d2) continue;
         const Vec3 w = closest_bary(p, tri);
         const double d2 = (p - (w[0] * tri.v0 + w[1] * tri.v1 + w[2] * tri.v2)).squaredNorm();
         if (d2 < best_d2 || (best_slot < 0 && d2 <= best_d2)) {
@@ -519,15 +571,17 @@ ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const 
         }
       }
     } else {
-      std::int32_t l = node + 1, r = n.first;
-      double dl = box_distance2(nodes_[l], p), dr = box_distance2(nodes_[r], p);
-      if (dr < dl) {
-        std::swap(l, r);
-        std::swap(dl, dr);
-      }
-      if (dl <= best_d2) {
-        if (dr <= best_d2) stack[sp++] = {r, dr};
-        node = l;
+      const Node& n = nodes_[cur.index];
+      const double d[2] = {box_distance2(n, 0, p), box_distance2(n, 1, p)};
+      // Nearer box first; inside both (common near the surface): nearer box centre first.
+      const int near = d[0] != d[1] ? (d[1] < d[0] ? 1 : 0) : nearer_centre(n, p);
+      if (d[near] <= best_d2) {
+        if (d[1 - near] <= best_d2) {
+          stack[sp++] = {child_ref(n, 1 - near), d[1 - near]};
+          prefetch(nodes_, tris_, stack[sp - 1].ref);
+        }
+        cur = child_ref(n, near);
+        if (cur.count > 0) prefetch(nodes_, tris_, cur);  // all lines of the leaf at once
         continue;
       }
     }

@@ -56,17 +56,18 @@ class MeshIndex {
   std::size_t memory_bytes() const;
 
  private:
-  struct Node {
-    float lo[3], hi[3];  // bounds (float, conservatively rounded outwards)
-    std::int32_t first;  // leaf: first triangle slot; inner: index of the right child
-    std::int32_t count;  // leaf: number of triangles (>0); inner: 0 (left child = this + 1)
+  // Inner node with the bounds of both children: one 64-byte cache line per visited node.
+  struct alignas(64) Node {
+    float lo[3][2], hi[3][2];  // [axis][child], float, conservatively rounded outwards
+    std::int32_t child[2];     // leaf child: first triangle slot; inner child: node index
+    std::int32_t count[2];     // leaf child: number of triangles (1..4); inner child: 0
   };
   struct TriData {
     // Raw vertex positions (not v0 + edges): a vertex shared by several triangles must be
-    // bit-identical in each of them for the watertight ray test.
+    // bit-identical in each of them for the watertight segment test.
     Vec3 v0, v1, v2;
   };
-  std::vector<Node> nodes_;
+  std::vector<Node> nodes_;            // root = nodes_[0]; empty when all triangles fit one leaf
   std::vector<TriData> tris_;          // leaf order
   std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
   Box3 bounds_;                        // exact bounds of all vertices
