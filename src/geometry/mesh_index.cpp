@@ -11,6 +11,7 @@
 #include <limits>
 #include <utility>
 
+#include "bvh_build.hpp"
 #include "inhap/core/error.hpp"
 
 // The watertight segment/triangle test relies on the edge function of a shared edge being the
@@ -21,174 +22,16 @@
 namespace inhap {
 namespace {
 
-constexpr int kBins = 16;
-constexpr int kMaxLeaf = 4;
-// SAH splits down to this depth, then object-median splits (halving the count each level), so
-// the depth never exceeds kSahDepth + 32 and the traversal stack never overflows.
-constexpr int kSahDepth = 40;
-constexpr int kStackSize = 96;
+// The build keeps the depth below kBvhMaxDepth, so a fixed stack never overflows.
+constexpr int kStackSize = detail::kBvhMaxDepth + 8;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Ize (2013): relative error bound of a slab-test parameter, 2 * gamma(3).
 constexpr double kSlabSlack = 2.0 * 3.0 * std::numeric_limits<double>::epsilon();
 
-// Float bounds rounded outwards, then one more ulp outwards so that no vertex lies exactly on
-// a box face (keeps the slab test conservative for axis-parallel segments).
-float round_down(double x) {
-  constexpr double kMax = std::numeric_limits<float>::max();
-  if (x > kMax) return std::numeric_limits<float>::max();
-  if (x < -kMax) return -std::numeric_limits<float>::infinity();
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return std::nextafter(f, -std::numeric_limits<float>::infinity());
-}
-float round_up(double x) {
-  return -round_down(-x);
-}
-
-struct Aabb {
-  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
-  void grow(const Vec3& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  void grow(const Aabb& b) {
-    lo = lo.cwiseMin(b.lo);
-    hi = hi.cwiseMax(b.hi);
-  }
-  double half_area() const {
-    if (lo.x() > hi.x()) return 0;
-    const Vec3 d = hi - lo;
-    return d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
-  }
-};
-
-struct BuildNode {
-  float lo[3], hi[3];
-  std::int32_t first, count;
-};
-
-// Top-down binned SAH builder over a permutation of the triangle ids.
-class Builder {
- public:
-  Builder(std::vector<Aabb> boxes, std::vector<Vec3> centroids)
-      : boxes_(std::move(boxes)), centroids_(std::move(centroids)) {
-    order_.resize(boxes_.size());
-    for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = static_cast<std::int32_t>(i);
-    nodes_.reserve(2 * order_.size());
-  }
-  void run() {
-    if (!order_.empty()) build(0, static_cast<std::int32_t>(order_.size()), 0);
-  }
-  std::vector<BuildNode> nodes_;
-  std::vector<std::int32_t> order_;
-  int max_depth_ = 0;
-
- private:
-  struct Split {
-    int axis = -1, bin = 0;
-    double cost = kInf;
-  };
-  struct Bin {
-    Aabb box;
-    std::int32_t count = 0;
-  };
-
-  int bin_of(const Vec3& c, int axis, const Aabb& cb) const {
-    const double extent = cb.hi[axis] - cb.lo[axis];
-    const int b = static_cast<int>(kBins * ((c[axis] - cb.lo[axis]) / extent));
-    return std::clamp(b, 0, kBins - 1);
-  }
-
-  Split best_sah_split(std::int32_t begin, std::int32_t end, const Aabb& cb) const {
-    Split best;
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!(cb.hi[axis] > cb.lo[axis])) continue;
-      std::array<Bin, kBins> bins{};
-      for (std::int32_t i = begin; i < end; ++i) {
-        Bin& b = bins[bin_of(centroids_[order_[i]], axis, cb)];
-        b.box.grow(boxes_[order_[i]]);
-        ++b.count;
-      }
-      std::array<double, kBins> right_cost{};
-      Aabb acc;
-      std::int32_t n = 0;
-      for (int b = kBins - 1; b > 0; --b) {
-        acc.grow(bins[b].box);
-        n += bins[b].count;
-        right_cost[b] = n ? acc.half_area() * n : kInf;
-      }
-      acc = Aabb{};
-      n = 0;
-      for (int b = 0; b < kBins - 1; ++b) {  // split between bin b and b + 1
-        acc.grow(bins[b].box);
-        n += bins[b].count;
-        if (n == 0) continue;
-        const double cost = acc.half_area() * n + right_cost[b + 1];
-        if (cost < best.cost) best = {axis, b + 1, cost};
-      }
-    }
-    return best;
-  }
-
-  // Returns the first index of the right half.
-  std::int32_t split(std::int32_t begin, std::int32_t end, const Aabb& cb, int depth) {
-    if (depth < kSahDepth) {
-      const Split s = best_sah_split(begin, end, cb);
-      if (s.axis >= 0) {
-        auto* mid = std::partition(order_.data() + begin, order_.data() + end, [&](std::int32_t t) {
-          return bin_of(centroids_[t], s.axis, cb) < s.bin;
-        });
-        const auto m = static_cast<std::int32_t>(mid - order_.data());
-        if (m > begin && m < end) return m;
-      }
-    }
-    // Object median along the widest centroid axis (also handles identical centroids).
-    int axis = 0;
-    const Vec3 ext = cb.hi - cb.lo;
-    if (ext.y() > ext[axis]) axis = 1;
-    if (ext.z() > ext[axis]) axis = 2;
-    const std::int32_t m = begin + (end - begin) / 2;
-    std::nth_element(
-        order_.data() + begin, order_.data() + m, order_.data() + end,
-        [&](std::int32_t a, std::int32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
-    return m;
-  }
-
-  void build(std::int32_t begin, std::int32_t end, int depth) {
-    max_depth_ = std::max(max_depth_, depth);
-    Aabb box, cb;
-    for (std::int32_t i = begin; i < end; ++i) {
-      box.grow(boxes_[order_[i]]);
-      cb.grow(centroids_[order_[i]]);
-    }
-    const auto self = nodes_.size();
-    BuildNode node{};
-    for (int k = 0; k < 3; ++k) {
-      node.lo[k] = round_down(box.lo[k]);
-      node.hi[k] = round_up(box.hi[k]);
-    }
-    if (end - begin <= kMaxLeaf) {
-      node.first = begin;
-      node.count = end - begin;
-      nodes_.push_back(node);
-      return;
-    }
-    node.count = 0;
-    nodes_.push_back(node);
-    const std::int32_t mid = split(begin, end, cb, depth);
-    build(begin, mid, depth + 1);  // left child = self + 1
-    nodes_[self].first = static_cast<std::int32_t>(nodes_.size());
-    build(mid, end, depth + 1);
-  }
-
-  std::vector<Aabb> boxes_;
-  std::vector<Vec3> centroids_;
-};
-
 // Binary build nodes (left child = self + 1) -> nodes holding the boxes of both children, inner
 // nodes numbered in the same depth-first order. Empty when the root is a leaf.
 template <class N>
-std::vector<N> to_child_box_nodes(const std::vector<BuildNode>& bn) {
+std::vector<N> to_child_box_nodes(const std::vector<detail::BvhBuildNode>& bn) {
   std::vector<std::int32_t> id(bn.size(), -1);
   std::int32_t inner = 0;
   for (std::size_t i = 0; i < bn.size(); ++i)
@@ -199,7 +42,7 @@ std::vector<N> to_child_box_nodes(const std::vector<BuildNode>& bn) {
     N& n = nodes[id[i]];
     const std::size_t kids[2] = {i + 1, static_cast<std::size_t>(bn[i].first)};
     for (int c = 0; c < 2; ++c) {
-      const BuildNode& k = bn[kids[c]];
+      const detail::BvhBuildNode& k = bn[kids[c]];
       for (int a = 0; a < 3; ++a) {
         n.lo[a][c] = k.lo[a];
         n.hi[a][c] = k.hi[a];
@@ -405,8 +248,7 @@ inline void prefetch(const std::vector<N>& nodes, const std::vector<T>& tris, Re
 MeshIndex::MeshIndex(const TriMesh& mesh) {
   const std::size_t nf = mesh.triangles.size();
   const auto nv = static_cast<std::int64_t>(mesh.positions.size());
-  std::vector<Aabb> boxes(nf);
-  std::vector<Vec3> centroids(nf);
+  std::vector<detail::BvhBox> boxes(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     for (int c = 0; c < 3; ++c) {
       const std::int32_t i = mesh.triangles[f][c];
@@ -420,13 +262,11 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
       boxes[f].grow(p);
       bounds_.extend(p);
     }
-    centroids[f] = 0.5 * (boxes[f].lo + boxes[f].hi);
   }
-  Builder builder(std::move(boxes), std::move(centroids));
-  builder.run();
-  assert(builder.max_depth_ + 1 < kStackSize);
-  nodes_ = to_child_box_nodes<Node>(builder.nodes_);
-  tri_ids_ = std::move(builder.order_);
+  detail::BvhBuild bvh = detail::build_bvh(std::move(boxes));
+  assert(bvh.max_depth <= detail::kBvhMaxDepth);
+  nodes_ = to_child_box_nodes<Node>(bvh.nodes);
+  tri_ids_ = std::move(bvh.order);
   tris_.resize(nf);
   for (std::size_t s = 0; s < nf; ++s) {
     const Tri& t = mesh.triangles[tri_ids_[s]];
