@@ -172,6 +172,7 @@ struct Scene {
   TriMesh mesh;
   std::vector<std::pair<Vec3, Vec3>> segments;  // servo-like
   std::vector<Vec3> points;                     // within 5 mm of the surface
+  std::vector<Vec3> near_points;                // within 0.5 mm (contact regime)
   std::unique_ptr<MeshIndex> ours;
   std::unique_ptr<CgalIndex> cgal;
 };
@@ -206,6 +207,7 @@ void make_queries(Scene& s, std::uint64_t seed) {
     const Vec3 a = p - lambda * len * d;
     s.segments.emplace_back(a, a + len * d);
     s.points.push_back(p + rng.uniform(-5.0, 5.0) * n);
+    s.near_points.push_back(p + rng.uniform(-0.5, 0.5) * n);
   }
 }
 
@@ -237,7 +239,8 @@ const CTree& cgal(Scene& s) {
 
 // --- result table ----------------------------------------------------------------------------
 struct Row {
-  double build_ms = NAN, mbytes = NAN, seg_p50 = NAN, seg_p99 = NAN, cp_p50 = NAN, cp_p99 = NAN;
+  double build_ms = NAN, mbytes = NAN, seg_p50 = NAN, seg_p99 = NAN, cp_p50 = NAN, cp_p99 = NAN,
+         near_p50 = NAN, near_p99 = NAN;
 };
 std::map<std::string, Row> g_rows;  // "scene / method"
 
@@ -357,26 +360,29 @@ void bm_segment_cgal_all(benchmark::State& state, int which) {
       state, s, [&](const Vec3& a, const Vec3& b) { return cgal_segment_t(tree, a, b, scratch); });
 }
 
-void bm_closest_ours(benchmark::State& state, int which) {
+// Closest-point queries: `near` = points within 0.5 mm (contact regime), else within 5 mm.
+void bm_closest_ours(benchmark::State& state, int which, bool near) {
   Scene& s = scene(which);
   const MeshIndex& index = ours(s);
+  const auto& pts = near ? s.near_points : s.points;
   Row& row = g_rows[s.name + " / inhap"];
   time_queries(
-      state, [&](std::size_t i) { return index.closest_point(s.points[i]).distance2; }, row.cp_p50,
-      row.cp_p99);
+      state, [&](std::size_t i) { return index.closest_point(pts[i]).distance2; },
+      near ? row.near_p50 : row.cp_p50, near ? row.near_p99 : row.cp_p99);
 }
 
-void bm_closest_cgal(benchmark::State& state, int which) {
+void bm_closest_cgal(benchmark::State& state, int which, bool near) {
   Scene& s = scene(which);
   const CTree& tree = cgal(s);
+  const auto& pts = near ? s.near_points : s.points;
   Row& row = g_rows[s.name + " / CGAL ray"];  // same tree as the ray row
   time_queries(
-      state, [&](std::size_t i) { return tree.closest_point_and_primitive(cp(s.points[i])).first; },
-      row.cp_p50, row.cp_p99);
+      state, [&](std::size_t i) { return tree.closest_point_and_primitive(cp(pts[i])).first; },
+      near ? row.near_p50 : row.cp_p50, near ? row.near_p99 : row.cp_p99);
   const MeshIndex& index = ours(s);
   double max_dd = 0;
   for (int i = 0; i < kChecked; ++i) {
-    const Vec3& p = s.points[i];
+    const Vec3& p = pts[i];
     const double d_cgal = std::sqrt(CGAL::squared_distance(cp(p), tree.closest_point(cp(p))));
     max_dd = std::max(max_dd, std::abs(std::sqrt(index.closest_point(p).distance2) - d_cgal));
   }
@@ -397,8 +403,13 @@ void register_all() {
     reg("first_hit/inhap", bm_segment_ours);
     reg("first_hit/cgal_ray", bm_segment_cgal_ray);
     reg("first_hit/cgal_segment", bm_segment_cgal_all);
-    reg("closest/inhap", bm_closest_ours);
-    reg("closest/cgal", bm_closest_cgal);
+    for (const bool near : {false, true}) {
+      const std::string what = near ? "closest_0.5mm/" : "closest_5mm/";
+      for (const bool ours : {true, false})
+        benchmark::RegisterBenchmark((what + (ours ? "inhap/" : "cgal/") + n).c_str(),
+                                     ours ? bm_closest_ours : bm_closest_cgal, w, near)
+            ->Unit(benchmark::kMicrosecond);
+    }
   }
 }
 
@@ -413,12 +424,13 @@ void print_table() {
       std::snprintf(b, 32, fmt, v);
     return b;
   };
-  std::printf("\n%-32s %9s %9s | %-19s | %-19s\n", "mesh / method", "build ms", "heap MB",
-              "first hit p50/p99", "closest p50/p99");
+  std::printf("\n%-28s %8s %8s | %-19s | %-19s | %-19s\n", "mesh / method", "build ms", "heap MB",
+              "first hit p50/p99", "closest 5mm p50/p99", "closest .5mm p50/p99");
   for (const auto& [name, r] : g_rows) {
-    std::printf("%-32s %9s %9s | ", name.c_str(), f(r.build_ms, "%.0f"), f(r.mbytes, "%.1f"));
+    std::printf("%-28s %8s %8s | ", name.c_str(), f(r.build_ms, "%.0f"), f(r.mbytes, "%.1f"));
     std::printf("%8s / %8s | ", f(r.seg_p50, "%.2f"), f(r.seg_p99, "%.2f"));
-    std::printf("%8s / %8s\n", f(r.cp_p50, "%.2f"), f(r.cp_p99, "%.2f"));
+    std::printf("%8s / %8s | ", f(r.cp_p50, "%.2f"), f(r.cp_p99, "%.2f"));
+    std::printf("%8s / %8s\n", f(r.near_p50, "%.2f"), f(r.near_p99, "%.2f"));
   }
   std::printf(
       "(latencies in microseconds per query; CGAL closest uses the same tree as CGAL ray)\n");

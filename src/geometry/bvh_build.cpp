@@ -61,31 +61,38 @@ class Builder {
   }
 
   Split best_sah_split(std::int32_t begin, std::int32_t end, const BvhBox& cb) const {
-    Split best;
+    std::array<std::array<Bin, kBvhBins>, 3> bins{};  // one pass bins all three axes
+    bool usable[3];
+    Binning bin_of[3];
     for (int axis = 0; axis < 3; ++axis) {
-      if (!(cb.hi[axis] > cb.lo[axis])) continue;
-      const Binning bin_of = binning(cb, axis);
-      std::array<Bin, kBvhBins> bins{};
-      for (std::int32_t i = begin; i < end; ++i) {
-        const std::int32_t t = out_.order[i];
-        Bin& b = bins[bin_of(centroids_[t][axis])];
+      usable[axis] = cb.hi[axis] > cb.lo[axis];
+      bin_of[axis] = usable[axis] ? binning(cb, axis) : Binning{0, 0};
+    }
+    for (std::int32_t i = begin; i < end; ++i) {
+      const std::int32_t t = out_.order[i];
+      for (int axis = 0; axis < 3; ++axis) {
+        Bin& b = bins[axis][bin_of[axis](centroids_[t][axis])];
         b.box.grow(boxes_[t]);
         ++b.count;
       }
+    }
+    Split best;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!usable[axis]) continue;
       // Cost of a split between bins b-1 and b: area(left) * n(left) + area(right) * n(right).
       std::array<double, kBvhBins> right_cost{};
       BvhBox acc;
       std::int32_t n = 0;
       for (int b = kBvhBins - 1; b > 0; --b) {
-        acc.grow(bins[b].box);
-        n += bins[b].count;
+        acc.grow(bins[axis][b].box);
+        n += bins[axis][b].count;
         right_cost[b] = n ? acc.half_area() * n : kInf;
       }
       acc = BvhBox{};
       n = 0;
       for (int b = 0; b < kBvhBins - 1; ++b) {
-        acc.grow(bins[b].box);
-        n += bins[b].count;
+        acc.grow(bins[axis][b].box);
+        n += bins[axis][b].count;
         if (n == 0) continue;
         const double cost = acc.half_area() * n + right_cost[b + 1];
         if (cost < best.cost) best = {axis, b + 1, cost};
