@@ -5,11 +5,13 @@
 //   random_soup     n unconnected random triangles (no shared vertices)
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <utility>
+#include <vector>
 
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/trimesh.hpp"
