@@ -140,42 +140,34 @@ nlohmann::json condition_json(const render::ConditionSummary& c) {
   return j;
 }
 
-void run_eval_tca(EvalTcaOptions o) {
-  if (o.quick) {
-    o.participants = std::min(o.participants, 4);
-    o.trials = std::min(o.trials, 2);
-  }
-  if (o.participants < 1 || o.trials < 1)
-    throw Error(fmt::format("--participants and --trials must be >= 1, got {} and {}",
-                            o.participants, o.trials));
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<render::TrialResult> results = run_study(o);
-  const render::StudySummary s = summarize(results);
-  const double study_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+// Everything `eval tca` reports.
+struct EvalReport {
+  render::StudySummary summary;
+  long incomplete = 0;
+  double study_s = 0;
+  std::size_t study_triangles = 0, timing_triangles = 0;
+  Timing cba_t, tca_t;
+};
 
-  const TriMesh timing_mesh = timing_surface(o);
-  const render::Model timing_model(timing_mesh);
-  const Timing cba_t = time_steps(timing_model, Algorithm::kCBA),
-               tca_t = time_steps(timing_model, Algorithm::kTCA);
-  const std::size_t study_triangles =
-      render::StudySurface(render::DatasetParams{}, render::identity_layout())
-          .mesh()
-          .num_triangles();
+nlohmann::json timing_json(const Timing& t) {
+  return {{"p50", t.p50},
+          {"p99", t.p99},
+          {"max", t.max},
+          {"steps", t.steps},
+          {"contact_steps", t.contact_steps}};
+}
 
+void print_report(const EvalTcaOptions& o, const EvalReport& r) {
+  const auto& s = r.summary;
   const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
   const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
   const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
   const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
-  const auto confused = s.misjudged_models(Algorithm::kCBA, Task::kShape);
   const auto tca_confused = s.misjudged_models(Algorithm::kTCA, Task::kShape);
-  long incomplete = 0;
-  for (const auto& r : results) incomplete += !r.session.completed;
-
   fmt::print(
       "Virtual user study (thesis 5.4): {} participants x {} trials per session, seed {}, {} "
       "triangles\n",
-      o.participants, o.trials, o.seed, study_triangles);
+      o.participants, o.trials, o.seed, r.study_triangles);
   fmt::print("{:<28} {:>14} {:>14} {:>16}\n", "correct of 25 (mean +- SD)", "TCA-MESH", "CBA",
              "thesis TCA/CBA");
   fmt::print("{:<28} {:>7.2f} +- {:<4.2f} {:>7.2f} +- {:<4.2f} {:>16}\n", "shape", ts.mean,
@@ -187,7 +179,8 @@ void run_eval_tca(EvalTcaOptions o) {
   fmt::print("{:<28} {:>6.0f} / {:<6.0f} {:>6.0f} / {:<6.0f} {:>16}\n",
              "trial time shape/stiff. (s)", ts.mean_time_s, tk.mean_time_s, cs.mean_time_s,
              ck.mean_time_s, "163/119 211/114");
-  fmt::print("CBA confused models (ratio < 0.5): {}\n", fmt::join(confused, " "));
+  fmt::print("CBA confused models (ratio < 0.5): {}\n",
+             fmt::join(s.misjudged_models(Algorithm::kCBA, Task::kShape), " "));
   fmt::print("TCA confused models:               {}\n",
              tca_confused.empty() ? "none" : fmt::format("{}", fmt::join(tca_confused, " ")));
   fmt::print("per-model shape ratio (TCA / CBA) for the 12 predicted models:\n");
@@ -196,48 +189,67 @@ void run_eval_tca(EvalTcaOptions o) {
   fmt::print(
       "servo step on {} triangles ({} steps, {:.0f} % in contact): CBA p50 {:.2f} us p99 {:.2f} "
       "us; TCA p50 {:.2f} us p99 {:.2f} us\n",
-      timing_mesh.num_triangles(), tca_t.steps,
-      100.0 * double(tca_t.contact_steps) / double(std::max(1L, tca_t.steps)), cba_t.p50, cba_t.p99,
-      tca_t.p50, tca_t.p99);
-  if (incomplete)
-    fmt::print("warning: {} trials ended before every model was labelled\n", incomplete);
-  fmt::print("study time {:.1f} s\n", study_s);
+      r.timing_triangles, r.tca_t.steps,
+      100.0 * double(r.tca_t.contact_steps) / double(std::max(1L, r.tca_t.steps)), r.cba_t.p50,
+      r.cba_t.p99, r.tca_t.p50, r.tca_t.p99);
+  if (r.incomplete)
+    fmt::print("warning: {} trials ended before every model was labelled\n", r.incomplete);
+  fmt::print("study time {:.1f} s\n", r.study_s);
+}
 
-  if (!o.json.empty()) {
-    nlohmann::json j;
-    j["seed"] = o.seed;
-    j["participants"] = o.participants;
-    j["trials_per_session"] = o.trials;
-    j["triangles"] = study_triangles;
-    j["shape_correct"] = {{"tca", ts.mean}, {"cba", cs.mean}};
-    j["shape_correct_sd"] = {{"tca", ts.sd_participants}, {"cba", cs.sd_participants}};
-    j["stiffness_correct"] = {{"tca", tk.mean}, {"cba", ck.mean}};
-    j["stiffness_correct_sd"] = {{"tca", tk.sd_participants}, {"cba", ck.sd_participants}};
-    j["cba_confused_models"] = confused;
-    j["tca_confused_models"] = tca_confused;
-    j["thesis_cba_confusions"] = render::thesis_cba_confusions();
-    j["distortion_rms_mm"] = {{"tca", ts.distortion_rms_mm}, {"cba", cs.distortion_rms_mm}};
-    const Timing& worst = tca_t.p99 > cba_t.p99 ? tca_t : cba_t;
-    j["step_us"] = {{"p50", std::max(cba_t.p50, tca_t.p50)},
-                    {"p99", worst.p99},
-                    {"triangles", timing_mesh.num_triangles()},
-                    {"cba",
-                     {{"p50", cba_t.p50},
-                      {"p99", cba_t.p99},
-                      {"max", cba_t.max},
-                      {"steps", cba_t.steps},
-                      {"contact_steps", cba_t.contact_steps}}},
-                    {"tca",
-                     {{"p50", tca_t.p50},
-                      {"p99", tca_t.p99},
-                      {"max", tca_t.max},
-                      {"steps", tca_t.steps},
-                      {"contact_steps", tca_t.contact_steps}}}};
-    j["conditions"] = {{"shape", {{"tca", condition_json(ts)}, {"cba", condition_json(cs)}}},
-                       {"stiffness", {{"tca", condition_json(tk)}, {"cba", condition_json(ck)}}}};
-    j["incomplete_trials"] = incomplete;
-    write_file_atomic(o.json, j.dump(2) + "\n");
+nlohmann::json report_json(const EvalTcaOptions& o, const EvalReport& r) {
+  const auto& s = r.summary;
+  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
+  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
+  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
+  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  nlohmann::json j;
+  j["seed"] = o.seed;
+  j["participants"] = o.participants;
+  j["trials_per_session"] = o.trials;
+  j["triangles"] = r.study_triangles;
+  j["shape_correct"] = {{"tca", ts.mean}, {"cba", cs.mean}};
+  j["shape_correct_sd"] = {{"tca", ts.sd_participants}, {"cba", cs.sd_participants}};
+  j["stiffness_correct"] = {{"tca", tk.mean}, {"cba", ck.mean}};
+  j["stiffness_correct_sd"] = {{"tca", tk.sd_participants}, {"cba", ck.sd_participants}};
+  j["cba_confused_models"] = s.misjudged_models(Algorithm::kCBA, Task::kShape);
+  j["tca_confused_models"] = s.misjudged_models(Algorithm::kTCA, Task::kShape);
+  j["thesis_cba_confusions"] = render::thesis_cba_confusions();
+  j["distortion_rms_mm"] = {{"tca", ts.distortion_rms_mm}, {"cba", cs.distortion_rms_mm}};
+  j["step_us"] = {{"p50", std::max(r.cba_t.p50, r.tca_t.p50)},
+                  {"p99", std::max(r.cba_t.p99, r.tca_t.p99)},
+                  {"triangles", r.timing_triangles},
+                  {"cba", timing_json(r.cba_t)},
+                  {"tca", timing_json(r.tca_t)}};
+  j["conditions"] = {{"shape", {{"tca", condition_json(ts)}, {"cba", condition_json(cs)}}},
+                     {"stiffness", {{"tca", condition_json(tk)}, {"cba", condition_json(ck)}}}};
+  j["incomplete_trials"] = r.incomplete;
+  return j;
+}
+
+void run_eval_tca(EvalTcaOptions o) {
+  if (o.quick) {
+    o.participants = std::min(o.participants, 4);
+    o.trials = std::min(o.trials, 2);
   }
+  if (o.participants < 1 || o.trials < 1)
+    throw Error(fmt::format("--participants and --trials must be >= 1, got {} and {}",
+                            o.participants, o.trials));
+  EvalReport r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<render::TrialResult> results = run_study(o);
+  r.summary = summarize(results);
+  r.study_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (const auto& t : results) r.incomplete += !t.session.completed;
+  r.study_triangles = render::StudySurface(render::DatasetParams{}, render::identity_layout())
+                          .mesh()
+                          .num_triangles();
+  const render::Model timing_model(timing_surface(o));
+  r.timing_triangles = timing_model.mesh().num_triangles();
+  r.cba_t = time_steps(timing_model, Algorithm::kCBA);
+  r.tca_t = time_steps(timing_model, Algorithm::kTCA);
+  print_report(o, r);
+  if (!o.json.empty()) write_file_atomic(o.json, report_json(o, r).dump(2) + "\n");
 }
 
 CLI::App* eval_group(CLI::App& app) {

@@ -230,17 +230,17 @@ std::vector<std::string> expand_pattern(const std::string& path, const Field& f)
   return files;
 }
 
-}  // namespace
-
-Volume read_nrrd(const std::string& path) {
-  const std::string text = read_file(path);
-  if (text.rfind("NRRD000", 0) != 0)
-    throw ParseError(
-        path, 1,
-        fmt::format("expected the magic 'NRRD000x', got {}", quote_token(text.substr(0, 8))));
+struct Header {
   std::map<std::string, Field> fields;
-  std::vector<std::pair<std::string, std::size_t>> list_files;
-  std::size_t pos = text.find('\n') + 1, line = 1, data_offset = std::string::npos;
+  std::vector<std::pair<std::string, std::size_t>> list_files;  // LIST data files, header line
+  std::size_t data_offset = std::string::npos;                  // attached data start
+  std::size_t last_line = 1;
+};
+
+Header parse_nrrd_header(const std::string& path, const std::string& text) {
+  Header h;
+  auto& fields = h.fields;
+  std::size_t pos = text.find('\n') + 1, line = 1;
   bool in_list = false;
   while (pos > 0 && pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -249,12 +249,12 @@ Volume read_nrrd(const std::string& path) {
     ++line;
     const std::size_t next = end + 1;
     if (l.empty()) {  // end of header; attached data (if any) follows
-      data_offset = std::min(next, text.size());
+      h.data_offset = std::min(next, text.size());
       break;
     }
     pos = next;
     if (in_list) {
-      list_files.emplace_back(l, line);
+      h.list_files.emplace_back(l, line);
       continue;
     }
     if (l[0] == '#' || l.find(":=") != std::string::npos) continue;  // comment, key/value pair
@@ -266,6 +266,76 @@ Volume read_nrrd(const std::string& path) {
     fields[key] = Field{trim(std::string_view(l).substr(colon + 2)), line};
     if (key == "data file" && lower(fields[key].value).rfind("list", 0) == 0) in_list = true;
   }
+  h.last_line = line;
+  return h;
+}
+
+// The raw sample bytes: the attached block or the data file(s), byte skip applied.
+std::string gather_nrrd_data(const std::string& path, const std::string& text, const Header& h,
+                             std::size_t count, std::size_t bytes_per, long byte_skip) {
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::vector<std::pair<std::string, std::size_t>> files;  // name, header line
+  if (auto it = h.fields.find("data file"); it != h.fields.end()) {
+    const std::string val = it->second.value;
+    std::istringstream in(val);
+    std::string first, rest;
+    in >> first >> rest;
+    if (lower(first) == "list") {
+      files = h.list_files;
+    } else if (!rest.empty()) {
+      for (auto& f : expand_pattern(path, it->second)) files.emplace_back(f, it->second.line);
+    } else {
+      files.emplace_back(val, it->second.line);
+    }
+    if (files.empty())
+      throw ParseError(path, it->second.line, "data file: expected at least one file");
+  }
+  std::string data;
+  if (files.empty()) {
+    if (h.data_offset == std::string::npos)
+      throw ParseError(path, h.last_line,
+                       "expected a blank line then the attached data, or a 'data file:' field");
+    data = text.substr(h.data_offset);
+    if (byte_skip > 0) data.erase(0, std::min<std::size_t>(data.size(), std::size_t(byte_skip)));
+    return data;
+  }
+  if (count % files.size() != 0)
+    throw ParseError(
+        path, files.front().second,
+        fmt::format("{} data files do not divide {} samples evenly", files.size(), count));
+  const std::size_t per_file = count / files.size() * bytes_per;
+  data.reserve(count * bytes_per);
+  for (const auto& [name, fline] : files) {
+    const std::filesystem::path p =
+        std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : dir / name;
+    std::string bytes;
+    try {
+      bytes = read_file(p.string());
+    } catch (const IoError& e) {
+      throw ParseError(path, fline,
+                       fmt::format("data file {}: {}", quote_token(p.string(), 200), e.what()));
+    }
+    std::size_t skip = byte_skip >= 0 ? std::size_t(byte_skip)
+                                      : (bytes.size() >= per_file ? bytes.size() - per_file : 0);
+    if (bytes.size() < skip + per_file)
+      throw ParseError(path, fline,
+                       fmt::format("data file {}: expected {} bytes, got {}",
+                                   quote_token(p.string(), 200), skip + per_file, bytes.size()));
+    data.append(bytes, skip, per_file);
+  }
+  return data;
+}
+
+}  // namespace
+
+Volume read_nrrd(const std::string& path) {
+  const std::string text = read_file(path);
+  if (text.rfind("NRRD000", 0) != 0)
+    throw ParseError(
+        path, 1,
+        fmt::format("expected the magic 'NRRD000x', got {}", quote_token(text.substr(0, 8))));
+  const Header h = parse_nrrd_header(path, text);
+  const auto& fields = h.fields;
   const auto need = [&](const char* key) -> const Field& {
     auto it = fields.find(key);
     if (it == fields.end())
@@ -325,58 +395,8 @@ Volume read_nrrd(const std::string& path) {
     byte_skip = long(b);
   }
 
-  // Gather the data bytes from the attached block or the data file(s).
   const std::size_t bytes_per = type_size(type), count = std::size_t(v.nx) * v.ny * v.nz;
-  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  std::vector<std::pair<std::string, std::size_t>> files;  // name, header line
-  if (auto it = fields.find("data file"); it != fields.end()) {
-    const std::string val = it->second.value;
-    std::istringstream in(val);
-    std::string first, rest;
-    in >> first >> rest;
-    if (lower(first) == "list") {
-      files = list_files;
-    } else if (!rest.empty()) {
-      for (auto& f : expand_pattern(path, it->second)) files.emplace_back(f, it->second.line);
-    } else {
-      files.emplace_back(val, it->second.line);
-    }
-    if (files.empty())
-      throw ParseError(path, it->second.line, "data file: expected at least one file");
-  }
-  std::string data;
-  if (files.empty()) {
-    if (data_offset == std::string::npos)
-      throw ParseError(path, line,
-                       "expected a blank line then the attached data, or a 'data file:' field");
-    data = text.substr(data_offset);
-    if (byte_skip > 0) data.erase(0, std::min<std::size_t>(data.size(), std::size_t(byte_skip)));
-  } else {
-    if (count % files.size() != 0)
-      throw ParseError(
-          path, files.front().second,
-          fmt::format("{} data files do not divide {} samples evenly", files.size(), count));
-    const std::size_t per_file = count / files.size() * bytes_per;
-    data.reserve(count * bytes_per);
-    for (const auto& [name, fline] : files) {
-      const std::filesystem::path p =
-          std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : dir / name;
-      std::string bytes;
-      try {
-        bytes = read_file(p.string());
-      } catch (const IoError& e) {
-        throw ParseError(path, fline,
-                         fmt::format("data file {}: {}", quote_token(p.string(), 200), e.what()));
-      }
-      std::size_t skip = byte_skip >= 0 ? std::size_t(byte_skip)
-                                        : (bytes.size() >= per_file ? bytes.size() - per_file : 0);
-      if (bytes.size() < skip + per_file)
-        throw ParseError(path, fline,
-                         fmt::format("data file {}: expected {} bytes, got {}",
-                                     quote_token(p.string(), 200), skip + per_file, bytes.size()));
-      data.append(bytes, skip, per_file);
-    }
-  }
+  const std::string data = gather_nrrd_data(path, text, h, count, bytes_per, byte_skip);
   if (data.size() < count * bytes_per)
     throw ParseError(path, 0,
                      fmt::format("expected {} x {} x {} samples ({} bytes) of data, got {} bytes",

@@ -140,7 +140,11 @@ struct VirtualParticipant::Impl {
 
   void build_program(const SceneInfo& s);
   void start_action();
-  bool run_action(Action& a);  // true when the action is finished
+  bool run_action(const Action& a);  // true when the action is finished
+  bool transit(const Action& a);
+  bool press();
+  bool stroke(const Action& a);
+  bool tap(const Action& a);
   void judge(int cell);
   void physics();
 };
@@ -208,77 +212,92 @@ void VirtualParticipant::Impl::start_action() {
   }
 }
 
-bool VirtualParticipant::Impl::run_action(Action& a) {
-  const double thr = hand.contact_force_n;
+// Lift to the hover height, then move above the target in the air.
+bool VirtualParticipant::Impl::transit(const Action& a) {
+  if (elapsed() > 5.0) return true;
+  if (z_set < scene.hover_z_mm) {  // lift first
+    vz_set = hand.lift_speed;
+    z_set = std::min(scene.hover_z_mm, z_set + hand.lift_speed * dt());
+    vxy_set.setZero();
+    return false;
+  }
+  vz_set = 0;
+  if (sensed() > hand.contact_force_n || x.z() < scene.hover_z_mm - 3) return false;  // not clear
+  const bool there = move_xy_towards(a.target, hand.transit_speed);
+  return there && (x.head<2>() - a.target).norm() < 0.3 && v.norm() < 10;
+}
+
+// Descend until contact, then hold until the force is within 5 % of the target for 150 ms.
+bool VirtualParticipant::Impl::press() {
+  vxy_set.setZero();
+  if (elapsed() > 3.0) return true;
+  if (!contact) {
+    vz_set = -hand.approach_speed;
+    z_set += vz_set * dt();
+    contact = sensed() > hand.contact_force_n;
+    return false;
+  }
+  const double target = target_force();
+  force_loop(target);
+  settled = std::abs(sensed() - target) < 0.05 * target ? settled + 1 : 0;
+  return settled >= 150;
+}
+
+// Slide to the stroke's end under force control, summing HIP heights in the windows.
+bool VirtualParticipant::Impl::stroke(const Action& a) {
+  force_loop(target_force());
+  if (sensed() > hand.contact_force_n) {
+    const double u = (x.head<2>() - scene.cell_centres[a.cell]).dot(a.dir), au = std::abs(u);
+    const auto& w = prof.shape;
+    int bin = -1;
+    if (au <= w.centre_half_mm)
+      bin = 0;
+    else if (au >= w.surround_inner_mm && au <= w.surround_outer_mm)
+      bin = u < 0 ? 1 : 2;
+    if (bin >= 0) {
+      win_sum[bin] += x.z();
+      ++win_n[bin];
+    }
+  }
+  const double limit = 2 * prof.stroke_half_length_mm / prof.speed_mm_s + 2.0;
+  if (!move_xy_towards(a.target, prof.speed_mm_s) && elapsed() < limit) return false;
+  if (win_n[0] > 0 && win_n[1] > 0 && win_n[2] > 0)
+    evidence[a.cell].stroke_contrast_mm.push_back(
+        win_sum[0] / win_n[0] - 0.5 * (win_sum[1] / win_n[1] + win_sum[2] / win_n[2]));
+  return true;
+}
+
+// Press down until the force reaches the tap force, then rise until contact is lost; the
+// stiffness is the slope of force against HIP height while loading.
+bool VirtualParticipant::Impl::tap(const Action& a) {
+  vxy_set.setZero();
+  if (!rising) {
+    vz_set = -prof.tap_speed_mm_s;
+    z_set += vz_set * dt();
+    const double f = sensed();
+    if (f > 0.15 * tap_force && f < 0.9 * tap_force) tap_fit.add(x.z(), f);
+    rising = f >= tap_force || elapsed() > 3.0;
+    return false;
+  }
+  vz_set = prof.tap_speed_mm_s;
+  z_set += vz_set * dt();
+  if (sensed() > hand.contact_force_n && elapsed() < 6.0) return false;
+  const double k = -tap_fit.slope();
+  if (tap_fit.n >= 5 && k > 0 && std::isfinite(k))
+    (a.centre_site ? evidence[a.cell].k_centre : evidence[a.cell].k_surround).push_back(k);
+  return true;
+}
+
+bool VirtualParticipant::Impl::run_action(const Action& a) {
   switch (a.kind) {
-    case Kind::kTransit: {
-      if (elapsed() > 5.0) return true;
-      if (z_set < scene.hover_z_mm) {  // lift first
-        vz_set = hand.lift_speed;
-        z_set = std::min(scene.hover_z_mm, z_set + hand.lift_speed * dt());
-        vxy_set.setZero();
-        return false;
-      }
-      vz_set = 0;
-      if (sensed() > thr || x.z() < scene.hover_z_mm - 3) return false;  // wait until clear
-      const bool there = move_xy_towards(a.target, hand.transit_speed);
-      return there && (x.head<2>() - a.target).norm() < 0.3 && v.norm() < 10;
-    }
-    case Kind::kPress: {
-      vxy_set.setZero();
-      if (elapsed() > 3.0) return true;
-      if (!contact) {
-        vz_set = -hand.approach_speed;
-        z_set += vz_set * dt();
-        contact = sensed() > thr;
-        return false;
-      }
-      const double target = target_force();
-      force_loop(target);
-      settled = std::abs(sensed() - target) < 0.05 * target ? settled + 1 : 0;
-      return settled >= 150;
-    }
-    case Kind::kStroke: {
-      force_loop(target_force());
-      if (sensed() > thr) {
-        const Vec2 c = scene.cell_centres[a.cell];
-        const double u = (x.head<2>() - c).dot(a.dir), au = std::abs(u);
-        const auto& w = prof.shape;
-        int bin = -1;
-        if (au <= w.centre_half_mm)
-          bin = 0;
-        else if (au >= w.surround_inner_mm && au <= w.surround_outer_mm)
-          bin = u < 0 ? 1 : 2;
-        if (bin >= 0) {
-          win_sum[bin] += x.z();
-          ++win_n[bin];
-        }
-      }
-      const double limit = 2 * prof.stroke_half_length_mm / prof.speed_mm_s + 2.0;
-      if (!move_xy_towards(a.target, prof.speed_mm_s) && elapsed() < limit) return false;
-      if (win_n[0] > 0 && win_n[1] > 0 && win_n[2] > 0)
-        evidence[a.cell].stroke_contrast_mm.push_back(
-            win_sum[0] / win_n[0] - 0.5 * (win_sum[1] / win_n[1] + win_sum[2] / win_n[2]));
-      return true;
-    }
-    case Kind::kTap: {
-      vxy_set.setZero();
-      if (!rising) {
-        vz_set = -prof.tap_speed_mm_s;
-        z_set += vz_set * dt();
-        const double f = sensed();
-        if (f > 0.15 * tap_force && f < 0.9 * tap_force) tap_fit.add(x.z(), f);
-        rising = f >= tap_force || elapsed() > 3.0;
-        return false;
-      }
-      vz_set = prof.tap_speed_mm_s;
-      z_set += vz_set * dt();
-      if (sensed() > thr && elapsed() < 6.0) return false;
-      const double k = -tap_fit.slope();
-      if (tap_fit.n >= 5 && k > 0 && std::isfinite(k))
-        (a.centre_site ? evidence[a.cell].k_centre : evidence[a.cell].k_surround).push_back(k);
-      return true;
-    }
+    case Kind::kTransit:
+      return transit(a);
+    case Kind::kPress:
+      return press();
+    case Kind::kStroke:
+      return stroke(a);
+    case Kind::kTap:
+      return tap(a);
     case Kind::kLabel:
       judge(a.cell);
       return true;
@@ -303,9 +322,9 @@ void VirtualParticipant::Impl::judge(int cell) {
     if (e.k_centre.empty() || e.k_surround.empty() || lapse) {
       value = static_cast<int>(rng.below(3));
     } else {
-      // Each tap's stiffness is perceived with log-normal noise whose SD makes two single taps
-      // differing by the Weber fraction 75 % discriminable (2AFC): sigma = ln(1+W) / (0.6745 sqrt
-      // 2).
+      // Each tap's stiffness is perceived with log-normal noise whose SD makes two single
+      // taps differing by the Weber fraction 75 % discriminable (2AFC):
+      // sigma = ln(1 + W) / (0.6745 sqrt 2).
       const double band = std::log(1 + prof.weber_fraction);
       const double sigma = band / (0.6745 * std::sqrt(2.0));
       auto perceived = [&](const std::vector<double>& ks) {
