@@ -77,8 +77,9 @@ Vec3 Model::normal(const SurfacePoint& q) const {
     const Vec3 n = q.bary[0] * mesh_.normals[t[0]] + q.bary[1] * mesh_.normals[t[1]] +
                    q.bary[2] * mesh_.normals[t[2]];
     const double len = n.norm();
-    // Opposite vertex normals (a folded sheet) cancel: fall back to the face normal.
-    if (len > 1e-6 && std::isfinite(len)) return n / len;
+    // Opposite vertex normals (a folded sheet) cancel, and a vertex normal facing away from the
+    // face (bad normals in a file) would flip inside and outside: use the face normal then.
+    if (len > 1e-6 && std::isfinite(len) && (face.isZero() || n.dot(face) > 0)) return n / len;
   }
   return face.isZero() ? Vec3(Vec3::UnitZ()) : face;
 }
