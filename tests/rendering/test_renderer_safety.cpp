@@ -247,3 +247,42 @@ TEST(RendererSafety, FinelyTessellatedSphereKeepsContactAtOneMetrePerSecond) {
     }
   }
 }
+
+TEST(RendererSafety, GlobalFallbackHelpsAWalkOutOfBudgetButNeverCrossesAThinWall) {
+  // Budget of 1 triangle move per tick: on a plane the global closest point takes over.
+  render::Params tight;
+  tight.max_walk_steps = 1;
+  render::Model plane(test::flat_plane(100, 100, 0.1, -5, -5), tight);
+  for (Algorithm a : kBoth) {
+    render::State st;
+    touch(plane, st, -4, -4, 0.5, a);
+    ASSERT_TRUE(st.collision);
+    for (int i = 1; i <= 8; ++i) {
+      const Vec3 p(-4 + i, -4 + 0.7 * i, -0.5);  // ~12 cells per tick
+      const Vec3 f = render::step(plane, st, p, a);
+      ASSERT_TRUE(st.collision);
+      EXPECT_NEAR((st.ihip.point - Vec3(p.x(), p.y(), 0)).norm(), 0, 1e-9) << i;
+      EXPECT_NEAR((f - Vec3(0, 0, 0.5)).norm(), 0, 1e-9);
+    }
+    EXPECT_GT(st.fallbacks, 0u);
+  }
+  // A 0.5 mm plate pressed 2 mm deep (the HIP is below the bottom face, i.e. outside the plate
+  // as seen from the bottom): the global closest point is on the bottom face and disagrees on
+  // inside/outside, so it is refused and the push stays upward.
+  render::Params none;
+  none.max_walk_steps = 0;
+  render::Model plate(test::closed_box(Vec3(-30, -30, -0.5), Vec3(30, 30, 0), 6), none);
+  for (Algorithm a : kBoth) {
+    render::State st;
+    render::step(plate, st, Vec3(1, 1, 1), a);
+    render::step(plate, st, Vec3(1, 1, -2), a);
+    ASSERT_TRUE(st.collision);
+    for (int i = 1; i <= 20; ++i) {
+      const Vec3 f = render::step(plate, st, Vec3(1 + i, 1 + 0.5 * i, -2), a);
+      ASSERT_TRUE(st.collision) << i;
+      EXPECT_NEAR(st.ihip.point.z(), 0, 1e-12) << i;
+      EXPECT_GT(f.z(), 0) << i;
+    }
+    EXPECT_GT(st.fallbacks, 0u);
+  }
+}
