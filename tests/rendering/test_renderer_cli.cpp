@@ -82,7 +82,8 @@ TEST(RendererCli, TcaStrokeRejectsBadArguments) {
   write_mesh(mesh, test::flat_plane(4, 4, 1, 0, 0));
   std::string out;
   EXPECT_NE(
-      run_cli("tca stroke --mesh " + mesh + " --from '1;2' --to 3,3 --out " + dir.path("a.csv"), out),
+      run_cli("tca stroke --mesh " + mesh + " --from '1;2' --to 3,3 --out " + dir.path("a.csv"),
+              out),
       0);
   EXPECT_NE(out.find("--from: expected X,Y"), std::string::npos) << out;
   EXPECT_NE(run_cli("tca stroke --mesh " + mesh + " --algorithm xyz --from 1,1 --to 3,3 --out " +

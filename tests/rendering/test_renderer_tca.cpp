@@ -252,3 +252,35 @@ TEST(RendererTca, RecontactRightAfterReleaseMeetsTheTranslatedSurface) {
   for (int i = 0; i < 10; ++i) render::step(m, st, Vec3(5, 0.13, z -= 0.01), Algorithm::kTCA);
   EXPECT_NEAR(st.t.z(), t_contact, 1e-12);
 }
+
+TEST(RendererTca, RestoringMeshCannotJumpOverAHoveringProbe) {
+  // Soft half then stiff half: TCA keeps the HIP at the soft depth, so s < 0 and on release the
+  // mesh is left translated *down*; mesh restoration then raises it toward a probe hovering just
+  // above it. The contact sweep uses the motion relative to the mesh, so the rising surface is
+  // caught the tick it reaches the probe.
+  const double F = 1.0;
+  render::Model m(two_halves(0.25, 1.0));
+  render::State st;
+  const auto tr = stroke(m, st, Algorithm::kTCA, F, -10, 1, 0.1);
+  ASSERT_LT(st.s, -2.5);
+  double z = tr.back().z;
+  while (st.collision) render::step(m, st, Vec3(1, 0.13, z += 0.01), Algorithm::kTCA);
+  const double t0 = st.t.z();
+  ASSERT_LT(t0, -2.5);
+  // Hover 0.2 mm above the translated surface (small vertical moves restore it a little too).
+  Vec3 p(1, 0.13, z);
+  while (p.z() > st.t.z() + 0.2) render::step(m, st, p += Vec3(0, 0, -0.01), Algorithm::kTCA);
+  ASSERT_FALSE(st.collision);
+  const double gap = p.z() - st.t.z();
+  ASSERT_GT(gap, 0.0);
+  ASSERT_LT(gap, 0.21);
+  // One lateral millimetre raises the mesh by a_t * 1 = 0.5 mm > gap (applied to t(n+1), eq.
+  // 5.17), so the next tick finds the probe inside M^t: contact.
+  render::step(m, st, p += Vec3(1, 0, 0), Algorithm::kTCA);
+  EXPECT_FALSE(st.collision);
+  EXPECT_NEAR(st.t.z() - p.z(), 0.5 - gap, 1e-9);
+  render::step(m, st, p += Vec3(0.01, 0, 0), Algorithm::kTCA);
+  EXPECT_TRUE(st.collision);
+  EXPECT_GT(st.force.z(), 0);
+  EXPECT_NEAR(st.ihip.point.z(), st.t.z(), 1e-9);
+}
