@@ -7,6 +7,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/rendering/renderer.hpp"
 #include "rendering/render_fixtures.hpp"
+#include "support/meshes.hpp"
 
 using namespace inhap;
 using render::Algorithm;
@@ -114,6 +115,43 @@ TEST(RendererCba, SphereProxyIsClosestPointAndForceIsRadialKTimesDepth) {
     // sphere are radial), within the tessellation error.
     EXPECT_NEAR((f - k * depth * dir).norm(), 0, k * (2 * sag + depth * 3 * alpha)) << trial;
     EXPECT_GT(f.normalized().dot(dir), std::cos(3 * alpha)) << trial;
+  }
+}
+
+TEST(RendererCba, TorusProxyAndForceMatchTheAnalyticTubeIncludingTheSaddleSide) {
+  const double R = 20, r = 6, k = 0.8;
+  const TriMesh mesh = test::make_torus(R, r, 256, 96);
+  // Analytic closest point and outward normal of the torus for a point p inside the tube.
+  auto tube = [&](const Vec3& p, Vec3& normal) {
+    const Vec3 c = R * Vec3(p.x(), p.y(), 0).normalized();
+    normal = (p - c).normalized();
+    return Vec3(c + r * normal);
+  };
+  double alpha = 0;  // largest angle between a face normal and the torus normal at its corners
+  for (std::size_t f = 0; f < mesh.num_triangles(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      Vec3 n;
+      tube(mesh.positions[mesh.triangles[f][i]], n);
+      alpha = std::max(alpha, std::acos(std::min(1.0, mesh.face_normal(f).dot(n))));
+    }
+  ASSERT_LT(alpha, 0.06);
+  render::Params ps;
+  ps.default_stiffness = k;
+  render::Model m(mesh, ps);
+  Rng rng(21);
+  for (int trial = 0; trial < 60; ++trial) {
+    const double u = rng.uniform(0, 2 * M_PI), v = rng.uniform(0, 2 * M_PI);  // v = pi: saddle
+    const Vec3 radial(std::cos(u), std::sin(u), 0);
+    const Vec3 c = R * radial, dir = std::cos(v) * radial + std::sin(v) * Vec3::UnitZ();
+    const double depth = rng.uniform(0.3, 2.5);
+    render::State st;
+    const Vec3 f = move(m, st, c + (r + 2) * dir, c + (r - depth) * dir, 60);
+    ASSERT_TRUE(st.collision) << trial;
+    Vec3 n;
+    const Vec3 q = tube(c + (r - depth) * dir, n);
+    const double tol = (r - depth) * std::sin(alpha) + 0.02;
+    EXPECT_NEAR((st.ihip.point - q).norm(), 0, tol) << trial << " v " << v;
+    EXPECT_NEAR((f - k * depth * n).norm(), 0, k * (0.02 + depth * 3 * alpha)) << trial;
   }
 }
 
