@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "../tests/support/meshes.hpp"
+#include "support/meshes.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
 
