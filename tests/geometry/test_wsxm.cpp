@@ -81,7 +81,8 @@ TEST(Wsxm, BadFilesNameFileAndProblem) {
     FAIL() << "expected ParseError";
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("c.top"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("expected 2 rows x 3 columns of short samples"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("expected 2 rows x 3 columns of short samples"),
+              std::string::npos)
         << e.what();
   }
   const auto no_rows = dir.path("d.top");
