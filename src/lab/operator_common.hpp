@@ -1,0 +1,64 @@
+// Internal helpers shared by the simulated operators. Units: mm, N, s.
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "inhap/core/random.hpp"
+#include "inhap/lab/operators.hpp"
+
+namespace inhap::lab::detail {
+
+/// Minimum-jerk interpolation weight for s in [0, 1].
+inline double min_jerk(double s) {
+  s = std::clamp(s, 0.0, 1.0);
+  return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+}
+inline double smoothstep(double s) {
+  s = std::clamp(s, 0.0, 1.0);
+  return s * s * (3.0 - 2.0 * s);
+}
+/// Log-uniform draw in [lo, hi].
+inline double log_uniform(Rng& rng, double lo, double hi) {
+  return std::exp(rng.uniform(std::log(lo), std::log(hi)));
+}
+
+/// Physiological tremor (8-12 Hz, ~0.03 mm) plus slow postural drift (0.2-0.6 Hz, ~0.3 mm).
+class Tremor {
+ public:
+  explicit Tremor(Rng& rng);
+  Vec3 at(double t) const;
+
+ private:
+  Vec3 amp_fast_, f_fast_, ph_fast_, amp_slow_, f_slow_, ph_slow_;
+};
+
+/// A person's force perception: the normal contact force, delayed.
+class Perception {
+ public:
+  Perception(double delay_s, double rate_hz);
+  void push(double normal_force);
+  double force() const { return buf_[(head_ + 1) % buf_.size()]; }  // oldest = delayed
+
+ private:
+  std::vector<double> buf_;
+  std::size_t head_ = 0;
+};
+
+/// Hand impedance typical of a person holding a stylus (stiffness 0.4-0.8 N/mm, damping ratio
+/// 0.6-0.9 with device + hand mass).
+HandParams random_hand(Rng& rng, const DeviceParams& device);
+
+struct SurfaceSpot {
+  Vec3 center;  ///< probe centre touching the surface from above, mm
+  Vec3 normal;  ///< outward normal there
+};
+/// Probe-centre touch point straight above (x, y), if the probe hits the object there.
+std::optional<SurfaceSpot> spot_at(const SoftObject& object, double probe_radius, const Vec2& xy);
+/// Uniform point of the region's disk.
+Vec2 random_in_region(Rng& rng, const Region& region, double shrink = 1.0);
+/// Top of the object above the region centre (probe centre), for resting positions.
+Vec3 rest_point(const Scene& scene, double probe_radius, double clearance);
+
+}  // namespace inhap::lab::detail
