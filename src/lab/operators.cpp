@@ -11,7 +11,7 @@ namespace inhap::lab {
 namespace {
 
 /// Moves the probe between random points of a box above the object with minimum-jerk strokes
-/// (peak speed 20-200 mm/s), pausing briefly in between: free motion with tapping-like
+/// (20-80 mm, peak speed 20-250 mm/s), pausing briefly in between: free motion with tapping-like
 /// accelerations, never touching.
 class AirOperator final : public HandOperator {
  public:
@@ -44,8 +44,13 @@ class AirOperator final : public HandOperator {
       moving_ = !moving_;
       if (moving_) {
         from_ = target_;
-        for (int k = 0; k < 3; ++k) to_[k] = rng_.uniform(lo_[k], hi_[k]);
-        const double peak = detail::log_uniform(rng_, 20.0, 200.0);
+        // A stroke of 20-80 mm toward a random point of the box, peak speed 20-250 mm/s
+        // (peak acceleration up to ~5 m/s^2, as when tapping).
+        Vec3 goal;
+        for (int k = 0; k < 3; ++k) goal[k] = rng_.uniform(lo_[k], hi_[k]);
+        const Vec3 dir = (goal - from_).normalized();
+        to_ = (from_ + rng_.uniform(20.0, 80.0) * dir).cwiseMax(lo_).cwiseMin(hi_);
+        const double peak = detail::log_uniform(rng_, 20.0, 250.0);
         duration_ = std::max(0.15, 1.875 * (to_ - from_).norm() / peak);
       } else {
         duration_ = rng_.uniform(0.0, 0.3);
