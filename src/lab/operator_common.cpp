@@ -18,11 +18,13 @@ Tremor::Tremor(Rng& rng) {
 }
 
 Vec3 Tremor::at(double t) const {
+  const double fade = smoothstep((t - t0_) / 0.5);
+  if (fade <= 0) return Vec3::Zero();
   Vec3 out;
   for (int k = 0; k < 3; ++k)
     out[k] = amp_fast_[k] * std::sin(2 * M_PI * f_fast_[k] * t + ph_fast_[k]) +
              amp_slow_[k] * std::sin(2 * M_PI * f_slow_[k] * t + ph_slow_[k]);
-  return out;
+  return fade * out;
 }
 
 Perception::Perception(double delay_s, double rate_hz)

@@ -28,10 +28,13 @@ inline double log_uniform(Rng& rng, double lo, double hi) {
 class Tremor {
  public:
   explicit Tremor(Rng& rng);
+  /// Fades the tremor in over 0.5 s from `t0` (no jolt when the hand takes the stylus).
+  void start(double t0) { t0_ = t0; }
   Vec3 at(double t) const;
 
  private:
   Vec3 amp_fast_, f_fast_, ph_fast_, amp_slow_, f_slow_, ph_slow_;
+  double t0_ = 0;
 };
 
 /// A person's force perception: the normal contact force, delayed.

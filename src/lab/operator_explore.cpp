@@ -54,6 +54,7 @@ class ExploreOperator final : public HandOperator {
     const Vec3 start = spot_.center - depth_ * spot_.normal;
     dev.place(start);
     dev.set_hand_target(start);
+    tremor_.start(dev.time());
     t_start_ = dev.time();
     seg_t0_ = t_start_;
   }
@@ -145,21 +146,21 @@ class ExploreOperator final : public HandOperator {
 
   Vec2 slide_goal() {
     Vec2 goal = cursor_;
-    for (int i = 0; i < 20 && (goal - cursor_).norm() < 8.0; ++i)
+    for (int i = 0; i < 20 && (goal - cursor_).norm() < 20.0; ++i)
       goal = detail::random_in_region(rng_, scene_.region);
     return goal;
   }
 
   void add_slide(double force) {
     const Vec2 goal = slide_goal();
-    const double v = rng_.uniform(5.0, 30.0);  // mean speed, mm/s
+    const double v = rng_.uniform(8.0, 35.0);  // mean speed, mm/s
     queue_.push_back({Segment::slide, std::max(0.4, (goal - cursor_).norm() / v), goal, force});
   }
 
   void add_circles(double force) {
-    const double f = rng_.uniform(0.5, 2.0);
+    const double f = rng_.uniform(0.5, 1.5);
     queue_.push_back({Segment::circle, rng_.uniform(1.5, 4.0) / f, Vec2::Zero(), force,
-                      rng_.uniform(2.0, 8.0), f});
+                      rng_.uniform(4.0, 10.0), f});
   }
 
   /// Lift (if touching), move above a new point, touch, load to `force`.
@@ -176,8 +177,8 @@ class ExploreOperator final : public HandOperator {
   void plan(double t) {
     const double slide_from = t_start_ + (1.0 - opt_.sliding_fraction) * seconds_;
     if (t >= slide_from - 1.5) {  // sliding-only passage: never leave the surface
-      if (!touching_) add_approach(rng_.uniform(1.0, 3.0), rng_.uniform(0.3, 0.6));
-      const double f = rng_.uniform(1.0, 3.0);
+      if (!touching_) add_approach(rng_.uniform(0.7, 2.5), rng_.uniform(0.3, 0.6));
+      const double f = rng_.uniform(0.7, 2.5);
       if (rng_.uniform() < 0.6)
         add_slide(f);
       else

@@ -26,6 +26,7 @@ class TapOperator final : public HandOperator {
     target_ = detail::rest_point(scene_, radius_, 25.0);
     dev.place(target_);
     dev.set_hand_target(target_);
+    tremor_.start(dev.time());
     plan_next(dev.time());
   }
 

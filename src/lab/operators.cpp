@@ -30,6 +30,7 @@ class AirOperator final : public HandOperator {
     target_ = from_ = to_ = 0.5 * (lo_ + hi_);
     dev.place(target_);
     dev.set_hand_target(target_);
+    tremor_.start(dev.time());
     t0_ = dev.time();
     duration_ = 0.2;
     moving_ = false;

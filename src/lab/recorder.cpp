@@ -16,6 +16,9 @@ const Vec3 kNaN3 = Vec3::Constant(kNaN);
 
 TickLogger::TickLogger(const SimDevice& device, std::size_t reserve_ticks)
     : dev_(device), comp_cfg_(CompensatorConfig::from(device.info())) {
+  // A correctly configured logger removes exactly what the raw reading contains.
+  comp_cfg_.gravity = device.params().gravity;
+  comp_cfg_.inertia = device.params().inertia;
   auto& r = out_.rec;
   r.t.reserve(reserve_ticks);
   r.p.reserve(reserve_ticks);
