@@ -30,6 +30,10 @@ class Reader {
     if (shown.size() > 40) shown = shown.substr(0, 37) + "...";
     throw ParseError(file_, 0, fmt::format("{}: {}, got {}", path_, what, shown));
   }
+  /// Error about field k of this object.
+  [[noreturn]] void fail_at(const std::string& k, const std::string& what) const {
+    Reader(json::object(), key(k), file_).fail(what, at(k));
+  }
   std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
   bool has(const std::string& k) const { return j_.contains(k); }
   const json& at(const std::string& k) const {
@@ -112,10 +116,9 @@ Shape read_geometry(const Reader& g, const std::filesystem::path& scene_dir) {
   } else if (type == "mesh") {
     shape = load_mesh_shape(g.string("path"), scene_dir.string(), g.file());
   } else {
-    g.child("type").fail(
-        "expected geometry type cylinder, plane, dome, hemisphere, sphere, box, ridged-slab or "
-        "mesh",
-        g.at("type"));
+    g.fail_at("type",
+              "expected geometry type cylinder, plane, dome, hemisphere, sphere, box, "
+              "ridged-slab or mesh");
   }
   if (std::string err = validate_shape(shape); !err.empty())
     throw ParseError(g.file(), 0, fmt::format("{}: {}", g.path(), err));
@@ -218,9 +221,9 @@ Scene parse_scene_in(std::string_view text, const std::string& source,
   }
   const Reader root(j, "", source);
   if (root.has("format") && root.string("format") != "inhap-scene")
-    root.child("format").fail("expected \"inhap-scene\"", j.at("format"));
+    root.fail_at("format", "expected \"inhap-scene\"");
   if (root.has("version") && root.number("version", 1, 1) != 1)
-    root.child("version").fail("expected version 1", j.at("version"));
+    root.fail_at("version", "expected version 1");
   Scene s;
   s.name = root.string_or("name", std::filesystem::path(source).stem().string());
   s.description = root.string_or("description", "");
