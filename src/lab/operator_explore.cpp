@@ -51,7 +51,8 @@ class ExploreOperator final : public HandOperator {
     spot_ =
         detail::spot_at(scene_.object, radius_, cursor_)
             .value_or(detail::SurfaceSpot{detail::rest_point(scene_, radius_, 0), Vec3::UnitZ()});
-    const Vec3 start = spot_.center - depth_ * spot_.normal;
+    push_dir_ = spot_.normal;
+    const Vec3 start = spot_.center - depth_ * push_dir_;
     dev.place(start);
     dev.set_hand_target(start);
     tremor_.start(dev.time());
@@ -65,7 +66,10 @@ class ExploreOperator final : public HandOperator {
     if (queue_.empty()) plan(t);
     run_segment(t);
     if (auto s = detail::spot_at(scene_.object, radius_, cursor_)) spot_ = *s;
-    dev.set_hand_target(spot_.center - depth_ * spot_.normal + tremor_.at(t));
+    // A person presses along a direction that turns smoothly (time constant 0.15 s), not along
+    // the exact local normal, which jumps across creases (e.g. between ridges).
+    push_dir_ = (push_dir_ + (dt_ / 0.15) * (spot_.normal - push_dir_)).normalized();
+    dev.set_hand_target(spot_.center - depth_ * push_dir_ + tremor_.at(t));
   }
 
  private:
@@ -218,6 +222,7 @@ class ExploreOperator final : public HandOperator {
   double radius_ = 0, dt_ = 1e-3, belief_ = 1, clearance_ = 10;
   std::deque<Segment> queue_;
   detail::SurfaceSpot spot_{Vec3::Zero(), Vec3::UnitZ()};
+  Vec3 push_dir_ = Vec3::UnitZ();
   Vec2 cursor_ = Vec2::Zero(), seg_from_ = Vec2::Zero();
   double t_start_ = 0, seg_t0_ = 0, f_from_ = 0, f_ref_ = 0, depth_ = 0, integ_ = 0;
   bool touching_ = false;
