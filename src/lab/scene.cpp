@@ -17,6 +17,7 @@ namespace inhap::lab {
 namespace {
 
 using nlohmann::json;
+using ojson = nlohmann::ordered_json;  // writer: keys in a readable order
 
 /// Reads typed fields out of a JSON object, naming the key path and the file in errors.
 class Reader {
@@ -156,12 +157,12 @@ std::vector<Inclusion> read_inclusions(const Reader& root) {
   return out;
 }
 
-json vec_json(const Vec3& v) {
-  return json::array({v.x(), v.y(), v.z()});
+ojson vec_json(const Vec3& v) {
+  return ojson::array({v.x(), v.y(), v.z()});
 }
 
-json geometry_json(const Shape& shape) {
-  json g;
+ojson geometry_json(const Shape& shape) {
+  ojson g;
   std::visit(
       [&](const auto& s) {
         using T = std::decay_t<decltype(s)>;
@@ -239,6 +240,45 @@ Scene parse_scene_in(std::string_view text, const std::string& source,
   return s;
 }
 
+/// Puts arrays of plain numbers on one line ([0.0, 0.0, 25.0]) so scene files stay editable.
+std::string collapse_number_arrays(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '"') {  // a quote ends the string unless an odd run of backslashes escapes it
+      std::size_t slashes = 0;
+      while (slashes < i && text[i - 1 - slashes] == '\\') ++slashes;
+      if (slashes % 2 == 0) in_string = !in_string;
+    }
+    if (!in_string && text[i] == '[') {
+      const std::size_t close = text.find(']', i);
+      const std::string_view inner = close == std::string::npos
+                                         ? std::string_view()
+                                         : std::string_view(text).substr(i + 1, close - i - 1);
+      if (!inner.empty() &&
+          inner.find_first_not_of("0123456789+-.eE, \n") == std::string_view::npos) {
+        out += '[';
+        bool space = false;
+        for (char c : inner) {
+          if (c == ' ' || c == '\n') {
+            space = true;
+            continue;
+          }
+          if (space && out.back() == ',') out += ' ';
+          space = false;
+          out += c;
+        }
+        out += ']';
+        i = close;
+        continue;
+      }
+    }
+    out += text[i];
+  }
+  return out;
+}
+
 }  // namespace
 
 Region default_region(const Shape& shape) {
@@ -262,7 +302,7 @@ Scene load_scene(const std::string& path) {
 
 std::string scene_to_json(const Scene& scene) {
   const ContactLaw& m = scene.object.material();
-  json j;
+  ojson j;
   j["format"] = "inhap-scene";
   j["version"] = 1;
   j["units"] = "mm, N, s; k N/mm^exponent, k_t N/mm, damping s/mm, creep N s/mm";
@@ -271,16 +311,16 @@ std::string scene_to_json(const Scene& scene) {
   j["geometry"] = geometry_json(scene.object.shape());
   j["material"] = {{"k", m.k},   {"exponent", m.exponent}, {"damping", m.damping}, {"k_t", m.k_t},
                    {"mu", m.mu}, {"creep", m.creep}};
-  json incs = json::array();
+  ojson incs = ojson::array();
   for (const auto& inc : scene.object.inclusions())
     incs.push_back({{"center", vec_json(inc.center)},
                     {"radius", inc.radius},
                     {"stiffness_factor", inc.stiffness_factor},
                     {"mu_factor", inc.mu_factor}});
   j["inclusions"] = incs;
-  j["region"] = {{"center", json::array({scene.region.center.x(), scene.region.center.y()})},
+  j["region"] = {{"center", ojson::array({scene.region.center.x(), scene.region.center.y()})},
                  {"radius", scene.region.radius}};
-  return j.dump(2) + "\n";
+  return collapse_number_arrays(j.dump(2)) + "\n";
 }
 
 void save_scene(const std::string& path, const Scene& scene) {

@@ -57,6 +57,14 @@ TEST(Scene, JsonRoundTripKeepsEverything) {
   }
 }
 
+TEST(Scene, WriterKeepsStringsIntactAndArraysOnOneLine) {
+  Scene s = builtin_scene("planar");
+  s.description = "odd [1,  2] \\\"quoted [3,   4]\\\" ends \\\\";
+  const std::string j = scene_to_json(s);
+  EXPECT_NE(j.find("\"base_center\": [0.0, 0.0, 0.0]"), std::string::npos) << j;
+  EXPECT_EQ(parse_scene(j, "x.json").description, s.description);
+}
+
 TEST(Scene, ParsesAHandWrittenFileWithDefaults) {
   const Scene s = parse_scene(kGood, "mine.json");
   EXPECT_EQ(s.name, "mine");
