@@ -1,0 +1,72 @@
+// Haptic rendering of a mesh carrying a stiffness map (thesis ch. 5): the constraint-based
+// god-object algorithm (CBA) and TCA-MESH on top of it.
+//
+// Units: positions mm, forces N, stiffness N/mm (per-vertex property `stiffness`), time s.
+// Model/state split: a Model is immutable and may be shared by many States; step() is the servo
+// call (1 kHz): no allocation, no exceptions, no I/O, bounded time.
+#pragma once
+
+#include <cstdint>
+
+#include "inhap/core/types.hpp"
+#include "inhap/geometry/mesh_index.hpp"
+#include "inhap/geometry/trimesh.hpp"
+
+namespace inhap::render {
+
+enum class Algorithm { kCBA, kTCA };
+
+struct Params {
+  double a_s = 0.05;             ///< height restoration slope of s(n) (eq. 5.11), dimensionless
+  double a_t = 0.5;              ///< mesh restoration ratio of t(n) (eq. 5.15), dimensionless
+  double force_limit_n = 6.2;    ///< output force clamp (device limit), N
+  double default_stiffness = 1.0;  ///< N/mm, used when the mesh has no `stiffness` property
+  double min_stiffness = 1e-3;   ///< N/mm, floor applied to k(q) (k = 0 would divide by zero in 5.4)
+  bool force_shading = true;     ///< interpolate vertex normals for the force direction
+};
+
+/// Immutable rendering model: mesh with per-vertex stiffness and normals, adjacency, index.
+class Model {
+ public:
+  /// Takes the mesh (needs triangles; computes normals if missing). Throws Error on bad input.
+  Model(TriMesh mesh, Params params = {});
+  const TriMesh& mesh() const { return mesh_; }
+  const MeshIndex& index() const { return index_; }
+  const MeshAdjacency& adjacency() const { return adjacency_; }
+  const Params& params() const { return params_; }
+  /// Barycentric interpolation of the vertex stiffness, N/mm (floored at min_stiffness).
+  double stiffness(const SurfacePoint& q) const;
+  /// Force-shaded unit normal at q (interpolated vertex normals), or the face normal when
+  /// force shading is off.
+  Vec3 normal(const SurfacePoint& q) const;
+
+ private:
+  TriMesh mesh_;
+  Params params_;
+  MeshIndex index_;
+  MeshAdjacency adjacency_;
+  std::vector<double> stiffness_;
+};
+
+/// Everything that changes per servo tick (thesis notation in brackets).
+struct State {
+  bool has_prev = false;     ///< p(n-1) valid
+  Vec3 hip_prev = Vec3::Zero();  ///< p(n-1), mm
+  bool collision = false;    ///< COLLISION
+  SurfacePoint ihip;         ///< q(n) on M^t(n) (point includes the translation t), mm
+  Vec3 cihip = Vec3::Zero(); ///< q'(n) = q(n) + s(n) n(n), mm
+  Vec3 normal = Vec3::UnitZ();  ///< n(n)
+  double k = 0;              ///< k(n), N/mm
+  double k_prev = 0;         ///< k(n-1), N/mm
+  double s = 0;              ///< s(n), signed point compensation, mm
+  Vec3 t = Vec3::Zero();     ///< t(n), mesh compensation vector, mm
+  Vec3 force = Vec3::Zero(); ///< last output force, N
+  std::uint32_t resets = 0;  ///< how many times bad input forced a reset
+
+  void reset() { *this = State{.resets = resets + 1}; }
+};
+
+/// One servo tick: HIP position p (mm) in, force (N) out. CBA ignores s and t (they stay 0).
+Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm);
+
+}  // namespace inhap::render
