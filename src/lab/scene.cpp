@@ -115,7 +115,11 @@ Shape read_geometry(const Reader& g, const std::filesystem::path& scene_dir) {
     r.ridge_width = g.number_or("ridge_width", 0, 0, kBig);
     shape = r;
   } else if (type == "mesh") {
-    shape = load_mesh_shape(g.string("path"), scene_dir.string(), g.file());
+    const Vec3 offset = g.has("offset") ? Vec3(g.vec<3>("offset")) : Vec3::Zero();
+    const std::string up = g.string_or("up", "z");
+    if (up != "z" && up != "y") g.fail_at("up", "expected \"z\" or \"y\"");
+    shape = load_mesh_shape(g.string("path"), scene_dir.string(), g.file(),
+                            g.number_or("scale", 1.0, 1e-9, 1e9), offset, up[0]);
   } else {
     g.fail_at("type",
               "expected geometry type cylinder, plane, dome, hemisphere, sphere, box, "
@@ -196,7 +200,11 @@ ojson geometry_json(const Shape& shape) {
                {"ridge_height", s.ridge_height},
                {"ridge_width", s.ridge_width}};
         } else {
-          g = {{"type", "mesh"}, {"path", s.path}};
+          g = {{"type", "mesh"},
+               {"path", s.path},
+               {"scale", s.scale},
+               {"offset", vec_json(s.offset)},
+               {"up", std::string(1, s.up)}};
         }
       },
       shape.variant());

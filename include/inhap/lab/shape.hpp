@@ -70,12 +70,20 @@ struct RidgedSlabShape {
   double ridge_height = 6.0, ridge_width = 14.0;
 };
 
-/// Closed triangle mesh (PLY/OBJ) used as the undeformed surface.
+/// Closed, outward-oriented triangle mesh (PLY/OBJ) used as the undeformed surface; file
+/// positions p are placed at U (scale * p) + offset (mm), where U turns the file's up axis
+/// (`up` = 'z' or 'y', as in the Stanford models) onto the lab's +z.
 struct MeshShape {
   std::string path;  ///< as written in the scene file
+  double scale = 1.0;
+  Vec3 offset = Vec3::Zero();
+  char up = 'z';
   std::shared_ptr<const MeshIndex> index;
-  std::shared_ptr<const TriMesh> mesh;  ///< with vertex normals (for the inside/outside sign)
+  std::shared_ptr<const TriMesh> mesh;  ///< placed, with vertex normals (inside/outside sign)
 };
+
+/// Builds a mesh shape from a mesh already in memory (placed as is; normals recomputed).
+MeshShape make_mesh_shape(TriMesh mesh, std::string path = "(memory)");
 
 class Shape {
  public:
