@@ -8,6 +8,7 @@
 
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/lab/operators.hpp"
+#include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 namespace inhap::lab {
@@ -22,15 +23,9 @@ RecordSpec spec(const std::string& op, double seconds, std::uint64_t seed) {
 }
 
 int run_cli(const std::string& args, std::string* output = nullptr) {
-  const std::string cmd = std::string(INHAP_CLI) + " " + args + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return -1;
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p)) out += buf;
-  const int rc = ::pclose(p);
-  if (output) *output = out;
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  const test::CliResult r = test::run_cli(args);
+  if (output) *output = r.out;
+  return r.status;
 }
 
 TEST(Recording, SameSeedGivesIdenticalBytesOtherSeedsDiffer) {
