@@ -35,6 +35,55 @@ void Perception::push(double normal_force) {
   buf_[head_] = normal_force;
 }
 
+void Path::reset(const Vec3& start) {
+  pts_.assign(1, start);
+  ends_.clear();
+}
+
+void Path::add(const Vec3& to, double peak_speed, double min_s) {
+  const double dist = (to - pts_.back()).norm();
+  if (dist < 1e-9) return;
+  const double t = std::max(min_s, 1.875 * dist / peak_speed);  // min-jerk peak = 1.875 mean
+  ends_.push_back(duration() + t);
+  pts_.push_back(to);
+}
+
+Vec3 Path::at(double tau) const {
+  for (std::size_t i = 0; i < ends_.size(); ++i)
+    if (tau < ends_[i]) {
+      const double t0 = i ? ends_[i - 1] : 0.0;
+      return pts_[i] + min_jerk((tau - t0) / (ends_[i] - t0)) * (pts_[i + 1] - pts_[i]);
+    }
+  return pts_.back();
+}
+
+double safe_height(const SoftObject& object, double r, double margin) {
+  const Box3 b = object.shape().bounds();
+  return (b.empty() ? 0.0 : b.max.z()) + r + margin;
+}
+
+Path over_path(const SoftObject& object, double r, const Vec3& from, const Vec3& to,
+               double peak_speed) {
+  Path p;
+  p.reset(from);
+  if (clear_segment(object, r, from, to)) {
+    p.add(to, peak_speed);
+    return p;
+  }
+  const double z = std::max({safe_height(object, r), from.z(), to.z()});
+  p.add(Vec3(from.x(), from.y(), z), peak_speed);
+  p.add(Vec3(to.x(), to.y(), z), peak_speed);
+  p.add(to, peak_speed);
+  return p;
+}
+
+bool clear_segment(const SoftObject& object, double r, const Vec3& a, const Vec3& b) {
+  const int n = 1 + static_cast<int>((b - a).norm() / 0.5);
+  for (int i = 0; i <= n; ++i)
+    if (object.query(a + (double(i) / n) * (b - a)).distance <= r) return false;
+  return true;
+}
+
 HandParams random_hand(Rng& rng, const DeviceParams& device) {
   HandParams h;
   h.stiffness_n_per_mm = rng.uniform(0.4, 0.8);

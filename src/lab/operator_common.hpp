@@ -49,6 +49,31 @@ class Perception {
   std::size_t head_ = 0;
 };
 
+/// A hand path through waypoints, minimum-jerk on each leg (at rest at every waypoint).
+class Path {
+ public:
+  void reset(const Vec3& start);
+  /// Appends a leg to `to` with the given peak speed (mm/s), lasting at least `min_s`.
+  void add(const Vec3& to, double peak_speed, double min_s = 0.1);
+  Vec3 at(double tau) const;
+  double duration() const { return ends_.empty() ? 0.0 : ends_.back(); }
+  const Vec3& end() const { return pts_.back(); }
+
+ private:
+  std::vector<Vec3> pts_;
+  std::vector<double> ends_;  // cumulative end time of each leg
+};
+
+/// Height (probe centre z) at which a probe of radius `r` clears the whole object by `margin`.
+double safe_height(const SoftObject& object, double r, double margin = 10.0);
+/// How a person moves between two points above an object: up to a clear height (if lower),
+/// across, and down (the legs at `peak_speed`).
+Path over_path(const SoftObject& object, double r, const Vec3& from, const Vec3& to,
+               double peak_speed);
+/// True when a probe of radius r moves straight from a to b without touching the object
+/// (checked every 0.5 mm).
+bool clear_segment(const SoftObject& object, double r, const Vec3& a, const Vec3& b);
+
 /// Hand impedance typical of a person holding a stylus (stiffness 0.4-0.8 N/mm, damping ratio
 /// 0.6-0.9 with device + hand mass).
 HandParams random_hand(Rng& rng, const DeviceParams& device);

@@ -8,6 +8,7 @@
 // the delayed perceived normal force.
 #include <cmath>
 #include <deque>
+#include <optional>
 
 #include "operator_common.hpp"
 
@@ -53,6 +54,7 @@ class ExploreOperator final : public HandOperator {
             .value_or(detail::SurfaceSpot{detail::rest_point(scene_, radius_, 0), Vec3::UnitZ()});
     push_dir_ = spot_.normal;
     const Vec3 start = spot_.center - depth_ * push_dir_;
+    target_ = start;
     dev.place(start);
     dev.set_hand_target(start);
     tremor_.start(dev.time());
@@ -64,12 +66,21 @@ class ExploreOperator final : public HandOperator {
     const double t = dev.time() + dt_;
     perception_.push(dev.contact().normal_force);
     if (queue_.empty()) plan(t);
+    free_target_.reset();
     run_segment(t);
-    if (auto s = detail::spot_at(scene_.object, radius_, cursor_)) spot_ = *s;
-    // A person presses along a direction that turns smoothly (time constant 0.15 s), not along
-    // the exact local normal, which jumps across creases (e.g. between ridges).
-    push_dir_ = (push_dir_ + (dt_ / 0.15) * (spot_.normal - push_dir_)).normalized();
-    dev.set_hand_target(spot_.center - depth_ * push_dir_ + tremor_.at(t));
+    if (free_target_) {
+      target_ = *free_target_;
+    } else {
+      follow_surface();
+      // A person presses along a direction that turns smoothly (time constant 0.15 s), not
+      // along the exact local normal, which jumps across creases (e.g. between ridges).
+      push_dir_ = (push_dir_ + (dt_ / 0.15) * (spot_.normal - push_dir_)).normalized();
+      const Vec3 want = spot_.center - depth_ * push_dir_;
+      const double step = 400.0 * dt_;  // a hand moves at most 400 mm/s
+      const Vec3 d = want - target_;
+      target_ += d.norm() > step ? Vec3(d * (step / d.norm())) : d;
+    }
+    dev.set_hand_target(target_ + tremor_.at(t));
   }
 
  private:
@@ -92,7 +103,35 @@ class ExploreOperator final : public HandOperator {
     f_ref_ = f_ref;
   }
 
+  /// Keeps the spot on the surface being worked on: the cursor's point at the spot's height,
+  /// projected onto the probe-centre offset surface (not the topmost surface under the cursor,
+  /// which may be another part of the object, like an ear above the back).
+  void follow_surface() {
+    const SurfaceQuery q = scene_.object.query(Vec3(cursor_.x(), cursor_.y(), spot_.center.z()));
+    if (!std::isfinite(q.distance)) return;
+    spot_.center = q.closest + radius_ * q.normal;
+    spot_.normal = q.normal;
+  }
+
+  /// Moves the hand freely along a path that clears the object; true when it has arrived.
+  bool air_move(const Segment& s, double tau) {
+    if (!seg_started_) {
+      seg_started_ = true;
+      goal_ = detail::spot_at(scene_.object, radius_, s.to).value_or(spot_);
+      air_path_ = detail::over_path(scene_.object, radius_, target_,
+                                    goal_.center + clearance_ * goal_.normal, s.speed);
+    }
+    free_target_ = air_path_.at(tau);
+    if (tau < air_path_.duration()) return false;
+    cursor_ = s.to;
+    spot_ = goal_;
+    push_dir_ = goal_.normal;
+    depth_ = -clearance_;
+    return true;
+  }
+
   void next_segment(double t) {
+    seg_started_ = false;
     queue_.pop_front();
     seg_t0_ = t;
     seg_from_ = cursor_;
@@ -105,9 +144,8 @@ class ExploreOperator final : public HandOperator {
     const double ramp = smoothstep(tau / std::min(0.3, s.duration));
     bool done = tau >= s.duration;
     switch (s.kind) {
-      case Segment::air_move:
-        cursor_ = seg_from_ + min_jerk(tau / s.duration) * (s.to - seg_from_);
-        move_depth_toward(-clearance_, 60.0);
+      case Segment::air_move:  // over the object (not through it) to above the next spot
+        done = air_move(s, tau);
         break;
       case Segment::touch:
         depth_ += s.speed * dt_;
@@ -171,9 +209,7 @@ class ExploreOperator final : public HandOperator {
   void add_approach(double force, double load_time) {
     if (touching_) queue_.push_back({Segment::lift, 2.0});
     const Vec2 xy = detail::random_in_region(rng_, scene_.region);
-    const double dist = (xy - cursor_).norm();
-    queue_.push_back(
-        {Segment::air_move, std::clamp(dist / rng_.uniform(60.0, 150.0), 0.3, 1.2), xy});
+    queue_.push_back({Segment::air_move, 0.0, xy, 0, 0, 0, rng_.uniform(100.0, 250.0)});
     queue_.push_back({Segment::touch, 10.0, Vec2::Zero(), 0, 0, 0, rng_.uniform(15.0, 40.0)});
     queue_.push_back({Segment::press, load_time, Vec2::Zero(), force});
   }
@@ -223,6 +259,11 @@ class ExploreOperator final : public HandOperator {
   std::deque<Segment> queue_;
   detail::SurfaceSpot spot_{Vec3::Zero(), Vec3::UnitZ()};
   Vec3 push_dir_ = Vec3::UnitZ();
+  Vec3 target_ = Vec3::Zero();       // hand target without tremor
+  std::optional<Vec3> free_target_;  // set while the hand moves freely (air moves)
+  detail::Path air_path_;
+  detail::SurfaceSpot goal_{Vec3::Zero(), Vec3::UnitZ()};
+  bool seg_started_ = false;
   Vec2 cursor_ = Vec2::Zero(), seg_from_ = Vec2::Zero();
   double t_start_ = 0, seg_t0_ = 0, f_from_ = 0, f_ref_ = 0, depth_ = 0, integ_ = 0;
   bool touching_ = false;

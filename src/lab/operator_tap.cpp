@@ -67,10 +67,23 @@ class TapOperator final : public HandOperator {
     const ContactLaw law = scene_.object.law_at(spot.center);
     plan_depth_ = std::max(
         1.0, rng_.uniform(0.85, 1.15) * (law.depth_at(peak_) + peak_ / hand_.stiffness_n_per_mm));
+    // A tilted approach must not pass through another part of the object (think of an ear
+    // above the point): otherwise come straight down, which drop() found to be free.
+    const double retract = rng_.uniform(0.0, 5.0);
+    if (!approach_is_clear(spot.center, h0 + retract)) u_ = Vec3::UnitZ();
     start_ = spot.center + h0 * u_;
-    retract_to_ = start_ + rng_.uniform(0.0, 5.0) * u_;
-    begin_move(t, Phase::transit, start_,
-               std::clamp((start_ - target_).norm() / rng_.uniform(80.0, 200.0), 0.25, 0.9));
+    retract_to_ = start_ + retract * u_;
+    phase_ = Phase::transit;
+    t0_ = t;
+    path_ = detail::over_path(scene_.object, radius_, target_, start_, rng_.uniform(150.0, 350.0));
+  }
+
+  bool approach_is_clear(const Vec3& touch, double length) const {
+    const Vec3 far = touch + length * u_;
+    const Vec3 above(far.x(), far.y(),
+                     std::max(far.z(), detail::safe_height(scene_.object, radius_)));
+    return detail::clear_segment(scene_.object, radius_, touch + 0.5 * u_, far) &&
+           detail::clear_segment(scene_.object, radius_, far, above);
   }
 
   void begin_move(double t, Phase phase, const Vec3& to, double duration) {
@@ -100,15 +113,12 @@ class TapOperator final : public HandOperator {
     const double tau = t - t0_;
     switch (phase_) {
       case Phase::transit:
+        target_ = path_.at(tau);
+        if (tau >= path_.duration()) phase_ = Phase::approach, t0_ = t;
+        break;
       case Phase::retract:
         target_ = from_ + min_jerk(tau / duration_) * (to_ - from_);
-        if (tau >= duration_) {
-          if (phase_ == Phase::transit) {
-            phase_ = Phase::approach, t0_ = t;
-          } else {
-            phase_ = Phase::pause, t0_ = t, duration_ = rng_.uniform(0.05, 0.3);
-          }
-        }
+        if (tau >= duration_) phase_ = Phase::pause, t0_ = t, duration_ = rng_.uniform(0.05, 0.3);
         break;
       case Phase::approach: {
         bool finished;
@@ -140,6 +150,7 @@ class TapOperator final : public HandOperator {
   double t0_ = 0, duration_ = 0;
   Vec3 target_ = Vec3::Zero(), from_ = Vec3::Zero(), to_ = Vec3::Zero();
   Vec3 start_ = Vec3::Zero(), retract_to_ = Vec3::Zero(), u_ = Vec3::UnitZ();
+  detail::Path path_;
   double speed_ = 100, peak_ = 2, ramp_t_ = 0.05, believed_ = 10, plan_depth_ = 5;
 };
 

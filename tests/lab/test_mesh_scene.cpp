@@ -136,3 +136,30 @@ TEST(MeshScene, StanfordBunnyFromTheSharedData) {
 
 }  // namespace
 }  // namespace inhap::lab
+
+namespace inhap::lab {
+namespace {
+
+TEST(MeshScene, OperatorsOnTheBunnyNeverPushThroughItsParts) {
+  const std::string path = test::shared_data("bunny/bun_zipper.ply");
+  if (!std::ifstream(path)) GTEST_SKIP() << "no " << path;
+  test::TempDir dir;
+  std::ofstream(dir.path("bunny.json")) << R"({"geometry": {"type": "mesh", "path": ")" << path
+                                        << R"(", "scale": 1000, "offset": [0, 0, -33], "up": "y"},
+    "material": {"k": 0.35, "k_t": 0.5, "mu": 1.0}, "region": {"center": [-20, -5], "radius": 25}})";
+  const Scene s = load_scene(dir.path("bunny.json"));
+  for (const char* op : {"tap", "explore"}) {
+    RecordSpec spec;
+    spec.operator_name = op;
+    spec.seconds = 20;
+    const LabRecording lab = record_scene(s, spec);
+    double peak = 0;
+    for (const Vec3& f : lab.truth.force) peak = std::max(peak, f.norm());
+    // Moving through an ear instead of over it would show up as a huge contact force.
+    EXPECT_LT(peak, 6.2) << op;
+    EXPECT_GT(peak, 1.0) << op;
+  }
+}
+
+}  // namespace
+}  // namespace inhap::lab
