@@ -57,9 +57,11 @@ function three(div, spec) {
     group.add(new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide })));
   }
   for (const l of spec.lines || []) {
-    const g = new THREE.BufferGeometry();
-    g.setAttribute("position", new THREE.Float32BufferAttribute(l.points, 3));
-    group.add(new THREE.Line(g, new THREE.LineBasicMaterial({ color: l.color })));
+    const pts = [];
+    for (let i = 0; i + 2 < l.points.length; i += 3) pts.push(new THREE.Vector3(l.points[i], l.points[i + 1], l.points[i + 2]));
+    if (pts.length < 2) continue;
+    const tube = new THREE.TubeGeometry(new THREE.CatmullRomCurve3(pts), Math.min(600, 4 * pts.length), spec.line_radius || 0.5, 6, false);
+    group.add(new THREE.Mesh(tube, new THREE.MeshLambertMaterial({ color: l.color })));
   }
   scene.add(group);
   scene.add(new THREE.AmbientLight(0xffffff, 1.2));
@@ -97,7 +99,7 @@ async function main() {
   document.getElementById("summary").appendChild(summaryTable());
   const jobs = [], drawn = [];
   for (const s of report.steps) {
-    const sec = el("section");
+    const sec = el("section", { id: "step-" + s.name });
     sec.appendChild(el("h2", {}, `${s.title} (thesis ${s.chapter})`));
     const meta = [s.available ? `${s.seconds} s` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
     sec.appendChild(el("p", { class: "note" }, meta.join(" | ")));

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <limits>
 
 #include "demo.hpp"
 #include "demo_strokes.hpp"
@@ -87,6 +88,12 @@ StepResult step_data_strokes(const Context& c) {
     sc.name = d.name;
     sc.from = mid - Vec2(half, 0);
     sc.to = mid + Vec2(half, 0);
+    // True surface: the mesh's top under (x, y) (first hit of a vertical segment), NaN off it.
+    sc.truth = [&model, b](double x, double y) {
+      const auto hit =
+          model.index().first_hit(Vec3(x, y, b.max.z() + 1.0), Vec3(x, y, b.min.z() - 1.0));
+      return hit ? hit->point.z() : std::numeric_limits<double>::quiet_NaN();
+    };
     try {
       const StrokePair p = run_stroke_pair(model, sc, c.options.seed);
       r.figures.push_back(
@@ -99,7 +106,7 @@ StepResult step_data_strokes(const Context& c) {
           fmt::format("{} triangles; blue soft to red hard. Lines: IHIP paths (TCA-MESH blue, "
                       "CBA orange).",
                       model.mesh().num_triangles())));
-      r.rows.push_back({fmt::format("{}: stroke IHIP-relative distortion TCA / CBA (mm)", d.name),
+      r.rows.push_back({fmt::format("{}: stroke shape distortion RMS, TCA-MESH / CBA (mm)", d.name),
                         fmt::format("{:.3f} / {:.3f}", p.distortion_tca, p.distortion_cba), "-"});
     } catch (const Error& e) {
       r.rows.push_back(

@@ -40,7 +40,7 @@ nlohmann::json line(const nlohmann::json& x, const nlohmann::json& y, const std:
 
 StepResult step_tap(const Context& c) {
   StepResult r;
-  const double seconds = c.options.quick ? 8.0 : 30.0;
+  const double seconds = c.options.quick ? 8.0 : 60.0;
   const lab::LabRecording lab = record_dome(c, "tap", seconds, c.options.seed);
   lab::write_lab_recording(c.file(r, "dome_tap.csv"), lab);
   r.files.push_back("dome_tap.truth.csv");
@@ -108,7 +108,7 @@ StepResult step_tap(const Context& c) {
 
 StepResult step_explore(const Context& c) {
   StepResult r;
-  const double seconds = c.options.quick ? 10.0 : 40.0;
+  const double seconds = c.options.quick ? 10.0 : 60.0;
   const lab::LabRecording lab = record_dome(c, "explore", seconds, c.options.seed + 1);
   lab::write_lab_recording(c.file(r, "dome_explore.csv"), lab);
   r.files.push_back("dome_explore.truth.csv");

@@ -24,7 +24,7 @@ double distortion(const StrokeCase& sc, const std::vector<render::StrokeSample>&
     const double u = along(sc, x.hip);
     if (!x.contact || u < 1.0 || u > len - 1.0) continue;
     const double ref = sc.truth ? sc.truth(x.hip.x(), x.hip.y()) : x.ihip.z();
-    e.push_back(x.hip.z() - ref);
+    if (std::isfinite(ref)) e.push_back(x.hip.z() - ref);
   }
   if (e.empty()) return 0;
   double mean = 0, sq = 0;
@@ -53,7 +53,7 @@ void path(const StrokeCase& sc, const std::vector<render::StrokeSample>& s, int 
     if (!x.contact || k++ % stride) continue;
     const Vec3& p = which == 0 ? x.hip : which == 1 ? x.ihip : x.cihip;
     const double a = along(sc, x.hip);
-    if (a < -0.5 || a > len + 0.5) continue;
+    if (a < 0.2 || a > len - 0.2) continue;  // the sliding part (not the descent or lift)
     u.push_back(a);
     z.push_back(p.z());
   }
@@ -101,8 +101,10 @@ Figure stroke_figure(const StrokeCase& sc, const StrokePair& p, const std::strin
     const Vec2 d = (sc.to - sc.from).normalized();
     for (double a = 0; a <= len; a += len / 300) {
       const Vec2 q = sc.from + a * d;
+      const double h = sc.truth(q.x(), q.y());
+      if (!std::isfinite(h)) continue;
       u.push_back(a);
-      z.push_back(sc.truth(q.x(), q.y()));
+      z.push_back(h);
     }
     data.push_back(trace(u, z, "true surface", "#000000", "solid", 2.5));
   }
@@ -161,6 +163,8 @@ Figure mesh_figure(const TriMesh& mesh, const std::string& property,
     for (int a = 0; a < 3; ++a) idx.push_back(t[a]);
   f.spec["meshes"] = {{{"positions", pos}, {"colors", col}, {"indices", idx}}};
   f.spec["lines"] = nlohmann::json::array();
+  const Box3 box = mesh.bbox();
+  f.spec["line_radius"] = rnd(0.004 * (box.max - box.min).norm(), 3);
   for (const auto& l : lines) {
     nlohmann::json pts = nlohmann::json::array();
     std::size_t n = 0;
