@@ -83,7 +83,7 @@ StepResult step_data_strokes(const Context& c) {
     const render::Model model(d.load(file.string()));
     const Box3 b = model.mesh().bbox();
     const Vec2 mid((b.min.x() + b.max.x()) / 2, (b.min.y() + b.max.y()) / 2);
-    const double half = 0.25 * std::min(b.max.x() - b.min.x(), b.max.y() - b.min.y());
+    const double half = 0.12 * std::min(b.max.x() - b.min.x(), b.max.y() - b.min.y());
     StrokeCase sc;
     sc.name = d.name;
     sc.from = mid - Vec2(half, 0);

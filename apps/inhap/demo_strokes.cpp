@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "inhap/core/csv.hpp"
 
@@ -164,16 +165,21 @@ Figure mesh_figure(const TriMesh& mesh, const std::string& property,
   f.spec["meshes"] = {{{"positions", pos}, {"colors", col}, {"indices", idx}}};
   f.spec["lines"] = nlohmann::json::array();
   const Box3 box = mesh.bbox();
-  f.spec["line_radius"] = rnd(0.004 * (box.max - box.min).norm(), 3);
+  const double radius = 0.006 * (box.max - box.min).norm();  // tube radius, lifted by as much
+  f.spec["line_radius"] = rnd(radius, 3);
   for (const auto& l : lines) {
     nlohmann::json pts = nlohmann::json::array();
     std::size_t n = 0;
     for (const auto& s : l.samples) n += s.contact;
     const std::size_t stride = std::max<std::size_t>(1, n / 400);
     std::size_t k = 0;
+    Vec3 last = Vec3::Constant(std::numeric_limits<double>::infinity());
     for (const auto& s : l.samples) {
       if (!s.contact || k++ % stride) continue;
-      for (int a = 0; a < 3; ++a) pts.push_back(rnd(s.ihip[a] + (a == 2 ? 0.4 : 0), 2));
+      // Repeated points (the settle at the start) would break the tube's curve.
+      if ((s.ihip - last).norm() < 0.05) continue;
+      last = s.ihip;
+      for (int a = 0; a < 3; ++a) pts.push_back(rnd(s.ihip[a] + (a == 2 ? radius : 0), 2));
     }
     f.spec["lines"].push_back({{"points", pts}, {"color", l.color}});
   }
