@@ -1,6 +1,7 @@
 // `inhap demo`: the whole thesis on the virtual lab in one run, with a summary table on stdout
 // and a self-contained HTML report (OUT/report.html). Units: mm, N, s, N/mm.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,18 @@ namespace inhap::demo {
 void Context::progress(double fraction, const std::string& what) const {
   const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string label = what.empty() ? step : fmt::format("{}: {}", step, what);
-  cli::progress(label, std::min(fraction, 0.999),
-                fraction > 0 ? el * (1 - fraction) / fraction : 0);
+  const double eta = fraction > 0 ? el * (1 - fraction) / fraction : 0;
+  static const bool tty = ::isatty(2);
+  if (tty) {
+    cli::progress(label, std::min(fraction, 0.999), eta);
+    return;
+  }
+  // Logs (CI): one line every 5 s at most.
+  static auto last = std::chrono::steady_clock::now();
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last < std::chrono::seconds(5)) return;
+  last = now;
+  fmt::print(stderr, "[{}] {:3.0f}% (eta {:.0f} s)\n", label, 100.0 * fraction, eta);
 }
 
 std::string Context::file(StepResult& r, const std::string& name) const {
