@@ -56,21 +56,11 @@ nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>&
   return j;
 }
 
-}  // namespace
-
-StepResult step_study(const Context& c) {
-  StepResult r;
-  render::StudyConfig cfg;
-  cfg.participants = c.options.quick ? 4 : 16;  // the thesis' protocol in the full run
-  cfg.trials = c.options.quick ? 2 : 5;
-  cfg.seed = c.options.seed;
-  const auto results = run_study(c, cfg);
-  const render::StudySummary s = render::summarize(results);
+nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySummary& s) {
   const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
   const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
   const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
   const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
-
   nlohmann::json j;
   j["participants"] = cfg.participants;
   j["trials_per_session"] = cfg.trials;
@@ -88,8 +78,14 @@ StepResult step_study(const Context& c) {
   j["thesis"] = {{"shape", {{"tca", 24.4}, {"cba", 17.0}}},
                  {"stiffness", {{"tca", 22.7}, {"cba", 22.7}}},
                  {"cba_confusions", render::thesis_cba_confusions()}};
-  write_file_atomic(c.file(r, "study.json"), j.dump(2) + "\n");
+  return j;
+}
 
+Figure fig_5_10(const render::StudyConfig& cfg, const render::StudySummary& s) {
+  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
+  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
+  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
+  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
   const std::vector<std::string> tasks = {"shape", "stiffness"};
   Figure f10{"fig5_10",
              "Correct classifications of 25 models (fig. 5.10)",
@@ -118,8 +114,12 @@ StepResult step_study(const Context& c) {
        {"marker", {{"symbol", "diamond-open"}, {"size", 12}, {"color", "#a04000"}}}}};
   f10.spec["layout"] = {{"barmode", "group"},
                         {"yaxis", {{"title", {{"text", "correct of 25"}}}, {"range", {0, 25.5}}}}};
-  r.figures.push_back(f10);
+  return f10;
+}
 
+Figure fig_5_11(const render::StudySummary& s) {
+  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
+  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
   std::vector<std::string> models;
   std::vector<double> rt, rc;
   for (int m = 0; m < render::kNumModels; ++m) {
@@ -146,7 +146,27 @@ StepResult step_study(const Context& c) {
        {"marker", {{"symbol", "triangle-down"}, {"size", 10}, {"color", "#d62728"}}}}};
   f11.spec["layout"] = {{"barmode", "group"},
                         {"yaxis", {{"title", {{"text", "correct ratio"}}}, {"range", {0, 1.12}}}}};
-  r.figures.push_back(f11);
+  return f11;
+}
+
+}  // namespace
+
+StepResult step_study(const Context& c) {
+  StepResult r;
+  render::StudyConfig cfg;
+  cfg.participants = c.options.quick ? 4 : 16;  // the thesis' protocol in the full run
+  cfg.trials = c.options.quick ? 2 : 5;
+  cfg.seed = c.options.seed;
+  const auto results = run_study(c, cfg);
+  const render::StudySummary s = render::summarize(results);
+  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
+  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
+  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
+  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+
+  write_file_atomic(c.file(r, "study.json"), study_json(cfg, s).dump(2) + "\n");
+  r.figures.push_back(fig_5_10(cfg, s));
+  r.figures.push_back(fig_5_11(s));
 
   auto pm = [](const render::ConditionSummary& x) {
     return fmt::format("{:.1f} +- {:.1f}", x.mean, x.sd_participants);
