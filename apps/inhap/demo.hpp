@@ -64,6 +64,8 @@ struct Step {
 
 // Steps (demo_steps_*.cpp).
 StepResult step_tap(const Context& c);
+/// Fig. 3.4; "not available" unless inhap/contact/knee.hpp is in the build.
+StepResult step_contacts(const Context& c);
 StepResult step_explore(const Context& c);
 StepResult step_study(const Context& c);
 StepResult step_strokes(const Context& c);
