@@ -67,8 +67,8 @@ TEST(Report, EveryFigureDrawsWithoutConsoleErrorsAndTheCheckCanFail) {
   if (!have_chromium()) GTEST_SKIP() << "chromium not installed (./run setup installs it)";
   const fs::path out = source_root() / "out" / "report-test";
   fs::remove_all(out);
-  const auto run =
-      inhap::test::run_cli("demo --quick --only tap,contacts,shape,explore,strokes --out " + out.string());
+  const auto run = inhap::test::run_cli(
+      "demo --quick --only tap,contacts,shape,explore,strokes --out " + out.string());
   ASSERT_EQ(run.status, 0) << run.out;
   inhap::test::TempDir profile;
   const fs::path html = out / "report.html";
