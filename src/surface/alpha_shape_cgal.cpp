@@ -203,8 +203,10 @@ bool closed_manifold(const std::vector<Tri>& tris, std::size_t num_points) {
   return true;
 }
 
-TriMesh to_mesh(const std::vector<Tri>& tris, std::span<const Vec3> points) {
+TriMesh to_mesh(const std::vector<Tri>& tris, std::span<const Vec3> points,
+                std::vector<std::int32_t>& input_index) {
   TriMesh mesh;
+  input_index.clear();
   std::vector<std::int32_t> remap(points.size(), -1);
   mesh.triangles.reserve(tris.size());
   for (Tri t : tris) {
@@ -213,6 +215,7 @@ TriMesh to_mesh(const std::vector<Tri>& tris, std::span<const Vec3> points) {
       if (r < 0) {
         r = static_cast<std::int32_t>(mesh.positions.size());
         mesh.positions.push_back(points[static_cast<std::size_t>(v)]);
+        input_index.push_back(v);
       }
       v = r;
     }
@@ -273,7 +276,7 @@ AlphaShapeResult alpha_shape(std::span<const Vec3> points, const AlphaShapeOptio
   }
   result.alpha = std::sqrt(a2);
   result.solid_components = solid_components(cells, a2);
-  result.mesh = to_mesh(tris, points);
+  result.mesh = to_mesh(tris, points, result.input_index);
   result.points_on_surface = result.mesh.positions.size();
   return result;
 }

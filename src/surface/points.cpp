@@ -93,6 +93,26 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
   return out;
 }
 
+std::vector<Vec3> pca_normals(std::span<const Vec3> points, std::size_t k) {
+  std::vector<Vec3> out(points.size(), Vec3::UnitZ());
+  const KnnTable t = knn_table(points, k);
+  if (t.k < 2) return out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Vec3 c = points[i];
+    for (std::size_t j = 0; j < t.k; ++j)
+      c += points[static_cast<std::size_t>(t.index[i * t.k + j])];
+    c /= static_cast<double>(t.k + 1);
+    Mat3 cov = (points[i] - c) * (points[i] - c).transpose();
+    for (std::size_t j = 0; j < t.k; ++j) {
+      const Vec3 d = points[static_cast<std::size_t>(t.index[i * t.k + j])] - c;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+    out[i] = eig.eigenvectors().col(0).normalized();
+  }
+  return out;
+}
+
 std::vector<Vec3> jitter(std::span<const Vec3> points, double amplitude, std::uint64_t seed) {
   Rng rng(seed);
   std::vector<Vec3> out(points.begin(), points.end());

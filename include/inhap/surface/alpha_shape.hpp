@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "inhap/core/types.hpp"
 #include "inhap/geometry/trimesh.hpp"
@@ -25,10 +27,11 @@ struct AlphaShapeOptions {
 };
 
 struct AlphaShapeResult {
-  TriMesh mesh;                    ///< outward-oriented boundary of the regularized alpha solid
-  double alpha = 0;                ///< radius used, mm
-  double alpha_one_component = 0;  ///< automatic mode: the bare one-component alpha, mm
-  bool closed_manifold = false;    ///< the boundary is a closed 2-manifold
+  TriMesh mesh;  ///< outward-oriented boundary of the regularized alpha solid
+  std::vector<std::int32_t> input_index;  ///< input point of each mesh vertex
+  double alpha = 0;                       ///< radius used, mm
+  double alpha_one_component = 0;         ///< automatic mode: the bare one-component alpha, mm
+  bool closed_manifold = false;           ///< the boundary is a closed 2-manifold
   std::size_t solid_components = 0;
   std::size_t points_on_surface = 0;  ///< input points that are vertices of `mesh`
 };

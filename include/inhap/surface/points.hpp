@@ -19,6 +19,17 @@ struct KnnTable {
 };
 KnnTable knn_table(std::span<const Vec3> points, std::size_t k);
 
+/// Nearest of `sites` to each query: index (-1 when sites is empty) and distance (mm, +inf).
+struct NearestSites {
+  std::vector<std::int32_t> index;
+  std::vector<double> distance;
+};
+NearestSites nearest_sites(std::span<const Vec3> sites, std::span<const Vec3> queries);
+inline std::vector<double> nearest_distances(std::span<const Vec3> sites,
+                                             std::span<const Vec3> queries) {
+  return nearest_sites(sites, queries).distance;
+}
+
 /// Mean distance from each point to its k nearest neighbours, mm.
 std::vector<double> knn_mean_distances(std::span<const Vec3> points, std::size_t k);
 
@@ -33,6 +44,10 @@ std::vector<std::size_t> remove_knn_outliers(std::span<const Vec3> points, std::
 /// jet, Cazals & Pouget 2005, as CGAL's jet_smooth_point_set with degree 2) and moves the point
 /// onto it along the frame normal. Points whose fit is singular are kept as they are.
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k);
+
+/// Unit normals by PCA of each point and its k nearest neighbours (smallest-variance axis),
+/// unoriented (sign arbitrary).
+std::vector<Vec3> pca_normals(std::span<const Vec3> points, std::size_t k);
 
 /// Deterministic jitter of at most `amplitude` mm per coordinate (uniform, seeded).
 std::vector<Vec3> jitter(std::span<const Vec3> points, double amplitude, std::uint64_t seed);

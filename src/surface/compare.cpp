@@ -1,0 +1,172 @@
+// Surface comparison: sampling, point-to-plane ICP, cropped Hausdorff/mean/RMS distances.
+#include "inhap/surface/compare.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "inhap/core/error.hpp"
+#include "inhap/core/random.hpp"
+#include "inhap/geometry/mesh_index.hpp"
+#include "inhap/surface/points.hpp"
+
+namespace inhap {
+
+SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t seed) {
+  SurfaceSamples s;
+  s.points = mesh.positions;
+  s.weights.assign(mesh.positions.size(), 0.0);
+  Rng rng(seed);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const double area = mesh.face_area(f);
+    if (!(area > 0)) continue;
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(area * density)));
+    const Tri& t = mesh.triangles[f];
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    for (std::size_t k = 0; k < n; ++k) {
+      double u = rng.uniform(), v = rng.uniform();
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      s.points.push_back(a + u * (b - a) + v * (c - a));
+      s.weights.push_back(area / static_cast<double>(n));
+    }
+  }
+  return s;
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+Mat3 rotation(const Vec3& w) {
+  const double angle = w.norm();
+  return angle > 0 ? Mat3(Eigen::AngleAxisd(angle, w / angle)) : Mat3::Identity();
+}
+
+}  // namespace
+
+IcpResult icp_point_to_plane(const TriMesh& moving, const TriMesh& fixed, const IcpOptions& o) {
+  if (moving.triangles.empty() || fixed.triangles.empty())
+    throw Error("ICP: expected two meshes with triangles");
+  IcpResult res;
+  const MeshIndex index(fixed);
+  // Evenly strided samples of the moving surface (vertices and faces).
+  const Box3 box = moving.bbox();
+  double area = 0;
+  for (std::size_t f = 0; f < moving.triangles.size(); ++f) area += moving.face_area(f);
+  const SurfaceSamples all =
+      sample_surface(moving, 2.0 * static_cast<double>(o.max_samples) / std::max(area, 1e-9), 7);
+  std::vector<Vec3> src;
+  const std::size_t stride = std::max<std::size_t>(1, all.points.size() / o.max_samples);
+  for (std::size_t i = 0; i < all.points.size(); i += stride) src.push_back(all.points[i]);
+  const double radius = std::max(1e-9, 0.5 * box.size().norm());
+
+  RigidTransform T;
+  std::vector<double> dist(src.size());
+  for (std::size_t it = 0; it < o.max_iterations; ++it) {
+    std::vector<Vec3> p(src.size()), q(src.size()), n(src.size());
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      p[i] = T.apply(src[i]);
+      const ClosestPoint cp = index.closest_point(p[i]);
+      q[i] = cp.point;
+      n[i] = cp.valid() ? fixed.face_normal(static_cast<std::size_t>(cp.triangle)) : Vec3::Zero();
+      dist[i] = cp.valid() ? std::sqrt(cp.distance2) : std::numeric_limits<double>::infinity();
+    }
+    const double limit = o.reject_factor * std::max(median(dist), 1e-9);
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    double sse = 0;
+    std::size_t used = 0;
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      if (!(dist[i] <= limit) || n[i].squaredNorm() == 0) continue;
+      const double r = (p[i] - q[i]).dot(n[i]);
+      Eigen::Matrix<double, 6, 1> J;
+      J << p[i].cross(n[i]), n[i];
+      A.selfadjointView<Eigen::Lower>().rankUpdate(J);
+      b -= r * J;
+      sse += r * r;
+      ++used;
+    }
+    if (used < 6) break;
+    const double rms = std::sqrt(sse / static_cast<double>(used));
+    if (it == 0) res.rms_before = rms;
+    res.rms_after = rms;
+    A = A.selfadjointView<Eigen::Lower>();
+    const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
+    if (!x.allFinite()) break;
+    const Mat3 dR = rotation(x.head<3>());
+    T.R = dR * T.R;
+    T.t = dR * T.t + x.tail<3>();
+    res.iterations = it + 1;
+    if (x.head<3>().norm() * radius + x.tail<3>().norm() < o.tolerance) break;
+  }
+  res.transform = T;
+  return res;
+}
+
+namespace {
+
+struct Side {
+  OneSided stats;
+  std::vector<double> vertex_error;
+};
+
+Side one_sided(const TriMesh& from, const MeshIndex& to, const CompareOptions& o,
+               std::uint64_t seed) {
+  Side side;
+  const SurfaceSamples s = sample_surface(from, o.density, seed);
+  std::vector<double> d(s.points.size());
+  for (std::size_t i = 0; i < s.points.size(); ++i)
+    d[i] = std::sqrt(to.closest_point(s.points[i]).distance2);
+  side.vertex_error.assign(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(from.num_vertices()));
+  std::vector<double> region_d;
+  if (!o.region.empty()) region_d = nearest_distances(o.region, s.points);
+  double wsum = 0, wmean = 0, wsq = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (!region_d.empty() && region_d[i] > o.region_radius) continue;
+    if (o.crop_distance > 0 && d[i] > o.crop_distance) continue;
+    ++side.stats.samples;
+    side.stats.max = std::max(side.stats.max, d[i]);
+    wsum += s.weights[i];
+    wmean += s.weights[i] * d[i];
+    wsq += s.weights[i] * d[i] * d[i];
+  }
+  if (wsum > 0) {
+    side.stats.mean = wmean / wsum;
+    side.stats.rms = std::sqrt(wsq / wsum);
+  }
+  return side;
+}
+
+}  // namespace
+
+CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const CompareOptions& o) {
+  if (a_in.triangles.empty() || b.triangles.empty())
+    throw Error("compare: expected two meshes with triangles");
+  CompareResult res;
+  TriMesh a = a_in;
+  if (o.icp) {
+    res.transform = icp_point_to_plane(a, b, o.icp_options).transform;
+    for (Vec3& p : a.positions) p = res.transform.apply(p);
+    a.compute_normals();
+  }
+  const MeshIndex index_a(a), index_b(b);
+  Side ab = one_sided(a, index_b, o, o.seed);
+  Side ba = one_sided(b, index_a, o, o.seed + 1);
+  if (ab.stats.samples == 0 || ba.stats.samples == 0)
+    throw Error("compare: no surface sample left in the common region (check the crop options)");
+  res.a_to_b = ab.stats;
+  res.b_to_a = ba.stats;
+  res.a_vertex_error = std::move(ab.vertex_error);
+  res.b_vertex_error = std::move(ba.vertex_error);
+  res.hausdorff = std::max(res.a_to_b.max, res.b_to_a.max);
+  res.mean = 0.5 * (res.a_to_b.mean + res.b_to_a.mean);
+  res.rms = std::sqrt(0.5 * (res.a_to_b.rms * res.a_to_b.rms + res.b_to_a.rms * res.b_to_a.rms));
+  return res;
+}
+
+}  // namespace inhap
