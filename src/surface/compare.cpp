@@ -115,13 +115,49 @@ struct Side {
   std::vector<double> vertex_error;
 };
 
-Side one_sided(const TriMesh& from, const MeshIndex& to, const CompareOptions& o,
-               std::uint64_t seed) {
+/// Per face: which of its edges (bit e: from vertex e to e+1) and vertices (bit 3 + v) lie on
+/// the mesh boundary.
+std::vector<std::uint8_t> boundary_flags(const TriMesh& m) {
+  const MeshAdjacency adj = build_adjacency(m);
+  std::vector<char> bvert(m.positions.size(), 0);
+  std::vector<std::uint8_t> flags(m.triangles.size(), 0);
+  for (std::size_t f = 0; f < m.triangles.size(); ++f)
+    for (int e = 0; e < 3; ++e)
+      if (adj.face_neighbors[f][static_cast<std::size_t>(e)] < 0) {
+        flags[f] |= static_cast<std::uint8_t>(1u << e);
+        bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>(e)])] = 1;
+        bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>((e + 1) % 3)])] = 1;
+      }
+  for (std::size_t f = 0; f < m.triangles.size(); ++f)
+    for (int v = 0; v < 3; ++v)
+      if (bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>(v)])])
+        flags[f] |= static_cast<std::uint8_t>(1u << (3 + v));
+  return flags;
+}
+
+/// True when the closest point lies on the boundary of its mesh.
+bool on_boundary(const ClosestPoint& cp, const std::vector<std::uint8_t>& flags) {
+  if (!cp.valid()) return false;
+  constexpr double eps = 1e-7;
+  const std::uint8_t f = flags[static_cast<std::size_t>(cp.triangle)];
+  for (int e = 0; e < 3; ++e)  // on edge e when the opposite vertex has no weight
+    if ((f & (1u << e)) && cp.bary[(e + 2) % 3] <= eps) return true;
+  for (int v = 0; v < 3; ++v)
+    if ((f & (1u << (3 + v))) && cp.bary[v] >= 1.0 - eps) return true;
+  return false;
+}
+
+Side one_sided(const TriMesh& from, const MeshIndex& to, const std::vector<std::uint8_t>& to_flags,
+               const CompareOptions& o, std::uint64_t seed) {
   Side side;
   const SurfaceSamples s = sample_surface(from, o.density, seed);
   std::vector<double> d(s.points.size());
-  for (std::size_t i = 0; i < s.points.size(); ++i)
-    d[i] = std::sqrt(to.closest_point(s.points[i]).distance2);
+  std::vector<char> rim(s.points.size(), 0);
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    const ClosestPoint cp = to.closest_point(s.points[i]);
+    d[i] = std::sqrt(cp.distance2);
+    if (o.exclude_boundary) rim[i] = on_boundary(cp, to_flags);
+  }
   side.vertex_error.assign(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(from.num_vertices()));
   std::vector<double> region_d;
   if (!o.region.empty()) region_d = nearest_distances(o.region, s.points);
@@ -129,6 +165,7 @@ Side one_sided(const TriMesh& from, const MeshIndex& to, const CompareOptions& o
   for (std::size_t i = 0; i < d.size(); ++i) {
     if (!region_d.empty() && region_d[i] > o.region_radius) continue;
     if (o.crop_distance > 0 && d[i] > o.crop_distance) continue;
+    if (rim[i]) continue;
     ++side.stats.samples;
     side.stats.max = std::max(side.stats.max, d[i]);
     wsum += s.weights[i];
@@ -155,8 +192,10 @@ CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const Comp
     a.compute_normals();
   }
   const MeshIndex index_a(a), index_b(b);
-  Side ab = one_sided(a, index_b, o, o.seed);
-  Side ba = one_sided(b, index_a, o, o.seed + 1);
+  std::vector<std::uint8_t> flags_a, flags_b;
+  if (o.exclude_boundary) flags_a = boundary_flags(a), flags_b = boundary_flags(b);
+  Side ab = one_sided(a, index_b, flags_b, o, o.seed);
+  Side ba = one_sided(b, index_a, flags_a, o, o.seed + 1);
   if (ab.stats.samples == 0 || ba.stats.samples == 0)
     throw Error("compare: no surface sample left in the common region (check the crop options)");
   res.a_to_b = ab.stats;

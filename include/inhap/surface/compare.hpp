@@ -56,6 +56,11 @@ struct CompareOptions {
   double region_radius = 0;
   /// Also drop samples farther than this from the other surface (0: keep all), mm.
   double crop_distance = 0;
+  /// Overlap only: drop samples whose closest point on the other surface lies on that
+  /// surface's boundary (its open rim), i.e. where the other surface does not continue. This
+  /// is the common region of a partial reconstruction and a complete reference without any
+  /// radius to tune (used with `region` to leave out far parts such as an unsampled bottom).
+  bool exclude_boundary = false;
 };
 
 struct OneSided {
