@@ -6,6 +6,7 @@
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/subdivision_method_3.h>
 
@@ -46,6 +47,7 @@ TriMesh from_surface_mesh(const SMesh& sm) {
 }
 
 SMesh to_surface_mesh(const TriMesh& mesh) {
+  // (used by sqrt3_subdivide and fill_small_holes)
   std::vector<Point> pts;
   pts.reserve(mesh.positions.size());
   for (const Vec3& p : mesh.positions) pts.emplace_back(p.x(), p.y(), p.z());
@@ -56,7 +58,7 @@ SMesh to_surface_mesh(const TriMesh& mesh) {
                      static_cast<std::size_t>(t[2])});
   SMesh sm;
   if (!PMP::is_polygon_soup_a_polygon_mesh(faces))
-    throw Error("sqrt(3) subdivision: expected a manifold, consistently oriented mesh");
+    throw Error("mesh operation: expected a manifold, consistently oriented mesh");
   PMP::polygon_soup_to_polygon_mesh(pts, faces, sm);
   return sm;
 }
@@ -93,6 +95,34 @@ TriMesh make_manifold(const TriMesh& soup, bool keep_largest, ManifoldReport* re
   rep.dropped_faces = faces_in - out.triangles.size();
   if (report) *report = rep;
   return out;
+}
+
+std::size_t fill_small_holes(TriMesh& mesh, std::size_t max_edges, double max_fraction) {
+  if (mesh.triangles.empty()) return 0;
+  SMesh sm = to_surface_mesh(mesh);
+  // Collect one border halfedge per loop first (filling changes the border).
+  std::vector<SMesh::Halfedge_index> loops;
+  std::vector<char> seen(sm.number_of_halfedges(), 0);
+  for (auto h : sm.halfedges()) {
+    if (!sm.is_border(h) || seen[h.idx()]) continue;
+    std::size_t n = 0;
+    for (auto g : CGAL::halfedges_around_face(h, sm)) {
+      seen[g.idx()] = 1;
+      ++n;
+    }
+    if (n <= max_edges &&
+        static_cast<double>(n) <= max_fraction * static_cast<double>(sm.number_of_vertices()))
+      loops.push_back(h);
+  }
+  std::size_t filled = 0;
+  for (auto h : loops) {
+    if (!sm.is_border(h)) continue;
+    std::vector<SMesh::Face_index> faces;
+    PMP::triangulate_hole(sm, h, std::back_inserter(faces));
+    filled += faces.empty() ? 0 : 1;
+  }
+  if (filled) mesh = from_surface_mesh(sm);
+  return filled;
 }
 
 TriMesh sqrt3_subdivide(const TriMesh& mesh, std::size_t iterations) {

@@ -123,6 +123,9 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   TriMesh mesh = make_manifold(soup, true, &mr);
   rep.duplicated_vertices = mr.duplicated_vertices;
   rep.components_dropped = mr.components > 0 ? mr.components - 1 : 0;
+  // Shell: where a twin showed through the outer side a few faces are missing; close such
+  // small holes (the patch's own rim is long and stays open).
+  if (o.mode == SurfaceMode::Shell) rep.holes_filled = fill_small_holes(mesh, 16, 0.1);
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
   rep.vertices = mesh.num_vertices();

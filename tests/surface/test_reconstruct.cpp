@@ -42,6 +42,72 @@ TEST(Reconstruct, ExactlyCosphericalPointsGiveTheSphereWithinTwoTenthsOfAMillime
   EXPECT_EQ(rep.faces, 3 * (2 * 2000 - 4));  // one sqrt(3) step of the 2000-vertex hull
 }
 
+TEST(Reconstruct, SolidModeOnCosphericalPointsToo) {
+  const double r = 40.0;
+  const auto pts = test::fibonacci_sphere(2000, r);
+  ReconstructOptions o;
+  o.mode = SurfaceMode::Solid;
+  ReconstructReport rep;
+  const TriMesh m = reconstruct_surface(pts, o, &rep);
+  EXPECT_TRUE(topology(m).watertight());
+  EXPECT_LT(test::max_radial_error(m, r), 0.2);
+  EXPECT_NEAR(rep.alpha, 1.02 * r, 0.01);  // first scan step above the degenerate alpha = R
+}
+
+TEST(Reconstruct, ShellModeKeepsAPartialSamplingOpenWithoutABase) {
+  // The top of a ball (polar angle < 50 deg), as tapped from above: one open patch, every
+  // vertex on the sphere; the solid mode closes it with a flat base far from the sphere.
+  const double r = 35.0;
+  std::vector<Vec3> cap, dirs;
+  for (const Vec3& p : test::fibonacci_sphere(4000, r))
+    if (p.z() > r * std::cos(50 * M_PI / 180)) cap.push_back(p), dirs.push_back(p.normalized());
+  ReconstructReport rep;
+  const TriMesh shell = reconstruct_surface(cap, dirs, {}, &rep);
+  const MeshTopology topo = topology(shell);
+  EXPECT_TRUE(topo.manifold());
+  EXPECT_TRUE(topo.oriented());
+  EXPECT_EQ(topo.boundary_loops, 1u);
+  EXPECT_EQ(topo.components, 1u);
+  EXPECT_LT(test::max_radial_error(shell, r), 0.2);
+  for (std::size_t f = 0; f < shell.num_triangles(); f += 31)
+    EXPECT_GT(shell.face_normal(f).dot(shell.positions[shell.triangles[f][0]].normalized()), 0.5);
+  // Without directions the normals are oriented by the alpha solid: same surface.
+  const TriMesh undirected = reconstruct_surface(cap);
+  EXPECT_EQ(topology(undirected).boundary_loops, 1u);
+  EXPECT_LT(test::max_radial_error(undirected, r), 0.2);
+  ReconstructOptions solid;
+  solid.mode = SurfaceMode::Solid;
+  EXPECT_GT(test::max_radial_error(reconstruct_surface(cap, solid), r), 5.0);
+}
+
+TEST(Reconstruct, ShellModeKeepsGroovesThatTheSolidFills) {
+  // A plate z = 0 with a V-groove 4 mm deep and 12 mm wide along y, sampled every ~1.2 mm.
+  auto height = [](double x) { return std::abs(x) < 6 ? -4.0 * (1 - std::abs(x) / 6) : 0.0; };
+  std::vector<Vec3> pts, dirs;
+  Rng rng(4);
+  for (int i = 0; i < 1600; ++i) {
+    const double x = rng.uniform(-25, 25), y = rng.uniform(-25, 25);
+    pts.emplace_back(x, y, height(x));
+    dirs.emplace_back(0, 0, 1);
+  }
+  auto worst = [&](const TriMesh& m) {
+    double e = 0;
+    for (const Vec3& p : m.positions)
+      if (std::abs(p.x()) < 20 && std::abs(p.y()) < 20)
+        e = std::max(e, std::abs(p.z() - height(p.x())));
+    return e;
+  };
+  const TriMesh shell = reconstruct_surface(pts, dirs, {});
+  EXPECT_EQ(topology(shell).boundary_loops, 1u);
+  EXPECT_LT(worst(shell), 1.5);  // the sharp creases get rounded by about a millimetre
+  double deepest = 0;
+  for (const Vec3& p : shell.positions) deepest = std::min(deepest, p.z());
+  EXPECT_LT(deepest, -3.0);  // the groove is there
+  ReconstructOptions solid;
+  solid.mode = SurfaceMode::Solid;
+  EXPECT_GT(worst(reconstruct_surface(pts, solid)), 2.0);
+}
+
 TEST(Reconstruct, BareAlphaShapeOfCosphericalPointsIsTheHull) {
   const auto pts = test::fibonacci_sphere(500, 10.0);
   const AlphaShapeResult as = alpha_shape(pts, {});

@@ -20,6 +20,12 @@ struct ManifoldReport {
 TriMesh make_manifold(const TriMesh& soup, bool keep_largest = true,
                       ManifoldReport* report = nullptr);
 
+/// Closes the small holes of a manifold mesh: every boundary loop with at most `max_edges`
+/// edges (and at most `max_fraction` of the vertices on it, so the rim of a small open patch
+/// stays open) is triangulated (CGAL triangulate_hole, minimum-area weight). Returns the
+/// number of holes filled.
+std::size_t fill_small_holes(TriMesh& mesh, std::size_t max_edges, double max_fraction = 0.1);
+
 /// Taubin lambda|mu smoothing (Taubin 1995) with the uniform umbrella Laplacian:
 /// each iteration p += lambda * L(p), then p += mu * L(p) (mu < -lambda < 0), which attenuates
 /// high frequencies without the shrinkage of plain Laplacian smoothing. Boundary vertices are
