@@ -115,31 +115,45 @@ struct Side {
   std::vector<double> vertex_error;
 };
 
-/// Per face: which of its edges (bit e: from vertex e to e+1) and vertices (bit 3 + v) lie on
-/// the mesh boundary.
-std::vector<std::uint8_t> boundary_flags(const TriMesh& m) {
+/// The open rim of a mesh: per face, which of its edges (bit e: from vertex e to e+1) and
+/// vertices (bit 3 + v) lie on the boundary; and points along the boundary edges.
+struct Rim {
+  std::vector<std::uint8_t> flags;
+  std::vector<Vec3> samples;  ///< every margin/4 along the boundary edges (margin > 0)
+};
+
+Rim make_rim(const TriMesh& m, double margin) {
+  Rim rim;
   const MeshAdjacency adj = build_adjacency(m);
   std::vector<char> bvert(m.positions.size(), 0);
-  std::vector<std::uint8_t> flags(m.triangles.size(), 0);
+  rim.flags.assign(m.triangles.size(), 0);
   for (std::size_t f = 0; f < m.triangles.size(); ++f)
-    for (int e = 0; e < 3; ++e)
-      if (adj.face_neighbors[f][static_cast<std::size_t>(e)] < 0) {
-        flags[f] |= static_cast<std::uint8_t>(1u << e);
-        bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>(e)])] = 1;
-        bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>((e + 1) % 3)])] = 1;
+    for (std::size_t e = 0; e < 3; ++e) {
+      if (adj.face_neighbors[f][e] >= 0) continue;
+      rim.flags[f] |= static_cast<std::uint8_t>(1u << e);
+      const Vec3& a = m.positions[static_cast<std::size_t>(m.triangles[f][e])];
+      const Vec3& b = m.positions[static_cast<std::size_t>(m.triangles[f][(e + 1) % 3])];
+      bvert[static_cast<std::size_t>(m.triangles[f][e])] = 1;
+      bvert[static_cast<std::size_t>(m.triangles[f][(e + 1) % 3])] = 1;
+      if (margin > 0) {
+        const auto steps = static_cast<int>(std::ceil((b - a).norm() / (0.25 * margin)));
+        for (int k = 0; k <= steps; ++k)
+          rim.samples.push_back(a + (b - a) * k / std::max(1, steps));
       }
+    }
   for (std::size_t f = 0; f < m.triangles.size(); ++f)
-    for (int v = 0; v < 3; ++v)
-      if (bvert[static_cast<std::size_t>(m.triangles[f][static_cast<std::size_t>(v)])])
-        flags[f] |= static_cast<std::uint8_t>(1u << (3 + v));
-  return flags;
+    for (std::size_t v = 0; v < 3; ++v)
+      if (bvert[static_cast<std::size_t>(m.triangles[f][v])])
+        rim.flags[f] |= static_cast<std::uint8_t>(1u << (3 + v));
+  return rim;
 }
 
-/// True when the closest point lies on the boundary of its mesh.
-bool on_boundary(const ClosestPoint& cp, const std::vector<std::uint8_t>& flags) {
+/// True when the closest point lies on the boundary of its mesh (up to rounding of the
+/// barycentric weights).
+bool on_rim(const ClosestPoint& cp, const Rim& rim) {
   if (!cp.valid()) return false;
-  constexpr double eps = 1e-7;
-  const std::uint8_t f = flags[static_cast<std::size_t>(cp.triangle)];
+  constexpr double eps = 1e-5;
+  const std::uint8_t f = rim.flags[static_cast<std::size_t>(cp.triangle)];
   for (int e = 0; e < 3; ++e)  // on edge e when the opposite vertex has no weight
     if ((f & (1u << e)) && cp.bary[(e + 2) % 3] <= eps) return true;
   for (int v = 0; v < 3; ++v)
@@ -147,16 +161,24 @@ bool on_boundary(const ClosestPoint& cp, const std::vector<std::uint8_t>& flags)
   return false;
 }
 
-Side one_sided(const TriMesh& from, const MeshIndex& to, const std::vector<std::uint8_t>& to_flags,
-               const CompareOptions& o, std::uint64_t seed) {
+Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, const CompareOptions& o,
+               std::uint64_t seed) {
   Side side;
   const SurfaceSamples s = sample_surface(from, o.density, seed);
   std::vector<double> d(s.points.size());
   std::vector<char> rim(s.points.size(), 0);
+  std::vector<Vec3> foot(o.exclude_boundary ? s.points.size() : 0);
   for (std::size_t i = 0; i < s.points.size(); ++i) {
     const ClosestPoint cp = to.closest_point(s.points[i]);
     d[i] = std::sqrt(cp.distance2);
-    if (o.exclude_boundary) rim[i] = on_boundary(cp, to_flags);
+    if (o.exclude_boundary) {
+      rim[i] = on_rim(cp, to_rim);
+      foot[i] = cp.point;
+    }
+  }
+  if (o.exclude_boundary && o.rim_margin > 0 && !to_rim.samples.empty()) {
+    const std::vector<double> dr = nearest_distances(to_rim.samples, foot);
+    for (std::size_t i = 0; i < dr.size(); ++i) rim[i] = rim[i] || dr[i] <= o.rim_margin;
   }
   side.vertex_error.assign(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(from.num_vertices()));
   std::vector<double> region_d;
@@ -192,10 +214,10 @@ CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const Comp
     a.compute_normals();
   }
   const MeshIndex index_a(a), index_b(b);
-  std::vector<std::uint8_t> flags_a, flags_b;
-  if (o.exclude_boundary) flags_a = boundary_flags(a), flags_b = boundary_flags(b);
-  Side ab = one_sided(a, index_b, flags_b, o, o.seed);
-  Side ba = one_sided(b, index_a, flags_a, o, o.seed + 1);
+  Rim rim_a, rim_b;
+  if (o.exclude_boundary) rim_a = make_rim(a, o.rim_margin), rim_b = make_rim(b, o.rim_margin);
+  Side ab = one_sided(a, index_b, rim_b, o, o.seed);
+  Side ba = one_sided(b, index_a, rim_a, o, o.seed + 1);
   if (ab.stats.samples == 0 || ba.stats.samples == 0)
     throw Error("compare: no surface sample left in the common region (check the crop options)");
   res.a_to_b = ab.stats;

@@ -85,21 +85,28 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   ReconstructReport rep;
   rep.points_in = points.size();
   std::vector<Vec3> pts, dirs;
+  std::vector<std::size_t> source;  // input index of each point in pts
   for (std::size_t i = 0; i < points.size(); ++i)
     if (all_finite(points[i])) {
       pts.push_back(points[i]);
+      source.push_back(i);
       if (!directions.empty()) dirs.push_back(directions[i]);
     }
   if (o.outlier_k > 0 && pts.size() > o.outlier_k + 1) {
     const std::vector<std::size_t> kept = remove_knn_outliers(pts, o.outlier_k, o.outlier_sigmas);
     std::vector<Vec3> fp, fd;
+    std::vector<std::size_t> fs;
     for (std::size_t i : kept) {
       fp.push_back(pts[i]);
+      fs.push_back(source[i]);
       if (!dirs.empty()) fd.push_back(dirs[i]);
     }
     pts.swap(fp);
     dirs.swap(fd);
+    source.swap(fs);
   }
+  rep.used.assign(points.size(), 0);
+  for (std::size_t i : source) rep.used[i] = 1;
   rep.outliers = rep.points_in - pts.size();
   if (pts.size() < 4)
     throw Error("surface reconstruction: expected at least 4 points, got " +

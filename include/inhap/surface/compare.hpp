@@ -61,6 +61,10 @@ struct CompareOptions {
   /// is the common region of a partial reconstruction and a complete reference without any
   /// radius to tune (used with `region` to leave out far parts such as an unsampled bottom).
   bool exclude_boundary = false;
+  /// With exclude_boundary: also drop samples whose closest point lies within this distance of
+  /// the rim (mm): near a rim that curls, the closest point of an unsampled far part can fall
+  /// just inside the surface instead of exactly on its edge.
+  double rim_margin = 0;
 };
 
 struct OneSided {

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "inhap/core/types.hpp"
 #include "inhap/geometry/trimesh.hpp"
@@ -44,6 +45,7 @@ struct ReconstructOptions {
 
 struct ReconstructReport {
   std::size_t points_in = 0, outliers = 0, points_used = 0;
+  std::vector<char> used;               ///< per input point: 0 = non-finite or outlier
   double alpha = 0;                     ///< alpha radius used, mm
   double shell_depth = 0;               ///< mm (Shell)
   std::size_t solid_components = 0;     ///< of the alpha shape
