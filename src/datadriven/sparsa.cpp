@@ -97,12 +97,15 @@ void iterate(const Eigen::MatrixXd& a, Column& c, const Eigen::VectorXd& g, cons
   }
   ++c.res.iterations;
   const double adx2 = adx.squaredNorm();
+  const double phi_prev = c.hist.back();
   c.x.swap(xn);
   c.r += adx;
   push_hist(c, phi, p.memory);
   if (dx2 > 0) c.alpha = std::clamp(adx2 / dx2, p.alpha_min, p.alpha_max);
-  const double xnorm = c.x.norm();
-  const bool stage_done = nz.empty() || std::sqrt(dx2) <= p.tolerance * std::max(xnorm, 1e-300);
+  const double change = p.stop == SparsaStop::kObjective
+                            ? std::fabs(phi_prev - phi) / std::max(phi, 1e-300)
+                            : std::sqrt(dx2) / std::max(c.x.norm(), 1e-300);
+  const bool stage_done = nz.empty() || change <= p.tolerance;
   if (stage_done) {
     // The wanted number of non-zeros is checked on stage solutions only: transient iterates of
     // a BB method can be dense for a few steps.
@@ -194,35 +197,34 @@ CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
   if (max_iterations <= 0) max_iterations = 50 * static_cast<int>(b.cols()) + 100;
   CgResult res;
   res.x = x0.size() ? x0 : Eigen::VectorXd::Zero(b.cols());
-  const double bnorm = (b.transpose() * f).norm();
-  if (bnorm == 0) {
+  // Normal equations G x = c with G = B^T B formed once (B has at most a few hundred columns,
+  // so each CG iteration costs a small dense product instead of two passes over B).
+  const Eigen::MatrixXd g = b.transpose() * b;
+  const Eigen::VectorXd c = b.transpose() * f;
+  const double cnorm = c.norm();
+  if (cnorm == 0) {
     res.x.setZero();
     res.converged = true;
     return res;
   }
-  Eigen::VectorXd r = f - b * res.x;
-  Eigen::VectorXd s = b.transpose() * r;
-  Eigen::VectorXd dir = s, q(b.rows());
-  double gamma = s.squaredNorm();
+  Eigen::VectorXd r = c - g * res.x;
+  Eigen::VectorXd dir = r, q(b.cols());
+  double gamma = r.squaredNorm();
   while (res.iterations < max_iterations) {
-    if (std::sqrt(gamma) <= tolerance * bnorm) {
-      res.converged = true;
-      break;
-    }
-    q.noalias() = b * dir;
-    const double qq = q.squaredNorm();
-    if (!(qq > 0)) break;
-    const double step = gamma / qq;
+    if (std::sqrt(gamma) <= tolerance * cnorm) break;
+    q.noalias() = g * dir;
+    const double dq = dir.dot(q);
+    if (!(dq > 0)) break;
+    const double step = gamma / dq;
     res.x += step * dir;
     r -= step * q;
-    s.noalias() = b.transpose() * r;
-    const double gamma_new = s.squaredNorm();
-    dir = s + (gamma_new / gamma) * dir;
+    const double gamma_new = r.squaredNorm();
+    dir = r + (gamma_new / gamma) * dir;
     gamma = gamma_new;
     ++res.iterations;
   }
-  res.relative_residual = std::sqrt(gamma) / bnorm;
-  if (res.relative_residual <= tolerance) res.converged = true;
+  res.relative_residual = (c - g * res.x).norm() / cnorm;  // true, not recursive, residual
+  res.converged = res.relative_residual <= tolerance;
   return res;
 }
 

@@ -20,10 +20,17 @@
 
 namespace inhap::dd {
 
+/// What ends a continuation stage.
+enum class SparsaStop {
+  kStep,       ///< ||w+ - w|| <= tolerance ||w+||
+  kObjective,  ///< |phi(w) - phi(w+)| <= tolerance phi(w+)
+};
+
 struct SparsaParams {
-  double lambda = 0;           ///< target lambda (absolute, > 0)
-  int max_nonzeros = 300;      ///< stop at the first stage solution with this many non-zeros
-  double tolerance = 1e-6;     ///< stage done when ||w+ - w|| <= tolerance ||w+||
+  double lambda = 0;       ///< target lambda (absolute, > 0)
+  int max_nonzeros = 300;  ///< stop at the first stage solution with this many non-zeros
+  SparsaStop stop = SparsaStop::kStep;
+  double tolerance = 1e-6;     ///< of the stop criterion
   int max_iterations = 20000;  ///< over all continuation stages
   bool continuation = true;
   double continuation_start = 0.5;  ///< first lambda = max(lambda, start * ||A^T f||_inf)
@@ -64,8 +71,8 @@ struct CgResult {
   bool converged = false;
 };
 
-/// Least squares min ||B x - f|| by CG on the normal equations B^T B x = B^T f (CGLS),
-/// starting from x0 (empty = zero), until ||B^T r|| <= tolerance ||B^T f||.
+/// Least squares min ||B x - f|| by CG on the normal equations B^T B x = B^T f (B^T B formed
+/// once), starting from x0 (empty = zero), until ||B^T (f - B x)|| <= tolerance ||B^T f||.
 CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
                           const Eigen::VectorXd& x0, double tolerance = 1e-9,
                           int max_iterations = 0 /* 0 = 50 * columns + 100 */);
