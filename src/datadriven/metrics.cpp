@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "inhap/core/error.hpp"
 
@@ -121,6 +122,52 @@ ForceErrors force_errors(const std::vector<Vec3>& rendered, const std::vector<Ve
                                    mean(by_bin[b]), median(by_bin[b])});
   }
   return out;
+}
+
+namespace {
+
+nlohmann::ordered_json xyz(const std::array<double, 3>& v) {
+  return {{"x", v[0]}, {"y", v[1]}, {"z", v[2]}};
+}
+
+nlohmann::ordered_json box_json(const BoxStats& b) {
+  return {{"n", b.n},
+          {"min", b.min},
+          {"whisker_low", b.whisker_low},
+          {"q1", b.q1},
+          {"median", b.median},
+          {"q3", b.q3},
+          {"whisker_high", b.whisker_high},
+          {"max", b.max},
+          {"mean", b.mean},
+          {"outliers", b.outliers}};
+}
+
+}  // namespace
+
+std::string force_errors_json(const ForceErrors& e) {
+  nlohmann::ordered_json j;
+  j["n"] = e.n;
+  j["ae_n"] = {{"mean", e.ae_mean}, {"median", e.ae_median}};
+  j["re"] = {{"mean", e.re_mean}, {"median", e.re_median}};
+  j["rmse_n"] = xyz(e.rmse);
+  j["median_ae_n"] = xyz(e.ae_axis_median);
+  j["mean_ae_n"] = xyz(e.ae_axis_mean);
+  j["re_axis_mean"] = xyz(e.re_axis_mean);
+  j["re_axis_median"] = xyz(e.re_axis_median);
+  j["re_box"] = box_json(e.re_box);
+  j["re_axis_box"] = {{"x", box_json(e.re_axis_box[0])},
+                      {"y", box_json(e.re_axis_box[1])},
+                      {"z", box_json(e.re_axis_box[2])}};
+  nlohmann::ordered_json mags = nlohmann::ordered_json::array();
+  for (const auto& m : e.re_by_magnitude)
+    mags.push_back({{"f_min_n", m.f_min},
+                    {"f_max_n", m.f_max},
+                    {"n", m.n},
+                    {"re_mean", m.re_mean},
+                    {"re_median", m.re_median}});
+  j["re_by_magnitude"] = std::move(mags);
+  return j.dump();
 }
 
 }  // namespace inhap::dd

@@ -207,20 +207,25 @@ CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
     res.converged = true;
     return res;
   }
+  // Jacobi preconditioner: r^3 columns differ in norm by orders of magnitude.
+  Eigen::VectorXd dinv = g.diagonal();
+  for (Eigen::Index j = 0; j < dinv.size(); ++j) dinv[j] = dinv[j] > 0 ? 1.0 / dinv[j] : 1.0;
   Eigen::VectorXd r = c - g * res.x;
-  Eigen::VectorXd dir = r, q(b.cols());
-  double gamma = r.squaredNorm();
+  Eigen::VectorXd z = dinv.cwiseProduct(r);
+  Eigen::VectorXd dir = z, q(b.cols());
+  double rz = r.dot(z);
   while (res.iterations < max_iterations) {
-    if (std::sqrt(gamma) <= tolerance * cnorm) break;
+    if (r.norm() <= tolerance * cnorm) break;
     q.noalias() = g * dir;
     const double dq = dir.dot(q);
     if (!(dq > 0)) break;
-    const double step = gamma / dq;
+    const double step = rz / dq;
     res.x += step * dir;
     r -= step * q;
-    const double gamma_new = r.squaredNorm();
-    dir = r + (gamma_new / gamma) * dir;
-    gamma = gamma_new;
+    z = dinv.cwiseProduct(r);
+    const double rz_new = r.dot(z);
+    dir = z + (rz_new / rz) * dir;
+    rz = rz_new;
     ++res.iterations;
   }
   res.relative_residual = (c - g * res.x).norm() / cnorm;  // true, not recursive, residual

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "inhap/core/types.hpp"
@@ -58,5 +59,10 @@ struct ForceErrors {
 /// the fig. 4.13 bins, N. Throws inhap::Error on mismatched or empty input.
 ForceErrors force_errors(const std::vector<Vec3>& rendered, const std::vector<Vec3>& measured,
                          double magnitude_bin = 0.5);
+
+/// The report as a JSON object text: {"n", "ae": {"mean","median"}, "re": {"mean","median"},
+/// "rmse_n": {"x","y","z"}, "median_ae_n", "mean_ae_n", "re_axis_mean", "re_axis_median",
+/// "re_box": {...}, "re_axis_box": {"x": {...}, ...}, "re_by_magnitude": [...]}.
+std::string force_errors_json(const ForceErrors& e);
 
 }  // namespace inhap::dd

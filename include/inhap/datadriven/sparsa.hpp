@@ -72,7 +72,8 @@ struct CgResult {
 };
 
 /// Least squares min ||B x - f|| by CG on the normal equations B^T B x = B^T f (B^T B formed
-/// once), starting from x0 (empty = zero), until ||B^T (f - B x)|| <= tolerance ||B^T f||.
+/// once, Jacobi preconditioner), starting from x0 (empty = zero), until ||B^T (f - B x)|| <=
+/// tolerance ||B^T f||.
 CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
                           const Eigen::VectorXd& x0, double tolerance = 1e-9,
                           int max_iterations = 0 /* 0 = 50 * columns + 100 */);
