@@ -5,8 +5,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "inhap/core/error.hpp"
 
@@ -17,8 +15,9 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   errno = 0;
   file_ = std::fopen(tmp_.c_str(), "wb");
   if (!file_) throw IoError(path_, "cannot open for writing");
-  static thread_local char buffer[1 << 16];
-  std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+  // A buffer of its own per file (stdio allocates it): two AtomicFiles open at once must not
+  // share one.
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
 }
 
 AtomicFile::~AtomicFile() {
@@ -28,7 +27,9 @@ AtomicFile::~AtomicFile() {
   }
 }
 
-void AtomicFile::write(std::string_view bytes) { write(bytes.data(), bytes.size()); }
+void AtomicFile::write(std::string_view bytes) {
+  write(bytes.data(), bytes.size());
+}
 
 void AtomicFile::write(const void* data, std::size_t size) {
   if (size == 0) return;
@@ -58,13 +59,26 @@ void write_file_atomic(const std::string& path, std::string_view content) {
 }
 
 std::string read_file(const std::string& path) {
+  // One allocation of the file's size and one fread (large meshes are read this way); the loop
+  // also handles files whose size is unknown or changes while reading.
   errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read failed");
-  return ss.str();
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw IoError(path, "cannot open for reading");
+  std::string out;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::size_t used = 0;
+  out.resize(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(size) + 1);
+  while (true) {
+    used += std::fread(out.data() + used, 1, out.size() - used, f);
+    if (used < out.size()) break;
+    out.resize(out.size() * 2);
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) throw IoError(path, "read failed");
+  out.resize(used);
+  return out;
 }
 
 }  // namespace inhap
