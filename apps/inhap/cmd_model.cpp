@@ -1,0 +1,230 @@
+// inhap model train | eval | render: the data-driven force model of thesis sec. 4.4-4.5.
+// Units: positions mm, velocities mm/s, forces N, time s.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/csv.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/metrics.hpp"
+#include "inhap/datadriven/model_io.hpp"
+
+namespace inhap::cli {
+namespace {
+
+using namespace inhap::dd;
+
+struct ProxyOptions {
+  std::string prefix = "q", contact_column = "contact";
+  double contact_threshold = 0.05;
+};
+
+void add_proxy_options(CLI::App* c, ProxyOptions& o) {
+  c->add_option("--proxy-prefix", o.prefix,
+                "Proxy columns <prefix>x,<prefix>y,<prefix>z of the recording, mm (written by the "
+                "proxy estimator)")
+      ->capture_default_str();
+  c->add_option("--contact-column", o.contact_column,
+                "Contact flag column (non-zero = contact); when absent, contact = |f| above "
+                "--contact-threshold")
+      ->capture_default_str();
+  c->add_option("--contact-threshold", o.contact_threshold, "Force magnitude for contact, N")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+}
+
+ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyOptions& o) {
+  return proxy_from_columns(rec, path, o.prefix, o.contact_column, o.contact_threshold);
+}
+
+// ----------------------------------------------------------------------------------- train
+struct TrainOptions {
+  std::string recording, sys, mesh, out, design = "regression", features = "ue_q_v";
+  TrainParams params;
+  FoawParams foaw;
+  double force_limit = 6.2;
+  ProxyOptions proxy;
+};
+
+void run_train(TrainOptions o) {
+  const Recording rec = read_recording(o.recording);
+  const ProxyTrack track = track_of(rec, o.recording, o.proxy);
+  o.foaw.dt = median_dt(rec);
+  const TrainingSet set = make_training_set(rec, track, o.foaw);
+  fmt::print(stderr, "inhap: {} samples, {} in contact ({}), proxy from {}\n", rec.size(),
+             set.size(), track.contact_source, track.proxy_source);
+  o.params.design = design_from_string(o.design);
+  o.params.features = feature_set_from_string(o.features);
+  const auto t0 = std::chrono::steady_clock::now();
+  o.params.progress = [t0](double frac, const std::string&) {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    progress("train", frac, frac > 0 ? el * (1 - frac) / frac : 0);
+  };
+  ForceModel m = train_force_model(set, o.params, o.foaw);
+  m.force_limit = o.force_limit;
+  m.proxy_source = track.proxy_source;
+  if (!o.sys.empty()) {
+    m.sys_path = o.sys;
+    m.sys_digest = file_digest(o.sys);
+  }
+  if (!o.mesh.empty()) {
+    m.mesh_path = o.mesh;
+    m.mesh_digest = file_digest(o.mesh);
+  }
+  save_force_model(o.out, m);
+  fmt::print("trained {} samples in {:.1f} s: {} bins, design {}, non-zeros per axis", set.size(),
+             m.stats.seconds, m.bins.size(), to_string(m.params.design));
+  for (const auto& s : m.stats.support) fmt::print(" {}/{}/{}", s[0], s[1], s[2]);
+  fmt::print("\nmodel -> {}\n", o.out);
+}
+
+// ------------------------------------------------------------------------------ eval/render
+struct ReplayOptions {
+  std::string model, recording, json, out;
+  ProxyOptions proxy;
+};
+
+struct Replayed {
+  Recording rec;
+  ProxyTrack track;
+  std::vector<Vec3> forces;
+};
+
+Replayed replay_file(const ReplayOptions& o, const ForceModel& m) {
+  Replayed r{read_recording(o.recording), {}, {}};
+  r.track = track_of(r.rec, o.recording, o.proxy);
+  r.forces = replay(m, r.rec, r.track);
+  return r;
+}
+
+void run_eval(const ReplayOptions& o) {
+  const ForceModel m = load_force_model(o.model);
+  const Replayed r = replay_file(o, m);
+  std::vector<Vec3> rendered, measured;
+  for (std::size_t i = 0; i < r.rec.size(); ++i)
+    if (r.track.contact[i]) {
+      rendered.push_back(r.forces[i]);
+      measured.push_back(r.rec.f[i]);
+    }
+  if (rendered.empty())
+    throw Error(fmt::format("{}: expected samples in contact ({}), got none", o.recording,
+                            r.track.contact_source));
+  const ForceErrors e = force_errors(rendered, measured);
+  nlohmann::ordered_json j;
+  j["model"] = o.model;
+  j["recording"] = o.recording;
+  j["samples"] = r.rec.size();
+  j["contact_samples"] = rendered.size();
+  j["proxy_source"] = r.track.proxy_source;
+  j["contact_source"] = r.track.contact_source;
+  j["units"] = {{"force", "N"}};
+  j["errors"] = nlohmann::ordered_json::parse(force_errors_json(e));
+  if (!o.json.empty()) write_file_atomic(o.json, j.dump(1) + "\n");
+  fmt::print(
+      "{} contact samples: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE x/y/z {:.3f} {:.3f} {:.3f} "
+      "N, "
+      "RE mean {:.3f} median {:.3f}\n",
+      e.n, e.rmse[0], e.rmse[1], e.rmse[2], e.ae_axis_median[0], e.ae_axis_median[1],
+      e.ae_axis_median[2], e.re_mean, e.re_median);
+}
+
+void run_render(const ReplayOptions& o) {
+  const ForceModel m = load_force_model(o.model);
+  const Replayed r = replay_file(o, m);
+  const std::vector<std::string> comments{
+      "units: t s, p mm, f (rendered) N, mf (measured) N",
+      fmt::format("rendered by inhap model render from {} with {}", o.recording, o.model)};
+  CsvWriter w(o.out, {"t", "px", "py", "pz", "fx", "fy", "fz", "mfx", "mfy", "mfz", "contact"},
+              comments);
+  for (std::size_t i = 0; i < r.rec.size(); ++i) {
+    const Vec3 &p = r.rec.p[i], &f = r.forces[i], &mf = r.rec.f[i];
+    w.row({r.rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), mf.x(), mf.y(), mf.z(),
+           r.track.contact[i] ? 1.0 : 0.0});
+  }
+  w.commit();
+  fmt::print("{} samples rendered -> {}\n", r.rec.size(), o.out);
+}
+
+void register_model(CLI::App& app) {
+  auto* model = app.add_subcommand(
+      "model",
+      "Data-driven force model f = g(p, pdot, q) (thesis 4.4): r^3 RBFs per ||q - p|| bin.\n"
+      "Recordings need proxy columns qx,qy,qz (mm) and a contact column (or a force threshold).");
+  model->require_subcommand(1);
+
+  auto tr = std::make_shared<TrainOptions>();
+  auto* ct = model->add_subcommand("train", "Train a model from a recording (writes model JSON)");
+  ct->add_option("--recording", tr->recording, "Recording CSV (t s, p mm, f N, qx,qy,qz mm)")
+      ->required();
+  ct->add_option("--sys", tr->sys, "Sliding-yield-surface file to reference in the model");
+  ct->add_option("--mesh", tr->mesh, "Shape mesh to reference in the model");
+  ct->add_option("--out", tr->out, "Model file to write (.json)")->required();
+  ct->add_option("--bins", tr->params.bins, "Bins by ||q - p|| (equal counts)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  ct->add_option("--centers", tr->params.centers, "M: k-means clusters (selected samples) per bin")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  ct->add_option("--nonzeros", tr->params.nonzeros, "Wanted non-zeros per axis (0 = M)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  ct->add_option("--lambda-ratio", tr->params.lambda_ratio, "lambda = ratio * ||A~^T f~||_inf")
+      ->capture_default_str();
+  ct->add_option("--seed", tr->params.seed, "Seed of the k-means++ draws")->capture_default_str();
+  ct->add_option("--design", tr->design,
+                 "thesis: A~ is M x N_bin (rows = selected samples, sec. 4.4.2); regression: A~ is "
+                 "N_bin x M (rows = every sample, columns = selected samples)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"thesis", "regression"}));
+  ct->add_option("--features", tr->features, "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ue_q_v", "p_v_q"}));
+  ct->add_flag("--tail", tr->params.linear_tail, "Add a linear polynomial tail to every expansion");
+  ct->add_option("--feature-weights", tr->params.feature_weights,
+                 "Weights of the three feature groups after standardisation")
+      ->expected(3);
+  ct->add_option("--threads", tr->params.threads, "Worker threads (0 = all cores)")
+      ->capture_default_str();
+  ct->add_option("--foaw-window", tr->foaw.max_window, "FOAW window cap, samples")
+      ->capture_default_str()
+      ->check(CLI::Range(1, kFoawMaxWindow - 1));
+  ct->add_option("--foaw-noise", tr->foaw.noise_bound, "FOAW noise bound d, mm")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  ct->add_option("--force-limit", tr->force_limit, "Rendered force clamp, N")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  add_proxy_options(ct, tr->proxy);
+  ct->callback([tr] { run_train(*tr); });
+
+  auto ev = std::make_shared<ReplayOptions>();
+  auto* ce = model->add_subcommand(
+      "eval", "Replay a recording through the servo renderer; errors (eq. 4.27-4.31)");
+  ce->add_option("--model", ev->model, "Model JSON")->required();
+  ce->add_option("--recording", ev->recording, "Test recording CSV with proxy columns")->required();
+  ce->add_option("--json", ev->json, "Write the error report (N) as JSON here");
+  add_proxy_options(ce, ev->proxy);
+  ce->callback([ev] { run_eval(*ev); });
+
+  auto rn = std::make_shared<ReplayOptions>();
+  auto* cr = model->add_subcommand("render",
+                                   "Replay a recording at servo rate; write rendered forces (N)");
+  cr->add_option("--model", rn->model, "Model JSON")->required();
+  cr->add_option("--recording", rn->recording, "Recording CSV with proxy columns")->required();
+  cr->add_option("--out", rn->out,
+                 "CSV to write: t,px,py,pz,fx,fy,fz (rendered),mfx,mfy,mfz (measured),contact")
+      ->required();
+  add_proxy_options(cr, rn->proxy);
+  cr->callback([rn] { run_render(*rn); });
+}
+
+}  // namespace
+
+INHAP_COMMAND(40, "model", register_model);
+
+}  // namespace inhap::cli

@@ -1,0 +1,86 @@
+// Data-driven force model: training time on 65,000 synthetic samples (thesis planar object
+// size) and the servo step latency (p50/p99, us) on a held-out trajectory.
+// Units: time s / us; forces N.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/servo.hpp"
+#include "inhap/datadriven/synthetic.hpp"
+
+namespace {
+
+using namespace inhap;
+using namespace inhap::dd;
+
+TrainingSet training_set() {
+  SyntheticParams sp;
+  sp.samples = 65000;
+  sp.seed = 1;
+  const Recording rec = synthetic_recording(sp);
+  return make_training_set(rec, proxy_from_columns(rec, "synthetic"), FoawParams{});
+}
+
+TrainParams params_for(Design d) {
+  TrainParams p;
+  p.design = d;
+  return p;
+}
+
+const ForceModel& trained(Design d) {
+  static const ForceModel thesis = train_force_model(training_set(), params_for(Design::kThesis));
+  static const ForceModel regression =
+      train_force_model(training_set(), params_for(Design::kRegression));
+  return d == Design::kThesis ? thesis : regression;
+}
+
+void BM_Train(benchmark::State& state) {
+  const auto design = static_cast<Design>(state.range(0));
+  const TrainingSet set = training_set();
+  double seconds = 0;
+  for (auto _ : state) {
+    const ForceModel m = train_force_model(set, params_for(design));
+    seconds = m.stats.seconds;
+    benchmark::DoNotOptimize(m.bins.data());
+  }
+  state.counters["samples"] = static_cast<double>(set.size());
+  state.counters["train_s"] = seconds;
+  state.SetLabel(to_string(design));
+}
+BENCHMARK(BM_Train)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
+void BM_ServoStep(benchmark::State& state) {
+  const ForceModel& m = trained(static_cast<Design>(state.range(0)));
+  SyntheticParams sp;
+  sp.samples = 37000;
+  sp.seed = 2;
+  const Recording rec = synthetic_recording(sp);
+  const ProxyTrack track = proxy_from_columns(rec, "synthetic");
+  ServoState st;
+  std::vector<double> us;
+  us.reserve(1 << 20);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Vec3 f = servo_step(m, st, rec.p[i], track.q[i], track.contact[i] != 0);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(f);
+    if (track.contact[i] && us.size() < us.capacity())
+      us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    i = (i + 1) % rec.size();
+  }
+  if (!us.empty()) {
+    std::sort(us.begin(), us.end());
+    state.counters["p50_us"] = us[us.size() / 2];
+    state.counters["p99_us"] = us[us.size() * 99 / 100];
+  }
+  state.SetLabel(to_string(static_cast<Design>(state.range(0))));
+}
+BENCHMARK(BM_ServoStep)->Arg(0)->Arg(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

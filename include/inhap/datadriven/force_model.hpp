@@ -1,0 +1,152 @@
+// The clustered data-driven force model of thesis sec. 4.4: f = g(p, pdot, q), one polyharmonic
+// (r^3) RBF expansion per force axis and per bin of ||q - p||.
+//
+// Units: p, q in mm, pdot in mm/s, forces in N. Features are normalised per dimension (per bin)
+// before distances are taken, so centres and the clamping box are dimensionless.
+//
+// Training (train_force_model):
+//   1. bins: the samples are split into `bins` groups of equal count by the elastic
+//      displacement magnitude ||q - p|| (thesis 4.4.3);
+//   2. per bin: feature vectors x (9-D, see FeatureSet), normalised to zero mean and unit
+//      standard deviation per dimension;
+//   3. k-means (k-means++ seeding) with M clusters; the recorded sample nearest each centroid is
+//      a selected row ("random selection" of Sianov and Harders);
+//   4. A~ (M x N_bin): A~(i, j) = psi(||x_sel_i - x_j||), psi(r) = r^3, every sample of the bin
+//      a candidate centre; f~ = forces of the selected rows, one problem per force axis;
+//   5. SpaRSA with lambda = lambda_ratio ||A~^T f~||_inf, stop at the wanted number of non-zeros;
+//   6. CG debiasing on the support (tolerance 1e-9).
+// Bins are trained in parallel (std::thread); results do not depend on the thread count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "inhap/core/types.hpp"
+#include "inhap/datadriven/foaw.hpp"
+#include "inhap/datadriven/rbf.hpp"
+#include "inhap/datadriven/sparsa.hpp"
+
+namespace inhap::dd {
+
+inline constexpr int kFeatureDim = 9;
+
+/// Which 9-D vector the RBFs see.
+enum class FeatureSet {
+  kDisplacementProxyVelocity,  ///< (q - p, q, pdot): "displacement, proxy and velocities" (default)
+  kPositionVelocityProxy,      ///< (p, pdot, q) as written in eq. 4.1
+};
+const char* to_string(FeatureSet f);
+/// Parses "ue_q_v" or "p_v_q"; throws inhap::Error otherwise.
+FeatureSet feature_set_from_string(const std::string& s);
+
+/// Fills x[0..8] with the raw (unnormalised) features.
+inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Vec3& q, double* x) {
+  const Vec3 a = set == FeatureSet::kDisplacementProxyVelocity ? Vec3(q - p) : p;
+  const Vec3 b = set == FeatureSet::kDisplacementProxyVelocity ? q : v;
+  const Vec3 c = set == FeatureSet::kDisplacementProxyVelocity ? v : q;
+  for (int i = 0; i < 3; ++i) {
+    x[i] = a[i];
+    x[3 + i] = b[i];
+    x[6 + i] = c[i];
+  }
+}
+
+/// In-contact training samples (all vectors the same length).
+struct TrainingSet {
+  std::vector<Vec3> p;  ///< probe centre, mm
+  std::vector<Vec3> v;  ///< probe velocity (FOAW), mm/s
+  std::vector<Vec3> q;  ///< proxy, mm
+  std::vector<Vec3> f;  ///< measured force, N
+  std::size_t size() const { return p.size(); }
+};
+
+/// Shape of the l1 problem of a bin (both use the M k-means-selected samples).
+enum class Design {
+  kThesis,      ///< A~ is M x N_bin: rows = selected samples, columns = every sample (sec. 4.4.2)
+  kRegression,  ///< A~ is N_bin x M: rows = every sample, columns = selected samples
+};
+const char* to_string(Design d);
+/// Parses "thesis" or "regression"; throws inhap::Error otherwise.
+Design design_from_string(const std::string& s);
+
+struct TrainParams {
+  int bins = 5;                 ///< bins by ||q - p||, equal counts
+  int centers = 300;            ///< M: k-means clusters = selected rows per bin
+  int nonzeros = 0;             ///< wanted non-zeros per axis (0 = M)
+  double lambda_ratio = 0.001;  ///< lambda = ratio * ||A~^T f~||_inf
+  std::uint64_t seed = 1;
+  bool linear_tail = false;  ///< add a linear polynomial tail to every expansion
+  FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
+  Design design = Design::kThesis;
+  bool normalize_columns = true;  ///< solve the l1 problem on unit-norm columns of A~
+  SparsaStop sparsa_stop = SparsaStop::kObjective;
+  double sparsa_tolerance = 1e-4;  ///< of sparsa_stop (relative objective change)
+  int sparsa_iterations = 5000;    ///< SpaRSA iterations at most (all stages)
+  double cg_tolerance = 1e-9;      ///< CG debiasing tolerance (thesis)
+  int kmeans_iterations = 100;
+  /// Weights of the three 3-D feature groups after standardisation (in FeatureSet order):
+  /// distances see (x_d - mean_d) / sd_d * weight_group(d).
+  std::array<double, 3> feature_weights{1.0, 1.0, 1.0};
+  double box_margin = 0.1;  ///< clamping box = training range +- margin * range (per dim)
+  int threads = 0;          ///< worker threads (0 = hardware concurrency)
+  /// Called (from worker threads, serialised) with the fraction done and a message.
+  std::function<void(double, const std::string&)> progress;
+  void validate() const;  ///< throws inhap::Error on out-of-range values
+};
+
+/// One bin of ||q - p|| (mm) with its normalisation and one expansion per force axis.
+struct BinModel {
+  double key_min = 0, key_max = 0;           ///< range of ||q - p|| among its training samples, mm
+  std::array<double, kFeatureDim> offset{};  ///< normalisation: z = (x - offset) / scale
+  ///< (scale = standard deviation / feature weight)
+  std::array<double, kFeatureDim> scale{};
+  std::array<double, kFeatureDim> box_min{}, box_max{};  ///< clamping box of z
+  std::array<RbfExpansion, 3> axes;                      ///< centres in z, weights in N
+  std::size_t samples = 0;                               ///< training samples in the bin
+};
+
+/// Training diagnostics (not needed to render; saved for provenance).
+struct TrainStats {
+  double seconds = 0;
+  std::size_t samples = 0;
+  std::vector<std::array<int, 3>> support;  ///< per bin and axis: non-zeros kept
+  std::vector<std::array<int, 3>> sparsa_iterations;
+  std::vector<std::array<int, 3>> cg_iterations;
+  std::vector<std::array<double, 3>> lambda;
+  std::vector<int> selected_rows;  ///< per bin
+};
+
+struct ForceModel {
+  FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
+  std::vector<double> edges;  ///< bins-1 increasing thresholds on ||q - p||, mm
+  std::vector<BinModel> bins;
+  FoawParams foaw;           ///< velocity filter used for training; the renderer uses the same
+  double force_limit = 6.2;  ///< output clamp, N (device limit)
+  TrainParams params;        ///< as trained (progress callback not kept)
+  TrainStats stats;
+  std::string sys_path, mesh_path;       ///< references (may be empty)
+  std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
+  std::string proxy_source = "columns";  ///< where q came from when training
+
+  /// Bin index for a displacement magnitude (mm).
+  int bin_of(double key) const;
+};
+
+/// Trains the model. Throws inhap::Error when there are too few samples (fewer than 2 per
+/// bin), non-finite values or bad parameters.
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw = {});
+
+/// Model force for one input, N: bin by ||q - p||, normalise, clamp to the bin's box, evaluate
+/// the three expansions, clamp the magnitude to force_limit. Non-finite input gives zero.
+/// Servo-safe: no allocation, no exceptions.
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
+
+/// Checks a model's internal consistency (sizes, finiteness, ordering). Throws inhap::Error
+/// naming what is wrong, prefixed with `where`.
+void validate_model(const ForceModel& model, const std::string& where);
+
+}  // namespace inhap::dd

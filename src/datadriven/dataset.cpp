@@ -1,0 +1,99 @@
+// Recording -> proxy track, velocities, training set, replay (see dataset.hpp).
+#include "inhap/datadriven/dataset.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/servo.hpp"
+
+namespace inhap::dd {
+
+ProxyTrack proxy_from_columns(const Recording& rec, const std::string& path,
+                              const std::string& prefix, const std::string& contact_column,
+                              double force_threshold) {
+  std::array<const std::vector<double>*, 3> qc{};
+  const char* axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    qc[static_cast<std::size_t>(a)] = rec.find_extra(prefix + axes[a]);
+    if (!qc[static_cast<std::size_t>(a)])
+      throw ParseError(
+          path, 1,
+          fmt::format(
+              "expected proxy columns {0}x,{0}y,{0}z (from the proxy estimator), got no '{0}{1}'",
+              prefix, axes[a]));
+  }
+  ProxyTrack t;
+  t.proxy_source = "columns:" + prefix;
+  const std::size_t n = rec.size();
+  t.q.resize(n);
+  t.contact.resize(n);
+  const std::vector<double>* cc = contact_column.empty() ? nullptr : rec.find_extra(contact_column);
+  t.contact_source = cc ? "column:" + contact_column : fmt::format("force>{}N", force_threshold);
+  for (std::size_t i = 0; i < n; ++i) {
+    t.q[i] = Vec3((*qc[0])[i], (*qc[1])[i], (*qc[2])[i]);
+    t.contact[i] = cc ? ((*cc)[i] != 0.0) : (rec.f[i].norm() > force_threshold);
+  }
+  return t;
+}
+
+ProxyTrack entry_proxy_track(const Recording& rec, const std::vector<char>& contact,
+                             const std::string& contact_source) {
+  if (contact.size() != rec.size())
+    throw Error("entry proxy: expected one contact flag per sample");
+  ProxyTrack t;
+  t.proxy_source = "entry";
+  t.contact_source = contact_source;
+  t.contact = contact;
+  t.q.resize(rec.size());
+  EntryProxyState s;
+  for (std::size_t i = 0; i < rec.size(); ++i) t.q[i] = entry_proxy(s, rec.p[i], contact[i] != 0);
+  return t;
+}
+
+std::vector<Vec3> foaw_velocities(const std::vector<Vec3>& p, const FoawParams& params) {
+  params.validate();
+  FoawState st;
+  std::vector<Vec3> v(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) v[i] = foaw_step(params, st, p[i]);
+  return v;
+}
+
+double median_dt(const Recording& rec) {
+  if (rec.size() < 2) return 1e-3;
+  std::vector<double> d(rec.size() - 1);
+  for (std::size_t i = 1; i < rec.size(); ++i) d[i - 1] = rec.t[i] - rec.t[i - 1];
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
+                              const FoawParams& foaw) {
+  if (proxy.size() != rec.size() || proxy.contact.size() != rec.size())
+    throw Error(fmt::format("training set: expected a proxy for each of the {} samples, got {}",
+                            rec.size(), proxy.size()));
+  const std::vector<Vec3> v = foaw_velocities(rec.p, foaw);
+  TrainingSet s;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    if (!proxy.contact[i]) continue;
+    s.p.push_back(rec.p[i]);
+    s.v.push_back(v[i]);
+    s.q.push_back(proxy.q[i]);
+    s.f.push_back(rec.f[i]);
+  }
+  return s;
+}
+
+std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy) {
+  if (proxy.size() != rec.size() || proxy.contact.size() != rec.size())
+    throw Error(fmt::format("replay: expected a proxy for each of the {} samples, got {}",
+                            rec.size(), proxy.size()));
+  ServoState st;
+  std::vector<Vec3> out(rec.size());
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    out[i] = servo_step(model, st, rec.p[i], proxy.q[i], proxy.contact[i] != 0);
+  return out;
+}
+
+}  // namespace inhap::dd

@@ -1,0 +1,74 @@
+// FOAW best-fit velocity estimation (see include/inhap/datadriven/foaw.hpp). Units: mm, mm/s, s.
+#include "inhap/datadriven/foaw.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::dd {
+
+void FoawParams::validate() const {
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw Error(fmt::format("FOAW: expected a sample period dt > 0 s, got {}", dt));
+  if (max_window < 1 || max_window >= kFoawMaxWindow)
+    throw Error(fmt::format("FOAW: expected a window cap in 1..{}, got {}", kFoawMaxWindow - 1,
+                            max_window));
+  if (!(noise_bound >= 0) || !std::isfinite(noise_bound))
+    throw Error(fmt::format("FOAW: expected a noise bound >= 0 mm, got {}", noise_bound));
+}
+
+namespace {
+
+// Sample y_{k-i} of one axis relative to y_k.
+inline double rel(const FoawState& s, int i, int axis, double yk) {
+  int idx = s.head - i;
+  if (idx < 0) idx += kFoawMaxWindow;
+  return s.buffer[static_cast<std::size_t>(idx)][axis] - yk;
+}
+
+// Best-fit FOAW slope for one axis; writes the accepted window length.
+double axis_slope(const FoawParams& prm, const FoawState& s, int axis, int& window) {
+  const int n_max = std::min(prm.max_window, s.count - 1);
+  const double yk = s.buffer[static_cast<std::size_t>(s.head)][axis];
+  double s0 = 0.0, s1 = 0.0;  // sums of y_{k-i}-y_k and i*(y_{k-i}-y_k), i = 0..n
+  double best = 0.0;
+  window = 0;
+  for (int n = 1; n <= n_max; ++n) {
+    const double yn = rel(s, n, axis, yk);
+    s0 += yn;
+    s1 += n * yn;
+    const double denom = prm.dt * n * (n + 1.0) * (n + 2.0) / 6.0;
+    const double b = (n * s0 - 2.0 * s1) / denom;
+    bool inside = true;
+    for (int j = 1; j < n && inside; ++j) {
+      const double dev = rel(s, j, axis, yk) + b * j * prm.dt;  // y_{k-j} - (y_k - b j T)
+      inside = std::fabs(dev) <= prm.noise_bound * (1.0 + 1e-12) + 1e-15;
+    }
+    if (!inside) break;
+    best = b;
+    window = n;
+  }
+  return best;
+}
+
+}  // namespace
+
+Vec3 foaw_step(const FoawParams& params, FoawState& state, const Vec3& p) {
+  if (!p.allFinite()) {
+    state.reset();
+    return Vec3::Zero();
+  }
+  state.head = (state.head + 1) % kFoawMaxWindow;
+  state.buffer[static_cast<std::size_t>(state.head)] = p;
+  if (state.count < kFoawMaxWindow) ++state.count;
+  Vec3 v;
+  for (int a = 0; a < 3; ++a)
+    v[a] = axis_slope(params, state, a, state.window[static_cast<std::size_t>(a)]);
+  if (!v.allFinite()) v.setZero();
+  state.velocity = v;
+  return v;
+}
+
+}  // namespace inhap::dd

@@ -1,0 +1,306 @@
+// Clustered r^3 RBF force model: training and evaluation (see force_model.hpp).
+#include "inhap/datadriven/force_model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <numeric>
+#include <thread>
+
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/kmeans.hpp"
+
+namespace inhap::dd {
+
+const char* to_string(FeatureSet f) {
+  return f == FeatureSet::kDisplacementProxyVelocity ? "ue_q_v" : "p_v_q";
+}
+
+FeatureSet feature_set_from_string(const std::string& s) {
+  if (s == "ue_q_v") return FeatureSet::kDisplacementProxyVelocity;
+  if (s == "p_v_q") return FeatureSet::kPositionVelocityProxy;
+  throw Error(fmt::format("expected feature set 'ue_q_v' or 'p_v_q', got '{}'", s));
+}
+
+const char* to_string(Design d) {
+  return d == Design::kThesis ? "thesis" : "regression";
+}
+
+Design design_from_string(const std::string& s) {
+  if (s == "thesis") return Design::kThesis;
+  if (s == "regression") return Design::kRegression;
+  throw Error(fmt::format("expected design 'thesis' or 'regression', got '{}'", s));
+}
+
+void TrainParams::validate() const {
+  if (bins < 1 || bins > 100) throw Error(fmt::format("expected 1..100 bins, got {}", bins));
+  if (centers < 1) throw Error(fmt::format("expected at least 1 centre per bin, got {}", centers));
+  if (nonzeros < 0 || nonzeros > centers)
+    throw Error(
+        fmt::format("expected 0..{} wanted non-zeros (<= centres), got {}", centers, nonzeros));
+  if (!(lambda_ratio > 0 && lambda_ratio < 1))
+    throw Error(fmt::format("expected a lambda ratio in (0, 1), got {}", lambda_ratio));
+  if (!(box_margin >= 0))
+    throw Error(fmt::format("expected a box margin >= 0, got {}", box_margin));
+  for (double w : feature_weights)
+    if (!(w > 0) || !std::isfinite(w))
+      throw Error(fmt::format("expected feature weights > 0, got {}", w));
+  if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
+}
+
+int ForceModel::bin_of(double key) const {
+  // First edge greater than key; edges are few (bins - 1), a linear scan is fastest.
+  int b = 0;
+  const int ne = static_cast<int>(edges.size());
+  while (b < ne && key >= edges[static_cast<std::size_t>(b)]) ++b;
+  return b;
+}
+
+namespace {
+
+struct BinResult {
+  BinModel model;
+  std::array<int, 3> support{}, sparsa_it{}, cg_it{};
+  std::array<double, 3> lambda{};
+  int selected = 0;
+};
+
+std::uint64_t bin_seed(std::uint64_t seed, int bin) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * static_cast<std::uint64_t>(bin + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  return z ^ (z >> 27);
+}
+
+void normalise(Eigen::MatrixXd& x, BinModel& bm, const TrainParams& prm) {
+  const double margin = prm.box_margin;
+  const Eigen::Index n = x.rows();
+  for (int d = 0; d < kFeatureDim; ++d) {
+    const double mean = x.col(d).mean();
+    const double sd = std::sqrt((x.col(d).array() - mean).square().sum() / static_cast<double>(n));
+    const auto ud = static_cast<std::size_t>(d);
+    bm.offset[ud] = mean;
+    bm.scale[ud] = (sd > 1e-12 ? sd : 1.0) / prm.feature_weights[ud / 3];
+    x.col(d) = (x.col(d).array() - mean) / bm.scale[ud];
+    const double lo = x.col(d).minCoeff(), hi = x.col(d).maxCoeff();
+    bm.box_min[ud] = lo - margin * (hi - lo);
+    bm.box_max[ud] = hi + margin * (hi - lo);
+  }
+}
+
+// The l1 problem of one bin: A (rows x candidates), its right-hand sides, the tail basis of the
+// rows and the feature vector of every candidate centre.
+struct Problem {
+  Eigen::MatrixXd a, f, p;
+  std::vector<int> candidate;  // candidate column j -> sample index
+};
+
+Problem build_problem(const Eigen::MatrixXd& x, const Eigen::MatrixXd& f,
+                      const std::vector<int>& selected, const TrainParams& prm) {
+  const Eigen::Index m = static_cast<Eigen::Index>(selected.size());
+  Eigen::MatrixXd sel(m, kFeatureDim), fsel(m, 3);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    sel.row(i) = x.row(selected[static_cast<std::size_t>(i)]);
+    fsel.row(i) = f.row(selected[static_cast<std::size_t>(i)]);
+  }
+  Problem pb;
+  if (prm.design == Design::kThesis) {  // rows: selected samples; columns: every sample
+    pb.a = rbf_matrix(sel, x);
+    pb.f = std::move(fsel);
+    if (prm.linear_tail) pb.p = tail_matrix(sel);
+    pb.candidate.resize(static_cast<std::size_t>(x.rows()));
+    std::iota(pb.candidate.begin(), pb.candidate.end(), 0);
+  } else {  // rows: every sample; columns: selected samples
+    pb.a = rbf_matrix(x, sel);
+    pb.f = f;
+    if (prm.linear_tail) pb.p = tail_matrix(x);
+    pb.candidate = selected;
+  }
+  return pb;
+}
+
+BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainParams& prm, int bin) {
+  BinResult out;
+  BinModel& bm = out.model;
+  bm.samples = static_cast<std::size_t>(x.rows());
+  normalise(x, bm, prm);
+  const KMeansResult km = kmeans(
+      x,
+      {.k = prm.centers, .max_iterations = prm.kmeans_iterations, .seed = bin_seed(prm.seed, bin)});
+  out.selected = static_cast<int>(km.selected.size());
+  Problem pb = build_problem(x, f, km.selected, prm);
+  Eigen::MatrixXd tail_coef, target = pb.f;
+  if (prm.linear_tail) {  // unpenalised tail: fitted first, SpaRSA sees the residual
+    tail_coef = pb.p.colPivHouseholderQr().solve(pb.f);
+    target -= pb.p * tail_coef;
+  }
+  SparsaParams sp;
+  sp.max_nonzeros = prm.nonzeros > 0 ? prm.nonzeros : prm.centers;
+  sp.stop = prm.sparsa_stop;
+  sp.tolerance = prm.sparsa_tolerance;
+  sp.max_iterations = prm.sparsa_iterations;
+  // Optional column scaling (a diagonal preconditioner; the l1 penalty then treats near and far
+  // centres alike). Weights are mapped back before debiasing.
+  Eigen::VectorXd colscale = Eigen::VectorXd::Ones(pb.a.cols());
+  if (prm.normalize_columns) {
+    colscale = pb.a.colwise().norm().transpose();
+    for (Eigen::Index j = 0; j < colscale.size(); ++j)
+      if (!(colscale[j] > 0)) colscale[j] = 1;
+    pb.a *= colscale.cwiseInverse().asDiagonal();
+  }
+  std::vector<double> lambda(3);
+  for (int c = 0; c < 3; ++c) {
+    const double g = (pb.a.transpose() * target.col(c)).lpNorm<Eigen::Infinity>();
+    lambda[static_cast<std::size_t>(c)] = g > 0 ? prm.lambda_ratio * g : 1e-300;
+    out.lambda[static_cast<std::size_t>(c)] = lambda[static_cast<std::size_t>(c)];
+  }
+  std::vector<SparsaResult> sol = sparsa_multi(pb.a, target, lambda, sp);
+  if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
+  const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
+  for (int c = 0; c < 3; ++c) {
+    const auto uc = static_cast<std::size_t>(c);
+    const std::vector<int>& sup = sol[uc].support;
+    const Eigen::Index k = static_cast<Eigen::Index>(sup.size());
+    Eigen::MatrixXd b(rows, k + t);
+    Eigen::VectorXd x0(k + t);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const int col = sup[static_cast<std::size_t>(j)];
+      b.col(j) = pb.a.col(col);
+      x0[j] = sol[uc].w[col] / colscale[col];
+    }
+    if (t) {
+      b.rightCols(t) = pb.p;
+      x0.tail(t) = tail_coef.col(c);
+    }
+    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance);
+    RbfExpansion& e = bm.axes[uc];
+    e.centres.resize(k, kFeatureDim);
+    for (Eigen::Index j = 0; j < k; ++j)
+      e.centres.row(j) =
+          x.row(pb.candidate[static_cast<std::size_t>(sup[static_cast<std::size_t>(j)])]);
+    e.weights = cg.x.head(k);
+    if (t) e.tail = cg.x.tail(t);
+    out.support[uc] = static_cast<int>(k);
+    out.sparsa_it[uc] = sol[uc].iterations;
+    out.cg_it[uc] = cg.iterations;
+  }
+  return out;
+}
+
+}  // namespace
+
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw) {
+  const auto t0 = std::chrono::steady_clock::now();
+  params.validate();
+  foaw.validate();
+  const std::size_t n = data.size();
+  if (data.v.size() != n || data.q.size() != n || data.f.size() != n)
+    throw Error("force model training: expected p, v, q and f of equal length");
+  if (n < 2 * static_cast<std::size_t>(params.bins))
+    throw Error(fmt::format("force model training: expected at least {} in-contact samples, got {}",
+                            2 * params.bins, n));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!data.p[i].allFinite() || !data.v[i].allFinite() || !data.q[i].allFinite() ||
+        !data.f[i].allFinite())
+      throw Error(fmt::format("force model training: sample {} is not finite", i));
+
+  ForceModel model;
+  model.features = params.features;
+  model.foaw = foaw;
+  model.params = params;
+  model.params.progress = nullptr;
+
+  // Equal-count bins by ||q - p|| (stable order for ties).
+  std::vector<double> key(n);
+  for (std::size_t i = 0; i < n; ++i) key[i] = (data.q[i] - data.p[i]).norm();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  const int nb = params.bins;
+  std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1);
+  for (int b = 0; b <= nb; ++b)
+    start[static_cast<std::size_t>(b)] =
+        n * static_cast<std::size_t>(b) / static_cast<std::size_t>(nb);
+  for (int b = 1; b < nb; ++b) {
+    const std::size_t s = start[static_cast<std::size_t>(b)];
+    model.edges.push_back(0.5 * (key[order[s - 1]] + key[order[s]]));
+  }
+
+  std::vector<BinResult> results(static_cast<std::size_t>(nb));
+  std::atomic<int> next{0};
+  std::mutex progress_mutex;
+  int finished = 0;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (int b = next++; b < nb; b = next++) {
+      try {
+        const std::size_t s0 = start[static_cast<std::size_t>(b)],
+                          s1 = start[static_cast<std::size_t>(b) + 1];
+        const Eigen::Index m = static_cast<Eigen::Index>(s1 - s0);
+        Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
+        double row[kFeatureDim];
+        for (Eigen::Index i = 0; i < m; ++i) {
+          const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
+          make_features(params.features, data.p[k], data.v[k], data.q[k], row);
+          for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
+          f.row(i) = data.f[k].transpose();
+        }
+        results[static_cast<std::size_t>(b)] = train_bin(std::move(x), f, params, b);
+        BinModel& bm = results[static_cast<std::size_t>(b)].model;
+        bm.key_min = key[order[s0]];
+        bm.key_max = key[order[s1 - 1]];
+      } catch (...) {
+        std::lock_guard lock(progress_mutex);
+        if (!error) error = std::current_exception();
+      }
+      std::lock_guard lock(progress_mutex);
+      ++finished;
+      if (params.progress)
+        params.progress(static_cast<double>(finished) / nb, fmt::format("bin {} done", b));
+    }
+  };
+  int threads =
+      params.threads > 0 ? params.threads : static_cast<int>(std::thread::hardware_concurrency());
+  threads = std::clamp(threads, 1, nb);
+  std::vector<std::thread> pool;
+  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+
+  for (auto& r : results) {
+    model.stats.support.push_back(r.support);
+    model.stats.sparsa_iterations.push_back(r.sparsa_it);
+    model.stats.cg_iterations.push_back(r.cg_it);
+    model.stats.lambda.push_back(r.lambda);
+    model.stats.selected_rows.push_back(r.selected);
+    model.bins.push_back(std::move(r.model));
+  }
+  model.stats.samples = n;
+  model.stats.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return model;
+}
+
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
+  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
+  const BinModel& bm = model.bins[static_cast<std::size_t>(model.bin_of((q - p).norm()))];
+  double z[kFeatureDim];
+  make_features(model.features, p, v, q, z);
+  for (int d = 0; d < kFeatureDim; ++d) {
+    const auto ud = static_cast<std::size_t>(d);
+    z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
+  }
+  Vec3 f(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  if (!f.allFinite()) return Vec3::Zero();
+  const double mag = f.norm();
+  if (mag > model.force_limit) f *= model.force_limit / mag;
+  return f;
+}
+
+}  // namespace inhap::dd

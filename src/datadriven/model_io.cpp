@@ -1,0 +1,340 @@
+// Force-model JSON files and model validation (see model_io.hpp).
+#include "inhap/datadriven/model_io.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/error.hpp"
+
+namespace inhap::dd {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr const char* kFormat = "inhap-force-model";
+
+json vec_json(const double* v, Eigen::Index n) {
+  return json(std::vector<double>(v, v + n));
+}
+
+json axis_json(const RbfExpansion& e) {
+  json centres = json::array();
+  for (Eigen::Index j = 0; j < e.centres.rows(); ++j) {
+    const Eigen::VectorXd c = e.centres.row(j).transpose();
+    centres.push_back(vec_json(c.data(), c.size()));
+  }
+  return json{{"centres", std::move(centres)},
+              {"weights", vec_json(e.weights.data(), e.weights.size())},
+              {"tail", vec_json(e.tail.data(), e.tail.size())}};
+}
+
+template <class T>
+json arr3(const std::vector<std::array<T, 3>>& v) {
+  json a = json::array();
+  for (const auto& x : v) a.push_back({x[0], x[1], x[2]});
+  return a;
+}
+
+// --- reading helpers: every error names the JSON path -----------------------------------------
+struct Reader {
+  std::string file;
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw ParseError(file, 0, fmt::format("{}: {}", where, what));
+  }
+  static std::string kind(const json& j) { return j.is_null() ? "null" : j.type_name(); }
+  const json& need(const json& j, const char* key, const std::string& where) const {
+    if (!j.is_object()) fail(where, fmt::format("expected an object, got {}", kind(j)));
+    const auto it = j.find(key);
+    if (it == j.end()) fail(where, fmt::format("expected member '{}', got none", key));
+    return *it;
+  }
+  double num(const json& j, const std::string& where) const {
+    if (!j.is_number()) fail(where, fmt::format("expected a number, got {}", kind(j)));
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(where, "expected a finite number");
+    return v;
+  }
+  long integer(const json& j, const std::string& where, long lo, long hi) const {
+    if (!j.is_number_integer() && !j.is_number_unsigned())
+      fail(where, fmt::format("expected an integer, got {}", kind(j)));
+    const long v = j.get<long>();
+    if (v < lo || v > hi)
+      fail(where, fmt::format("expected an integer in {}..{}, got {}", lo, hi, v));
+    return v;
+  }
+  std::string str(const json& j, const std::string& where) const {
+    if (!j.is_string()) fail(where, fmt::format("expected a string, got {}", kind(j)));
+    return j.get<std::string>();
+  }
+  std::vector<double> nums(const json& j, const std::string& where, long expect = -1) const {
+    if (!j.is_array()) fail(where, fmt::format("expected an array, got {}", kind(j)));
+    if (expect >= 0 && static_cast<long>(j.size()) != expect)
+      fail(where, fmt::format("expected {} numbers, got {}", expect, j.size()));
+    std::vector<double> v;
+    v.reserve(j.size());
+    for (std::size_t i = 0; i < j.size(); ++i)
+      v.push_back(num(j[i], fmt::format("{}/{}", where, i)));
+    return v;
+  }
+  std::array<double, kFeatureDim> dimarr(const json& j, const std::string& where) const {
+    const auto v = nums(j, where, kFeatureDim);
+    std::array<double, kFeatureDim> a{};
+    std::copy(v.begin(), v.end(), a.begin());
+    return a;
+  }
+};
+
+RbfExpansion read_axis(const Reader& r, const json& j, const std::string& where) {
+  RbfExpansion e;
+  const json& c = r.need(j, "centres", where);
+  if (!c.is_array()) r.fail(where + "/centres", "expected an array of centres");
+  const auto w =
+      r.nums(r.need(j, "weights", where), where + "/weights", static_cast<long>(c.size()));
+  const auto t = r.nums(r.need(j, "tail", where), where + "/tail");
+  if (!t.empty() && t.size() != kFeatureDim + 1)
+    r.fail(where + "/tail",
+           fmt::format("expected 0 or {} numbers, got {}", kFeatureDim + 1, t.size()));
+  e.centres.resize(static_cast<Eigen::Index>(c.size()), kFeatureDim);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const auto row = r.nums(c[k], fmt::format("{}/centres/{}", where, k), kFeatureDim);
+    for (int d = 0; d < kFeatureDim; ++d)
+      e.centres(static_cast<Eigen::Index>(k), d) = row[static_cast<std::size_t>(d)];
+  }
+  e.weights = Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
+  if (!t.empty())
+    e.tail = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
+  return e;
+}
+
+BinModel read_bin(const Reader& r, const json& j, const std::string& where) {
+  BinModel b;
+  b.key_min = r.num(r.need(j, "key_min_mm", where), where + "/key_min_mm");
+  b.key_max = r.num(r.need(j, "key_max_mm", where), where + "/key_max_mm");
+  b.samples = static_cast<std::size_t>(
+      r.integer(r.need(j, "samples", where), where + "/samples", 0, 1L << 40));
+  b.offset = r.dimarr(r.need(j, "offset", where), where + "/offset");
+  b.scale = r.dimarr(r.need(j, "scale", where), where + "/scale");
+  b.box_min = r.dimarr(r.need(j, "box_min", where), where + "/box_min");
+  b.box_max = r.dimarr(r.need(j, "box_max", where), where + "/box_max");
+  const json& axes = r.need(j, "axes", where);
+  if (!axes.is_array() || axes.size() != 3) r.fail(where + "/axes", "expected 3 axes (x, y, z)");
+  for (std::size_t a = 0; a < 3; ++a)
+    b.axes[a] = read_axis(r, axes[a], fmt::format("{}/axes/{}", where, a));
+  return b;
+}
+
+void read_reference(const Reader& r, const json& refs, const char* key, std::string& path,
+                    std::string& digest) {
+  const auto it = refs.find(key);
+  if (it == refs.end() || it->is_null()) return;
+  const std::string where = std::string("references/") + key;
+  path = r.str(r.need(*it, "path", where), where + "/path");
+  digest = r.str(r.need(*it, "fnv1a64", where), where + "/fnv1a64");
+}
+
+}  // namespace
+
+std::string file_digest(const std::string& path) {
+  const std::string bytes = read_file(path);
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+std::string force_model_to_json(const ForceModel& m) {
+  json j;
+  j["format"] = kFormat;
+  j["version"] = kForceModelVersion;
+  j["units"] = {{"position", "mm"}, {"velocity", "mm/s"}, {"force", "N"}, {"time", "s"}};
+  j["features"] = to_string(m.features);
+  j["feature_dim"] = kFeatureDim;
+  j["rbf"] = "r^3";
+  j["force_limit_n"] = m.force_limit;
+  j["foaw"] = {{"dt_s", m.foaw.dt},
+               {"max_window", m.foaw.max_window},
+               {"noise_bound_mm", m.foaw.noise_bound}};
+  json refs = json::object();
+  refs["sys"] =
+      m.sys_path.empty() ? json(nullptr) : json{{"path", m.sys_path}, {"fnv1a64", m.sys_digest}};
+  refs["mesh"] =
+      m.mesh_path.empty() ? json(nullptr) : json{{"path", m.mesh_path}, {"fnv1a64", m.mesh_digest}};
+  j["references"] = refs;
+  j["proxy_source"] = m.proxy_source;
+  const TrainParams& p = m.params;
+  j["train"] = {{"bins", p.bins},
+                {"centers", p.centers},
+                {"nonzeros", p.nonzeros},
+                {"lambda_ratio", p.lambda_ratio},
+                {"seed", p.seed},
+                {"linear_tail", p.linear_tail},
+                {"sparsa_tolerance", p.sparsa_tolerance},
+                {"cg_tolerance", p.cg_tolerance},
+                {"kmeans_iterations", p.kmeans_iterations},
+                {"box_margin", p.box_margin},
+                {"samples", m.stats.samples},
+                {"seconds", m.stats.seconds},
+                {"support", arr3(m.stats.support)},
+                {"sparsa_iterations", arr3(m.stats.sparsa_iterations)},
+                {"cg_iterations", arr3(m.stats.cg_iterations)},
+                {"lambda", arr3(m.stats.lambda)},
+                {"selected_rows", m.stats.selected_rows}};
+  j["edges_mm"] = m.edges;
+  json bins = json::array();
+  for (const BinModel& b : m.bins) {
+    bins.push_back({{"key_min_mm", b.key_min},
+                    {"key_max_mm", b.key_max},
+                    {"samples", b.samples},
+                    {"offset", b.offset},
+                    {"scale", b.scale},
+                    {"box_min", b.box_min},
+                    {"box_max", b.box_max},
+                    {"axes", json::array({axis_json(b.axes[0]), axis_json(b.axes[1]),
+                                          axis_json(b.axes[2])})}});
+  }
+  j["bins"] = std::move(bins);
+  return j.dump(1) + "\n";
+}
+
+ForceModel force_model_from_json(const std::string& text, const std::string& source) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    const std::size_t upto = std::min<std::size_t>(e.byte, text.size());
+    const std::size_t line =
+        1 + static_cast<std::size_t>(
+                std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(upto), '\n'));
+    throw ParseError(source, line,
+                     fmt::format("expected valid JSON, got a syntax error ({})", e.what()));
+  }
+  const Reader r{source};
+  const std::string fmt_name = r.str(r.need(j, "format", "(root)"), "format");
+  if (fmt_name != kFormat)
+    r.fail("format", fmt::format("expected '{}', got '{}'", kFormat, fmt_name));
+  const long version = r.integer(r.need(j, "version", "(root)"), "version", 0, 1000000);
+  if (version != kForceModelVersion)
+    r.fail("version", fmt::format("expected {}, got {}", kForceModelVersion, version));
+  r.integer(r.need(j, "feature_dim", "(root)"), "feature_dim", kFeatureDim, kFeatureDim);
+  ForceModel m;
+  try {
+    m.features = feature_set_from_string(r.str(r.need(j, "features", "(root)"), "features"));
+  } catch (const ParseError&) {
+    throw;
+  } catch (const Error& e) {
+    r.fail("features", e.what());
+  }
+  m.force_limit = r.num(r.need(j, "force_limit_n", "(root)"), "force_limit_n");
+  const json& fo = r.need(j, "foaw", "(root)");
+  m.foaw.dt = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
+  m.foaw.max_window = static_cast<int>(
+      r.integer(r.need(fo, "max_window", "foaw"), "foaw/max_window", 1, kFoawMaxWindow - 1));
+  m.foaw.noise_bound = r.num(r.need(fo, "noise_bound_mm", "foaw"), "foaw/noise_bound_mm");
+  const json& refs = r.need(j, "references", "(root)");
+  read_reference(r, refs, "sys", m.sys_path, m.sys_digest);
+  read_reference(r, refs, "mesh", m.mesh_path, m.mesh_digest);
+  if (j.contains("proxy_source")) m.proxy_source = r.str(j["proxy_source"], "proxy_source");
+  if (j.contains("train") && j["train"].is_object()) {  // provenance; tolerated when partial
+    const json& t = j["train"];
+    auto get = [&](const char* k, auto& dst) {
+      if (t.contains(k)) dst = t[k].get<std::decay_t<decltype(dst)>>();
+    };
+    try {
+      get("bins", m.params.bins);
+      get("centers", m.params.centers);
+      get("nonzeros", m.params.nonzeros);
+      get("lambda_ratio", m.params.lambda_ratio);
+      get("seed", m.params.seed);
+      get("linear_tail", m.params.linear_tail);
+      get("sparsa_tolerance", m.params.sparsa_tolerance);
+      get("cg_tolerance", m.params.cg_tolerance);
+      get("kmeans_iterations", m.params.kmeans_iterations);
+      get("box_margin", m.params.box_margin);
+      get("samples", m.stats.samples);
+      get("seconds", m.stats.seconds);
+      get("support", m.stats.support);
+      get("sparsa_iterations", m.stats.sparsa_iterations);
+      get("cg_iterations", m.stats.cg_iterations);
+      get("lambda", m.stats.lambda);
+      get("selected_rows", m.stats.selected_rows);
+    } catch (const json::exception& e) {
+      r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
+    }
+    m.params.features = m.features;
+  }
+  m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
+  const json& bins = r.need(j, "bins", "(root)");
+  if (!bins.is_array()) r.fail("bins", "expected an array");
+  for (std::size_t b = 0; b < bins.size(); ++b)
+    m.bins.push_back(read_bin(r, bins[b], fmt::format("bins/{}", b)));
+  try {
+    validate_model(m, "");
+  } catch (const ParseError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ParseError(source, 0, e.what());
+  }
+  return m;
+}
+
+void validate_model(const ForceModel& m, const std::string& where) {
+  auto fail = [&](const std::string& what) {
+    throw Error(where.empty() ? what : fmt::format("{}: {}", where, what));
+  };
+  try {
+    m.foaw.validate();
+  } catch (const Error& e) {
+    fail(fmt::format("foaw: {}", e.what()));
+  }
+  if (!(m.force_limit > 0) || !std::isfinite(m.force_limit))
+    fail(fmt::format("force_limit_n: expected a positive force, got {}", m.force_limit));
+  if (m.bins.empty()) fail("bins: expected at least one bin, got none");
+  if (m.edges.size() + 1 != m.bins.size())
+    fail(fmt::format("edges_mm: expected {} edges for {} bins, got {}", m.bins.size() - 1,
+                     m.bins.size(), m.edges.size()));
+  for (std::size_t i = 0; i < m.edges.size(); ++i)
+    if (!std::isfinite(m.edges[i]) || (i > 0 && !(m.edges[i] >= m.edges[i - 1])))
+      fail(fmt::format("edges_mm/{}: expected finite, non-decreasing edges", i));
+  for (std::size_t b = 0; b < m.bins.size(); ++b) {
+    const BinModel& bm = m.bins[b];
+    for (int d = 0; d < kFeatureDim; ++d) {
+      const auto ud = static_cast<std::size_t>(d);
+      if (!(bm.scale[ud] > 0) || !std::isfinite(bm.scale[ud]) || !std::isfinite(bm.offset[ud]))
+        fail(fmt::format("bins/{}/scale/{}: expected a positive finite scale, got {}", b, d,
+                         bm.scale[ud]));
+      if (!(bm.box_min[ud] <= bm.box_max[ud]) || !std::isfinite(bm.box_min[ud]) ||
+          !std::isfinite(bm.box_max[ud]))
+        fail(fmt::format("bins/{}/box_min/{}: expected box_min <= box_max", b, d));
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+      const RbfExpansion& e = bm.axes[a];
+      const std::string at = fmt::format("bins/{}/axes/{}", b, a);
+      if (e.centres.cols() != kFeatureDim) fail(at + "/centres: expected 9 coordinates per centre");
+      if (e.weights.size() != e.centres.rows())
+        fail(at + "/weights: expected one weight per centre");
+      if (e.tail.size() != 0 && e.tail.size() != kFeatureDim + 1)
+        fail(at + "/tail: expected 0 or 10 numbers");
+      if (!e.centres.allFinite() || !e.weights.allFinite() || !e.tail.allFinite())
+        fail(at + ": expected finite centres, weights and tail");
+    }
+  }
+}
+
+void save_force_model(const std::string& path, const ForceModel& model) {
+  validate_model(model, path);
+  write_file_atomic(path, force_model_to_json(model));
+}
+
+ForceModel load_force_model(const std::string& path) {
+  return force_model_from_json(read_file(path), path);
+}
+
+}  // namespace inhap::dd

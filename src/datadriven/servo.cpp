@@ -1,0 +1,32 @@
+// Servo-rate rendering of the data-driven force model (see servo.hpp).
+#include "inhap/datadriven/servo.hpp"
+
+#include <cmath>
+
+namespace inhap::dd {
+
+namespace {
+bool sane(const Vec3& v) {
+  return v.allFinite() && v.lpNorm<Eigen::Infinity>() < kAbsurdPositionMm;
+}
+}  // namespace
+
+Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
+                bool contact) {
+  if (!sane(p) || (contact && !sane(q))) {
+    state.reset();
+    return Vec3::Zero();
+  }
+  state.velocity = foaw_step(model.foaw, state.foaw, p);
+  state.contact = contact;
+  if (!contact || model.bins.empty()) {
+    state.bin = -1;
+    state.force.setZero();
+    return state.force;
+  }
+  state.bin = model.bin_of((q - p).norm());
+  state.force = model_force(model, p, state.velocity, q);  // finite and clamped
+  return state.force;
+}
+
+}  // namespace inhap::dd

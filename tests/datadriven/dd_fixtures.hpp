@@ -1,0 +1,48 @@
+// Shared helpers of the data-driven tests: small synthetic data sets and models.
+#pragma once
+
+#include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/force_model.hpp"
+#include "inhap/datadriven/synthetic.hpp"
+
+namespace inhap::dd::test {
+
+/// In-contact samples of a synthetic recording; `truth` receives the noise-free forces.
+inline TrainingSet synthetic_set(std::uint64_t seed, std::size_t samples,
+                                 std::vector<Vec3>* truth = nullptr) {
+  SyntheticParams sp;
+  sp.samples = samples;
+  sp.seed = seed;
+  const Recording rec = synthetic_recording(sp);
+  const ProxyTrack track = proxy_from_columns(rec, "synthetic");
+  if (truth) {
+    truth->clear();
+    const auto *tx = rec.find_extra("tfx"), *ty = rec.find_extra("tfy"),
+               *tz = rec.find_extra("tfz");
+    for (std::size_t i = 0; i < rec.size(); ++i)
+      if (track.contact[i]) truth->emplace_back((*tx)[i], (*ty)[i], (*tz)[i]);
+  }
+  return make_training_set(rec, track, FoawParams{});
+}
+
+/// Every `stride`-th sample (from `offset`).
+inline TrainingSet take(const TrainingSet& s, std::size_t offset, std::size_t stride) {
+  TrainingSet o;
+  for (std::size_t i = offset; i < s.size(); i += stride) {
+    o.p.push_back(s.p[i]);
+    o.v.push_back(s.v[i]);
+    o.q.push_back(s.q[i]);
+    o.f.push_back(s.f[i]);
+  }
+  return o;
+}
+
+inline TrainParams small_params() {
+  TrainParams p;
+  p.bins = 3;
+  p.centers = 60;
+  p.seed = 5;
+  return p;
+}
+
+}  // namespace inhap::dd::test

@@ -1,0 +1,88 @@
+// `inhap model train | eval | render` end to end on a synthetic recording.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/csv.hpp"
+#include "inhap/datadriven/synthetic.hpp"
+#include "support/temp_dir.hpp"
+
+namespace inhap::dd {
+namespace {
+
+int run(const std::string& args, const std::string& log) {
+  const std::string cmd = std::string(INHAP_CLI) + " " + args + " > " + log + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(CliModel, TrainEvalRenderRoundTrip) {
+  inhap::test::TempDir dir;
+  SyntheticParams sp;
+  sp.samples = 8000;
+  write_recording(dir.path("train.csv"), synthetic_recording(sp));
+  sp.seed = 2;
+  sp.samples = 3000;
+  const Recording test_rec = synthetic_recording(sp);
+  write_recording(dir.path("test.csv"), test_rec);
+  write_file_atomic(dir.path("sys.json"), "{}");
+  const std::string log = dir.path("log.txt");
+
+  ASSERT_EQ(run("model train --recording " + dir.path("train.csv") + " --sys " +
+                    dir.path("sys.json") + " --out " + dir.path("m.json") +
+                    " --bins 2 --centers 40 --design regression --seed 3",
+                log),
+            0)
+      << read_file(log);
+  const auto model = nlohmann::json::parse(read_file(dir.path("m.json")));
+  EXPECT_EQ(model["references"]["sys"]["path"], dir.path("sys.json"));
+  EXPECT_EQ(model["train"]["bins"], 2);
+
+  ASSERT_EQ(run("model eval --model " + dir.path("m.json") + " --recording " +
+                    dir.path("test.csv") + " --json " + dir.path("eval.json"),
+                log),
+            0)
+      << read_file(log);
+  const auto ev = nlohmann::json::parse(read_file(dir.path("eval.json")));
+  EXPECT_GT(ev["contact_samples"].get<int>(), 1000);
+  for (const char* a : {"x", "y", "z"}) {
+    EXPECT_GT(ev["errors"]["rmse_n"][a].get<double>(), 0.0);
+    EXPECT_LT(ev["errors"]["rmse_n"][a].get<double>(), 1.0);  // forces reach about 5 N
+  }
+  EXPECT_EQ(ev["contact_source"], "column:contact");
+
+  ASSERT_EQ(run("model render --model " + dir.path("m.json") + " --recording " +
+                    dir.path("test.csv") + " --out " + dir.path("forces.csv"),
+                log),
+            0)
+      << read_file(log);
+  const CsvTable t = read_csv(dir.path("forces.csv"));
+  ASSERT_EQ(t.rows(), test_rec.size());
+  const auto& contact = t.column("contact");
+  const auto& fz = t.column("fz");
+  for (std::size_t i = 0; i < t.rows(); ++i)
+    if (contact[i] == 0) {
+      ASSERT_EQ(fz[i], 0.0) << i;
+    }
+}
+
+TEST(CliModel, MissingProxyColumnsIsAnError) {
+  inhap::test::TempDir dir;
+  write_file_atomic(dir.path("rec.csv"), "t,px,py,pz,fx,fy,fz\n0,0,0,0,0,0,0\n0.001,0,0,0,0,0,0\n");
+  const std::string log = dir.path("log.txt");
+  EXPECT_EQ(
+      run("model train --recording " + dir.path("rec.csv") + " --out " + dir.path("m.json"), log),
+      1);
+  EXPECT_NE(read_file(log).find("expected proxy columns qx,qy,qz"), std::string::npos)
+      << read_file(log);
+  write_file_atomic(dir.path("m.json"), "{\"format\": \"inhap-force-model\"}");
+  EXPECT_EQ(
+      run("model eval --model " + dir.path("m.json") + " --recording " + dir.path("rec.csv"), log),
+      1);
+  EXPECT_NE(read_file(log).find("version"), std::string::npos) << read_file(log);
+}
+
+}  // namespace
+}  // namespace inhap::dd
