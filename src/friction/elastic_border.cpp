@@ -1,0 +1,160 @@
+#include "inhap/friction/elastic_border.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::friction {
+
+std::vector<int> weighted_kmeans(std::span<const Vec2> points,
+                                 std::span<const double> sample_weight, const Vec2& feature_weight,
+                                 std::vector<Vec2>& centers, int max_iterations) {
+  const std::size_t n = points.size(), k = centers.size();
+  std::vector<int> label(n, -1);
+  if (k == 0) return label;
+  auto dist = [&](const Vec2& a, const Vec2& b) {
+    const Vec2 d = a - b;
+    return feature_weight.x() * d.x() * d.x() + feature_weight.y() * d.y() * d.y();
+  };
+  for (int it = 0; it < max_iterations; ++it) {
+    bool changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      int best = 0;
+      double bd = std::numeric_limits<double>::infinity();
+      for (std::size_t c = 0; c < k; ++c) {
+        const double d = dist(points[i], centers[c]);
+        if (d < bd) {  // ties go to the lower index: deterministic
+          bd = d;
+          best = static_cast<int>(c);
+        }
+      }
+      if (label[i] != best) changed = true;
+      label[i] = best;
+    }
+    if (!changed && it > 0) break;
+    for (std::size_t c = 0; c < k; ++c) {
+      Vec2 sum = Vec2::Zero();
+      double w = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (label[i] == static_cast<int>(c)) {
+          const double s = sample_weight.empty() ? 1.0 : sample_weight[i];
+          sum += s * points[i];
+          w += s;
+        }
+      if (w > 0) centers[c] = sum / w;  // an empty cluster keeps its centre
+    }
+  }
+  return label;
+}
+
+namespace {
+
+// Tangential elastic displacement per newton of f_T from the elastic steps (least squares
+// through the origin), or from the first step when no step is elastic.
+double radius_per_newton(std::span<const BorderStep> s, std::size_t split) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < split; ++i) {
+    num += s[i].radius * s[i].f_tangential;
+    den += s[i].f_tangential * s[i].f_tangential;
+  }
+  if (den > 0) return num / den;
+  return s[0].f_tangential > 0 ? s[0].radius / s[0].f_tangential : 0.0;
+}
+
+double mean_depth(std::span<const BorderStep> s, std::size_t split) {
+  const std::size_t n = split > 0 ? split : s.size();
+  double sum = 0;
+  for (std::size_t i = 0; i < n; ++i) sum += s[i].depth;
+  return sum / static_cast<double>(n);
+}
+
+}  // namespace
+
+BorderResult find_elastic_border(std::span<const BorderStep> steps, const BorderOptions& o) {
+  const std::size_t n = steps.size();
+  if (n == 0) throw Error("elastic border: expected at least one f_T step");
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(steps[i].f_tangential > steps[i - 1].f_tangential))
+      throw Error("elastic border: expected steps ordered by increasing f_T");
+
+  // Normalised 2-D features.
+  double max_up = o.floor_up, max_growth = o.floor_growth;
+  for (const auto& s : steps) {
+    max_up = std::max(max_up, s.u_short);
+    max_growth = std::max(max_growth, s.growth());
+  }
+  std::vector<Vec2> x(n);
+  for (std::size_t i = 0; i < n; ++i)
+    x[i] = Vec2(steps[i].u_short / max_up, steps[i].growth() / max_growth);
+  // Initial centres: the smallest-load step (elastic) and the largest-load step (sliding).
+  std::vector<Vec2> centers = {x.front(), x.back()};
+  if (n == 1) centers[1] = Vec2(1.0, 1.0);
+  BorderResult r;
+  r.labels = weighted_kmeans(x, {}, Vec2(o.weight_up, o.weight_growth), centers, o.max_iterations);
+
+  // Monotone split with the fewest disagreements (ties: the later split, since sliding
+  // persists at higher loads while a lone noisy step does not).
+  std::size_t best = n, best_cost = std::numeric_limits<std::size_t>::max();
+  for (std::size_t s = 0; s <= n; ++s) {
+    std::size_t cost = 0;
+    for (std::size_t i = 0; i < n; ++i) cost += (i < s) == (r.labels[i] == 1);
+    if (cost <= best_cost) {
+      best_cost = cost;
+      best = s;
+    }
+  }
+  // The sliding side must actually grow on the long plateau (or have moved much more).
+  if (best < n) {
+    double g = 0;
+    for (std::size_t i = best; i < n; ++i) g = std::max(g, steps[i].growth());
+    double up_elastic = 0, up_sliding = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double& m = i < best ? up_elastic : up_sliding;
+      m = std::max(m, steps[i].u_short);
+    }
+    if (g < o.min_sliding_growth && !(best > 0 && up_sliding > 3.0 * up_elastic + o.floor_up))
+      best = n;
+  }
+  // A step just past the limit creeps only a little, and the 2-means (dominated by the much
+  // larger growth of the later steps) puts it with the elastic ones: move every step before the
+  // border whose plateau growth is above the noise floor to the sliding side.
+  if (best < n)
+    while (best > 0 && steps[best - 1].growth() >= o.min_sliding_growth) --best;
+  r.split = best;
+
+  if (best == n) {
+    r.no_sliding = true;
+    r.f_limit = steps[n - 1].f_tangential;
+  } else {
+    r.all_sliding = best == 0;
+    const double f_hi = steps[best].f_tangential;
+    const double f_lo = best >= 1 ? steps[best - 1].f_tangential : 0.0;
+    double f = 0.5 * (f_lo + f_hi);
+    if (o.refine) {
+      // Least-squares line growth = a + b f_T through the first sliding steps.
+      const std::size_t end =
+          std::min(n, best + static_cast<std::size_t>(std::max(2, o.refine_points)));
+      double sf = 0, sg = 0, sff = 0, sfg = 0;
+      const double m = static_cast<double>(end - best);
+      for (std::size_t i = best; i < end; ++i) {
+        sf += steps[i].f_tangential;
+        sg += steps[i].growth();
+        sff += steps[i].f_tangential * steps[i].f_tangential;
+        sfg += steps[i].f_tangential * steps[i].growth();
+      }
+      const double det = m * sff - sf * sf;
+      if (end - best >= 2 && det > 0) {
+        const double b = (m * sfg - sf * sg) / det, a = (sg - b * sf) / m;
+        if (b > 0) f = std::clamp(-a / b, f_lo, f_hi);
+      }
+    }
+    r.f_limit = f;
+  }
+  r.radius = radius_per_newton(steps, best) * r.f_limit;
+  r.depth = mean_depth(steps, best);
+  return r;
+}
+
+}  // namespace inhap::friction

@@ -1,0 +1,346 @@
+#include "inhap/friction/palpation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::friction {
+
+void tangent_basis(const Vec3& n, const Vec3& reference, Vec3& t0, Vec3& t1) {
+  Vec3 r = reference;
+  if (!(r.norm() > 0) || std::abs(r.normalized().dot(n)) > 0.95) {
+    // Next world axis that is not nearly parallel to n.
+    r = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    if (std::abs(reference.normalized().dot(Vec3::UnitX())) > 0.9) r = Vec3::UnitY();
+    if (std::abs(r.dot(n)) > 0.95) r = Vec3::UnitZ();
+  }
+  t0 = (r - r.dot(n) * n).normalized();
+  t1 = n.cross(t0);
+}
+
+Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle) {
+  Vec3 t0, t1;
+  tangent_basis(n, reference, t0, t1);
+  return std::cos(angle) * t0 + std::sin(angle) * t1;
+}
+
+const char* to_string(CycleStatus s) {
+  switch (s) {
+    case CycleStatus::ok:
+      return "ok";
+    case CycleStatus::no_contact:
+      return "no_contact";
+    case CycleStatus::saturated:
+      return "saturated";
+    case CycleStatus::unsettled:
+      return "unsettled";
+    case CycleStatus::bad_input:
+      return "bad_input";
+  }
+  return "unknown";
+}
+
+double CycleRecord::up_tangential() const {
+  const Vec3 u = up();
+  return (u - u.dot(nc) * nc).norm();
+}
+
+namespace {
+
+void check_config(const PalpationConfig& c, const DeviceInfo& d) {
+  auto bad = [](const std::string& what) { throw Error("palpation: " + what); };
+  if (c.normal_forces.empty()) bad("expected at least one normal force level");
+  for (double f : c.normal_forces)
+    if (!(f > 0) || !std::isfinite(f)) bad(fmt::format("expected normal forces > 0 N, got {}", f));
+  if (c.directions < 1 || c.directions > 64)
+    bad(fmt::format("expected 1..64 tangential directions, got {}", c.directions));
+  if (c.plateaus.empty()) bad("expected at least one plateau duration");
+  for (double t : c.plateaus)
+    if (!(t >= 0) || !std::isfinite(t)) bad(fmt::format("expected plateaus >= 0 s, got {}", t));
+  if (c.tangential_ratios.empty()) bad("expected at least one tangential step");
+  for (std::size_t i = 0; i < c.tangential_ratios.size(); ++i)
+    if (!(c.tangential_ratios[i] >= 0) ||
+        (i && c.tangential_ratios[i] <= c.tangential_ratios[i - 1]))
+      bad("expected increasing tangential ratios >= 0");
+  if (!(c.rates.normal_rate > 0) || !(c.rates.tangential_rate > 0))
+    bad("expected loading rates > 0 N/s");
+  if (!(c.hover > 0) || !(c.travel_speed > 0) || !(c.approach_speed > 0))
+    bad("expected hover, travel_speed and approach_speed > 0");
+  if (!(d.max_force_n > 0) || !(d.servo_rate_hz > 0))
+    bad("expected a device with max force and rate > 0");
+}
+
+}  // namespace
+
+PalpationProtocol::PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device,
+                                     int point_id, const Vec3& reference, const Vec3& normal)
+    : cfg_(config), info_(device), point_(point_id), c_(reference) {
+  check_config(cfg_, info_);
+  if (!reference.allFinite() || !normal.allFinite() || !(normal.norm() > 0.5))
+    throw Error("palpation: expected a finite reference point and a non-zero normal");
+  n_ = normal.normalized();
+  tangent_basis(n_, cfg_.tangent_reference, t0_, t1_);
+  weight_ = 1e-3 * info_.tool_mass_kg * info_.gravity_mm_s2;
+  for (std::size_t f = 0; f < cfg_.normal_forces.size(); ++f)
+    for (std::size_t s = 0; s < cfg_.tangential_ratios.size(); ++s)
+      if (!std::isnan(step_force(f, s)))
+        max_cycles_ += static_cast<std::size_t>(cfg_.directions) * cfg_.plateaus.size();
+  cycles_.reserve(max_cycles_);
+  // First cycle: the first level with a valid step.
+  seq_ = Steps{};
+  while (seq_.fn < cfg_.normal_forces.size() && std::isnan(step_force(seq_.fn, 0))) ++seq_.fn;
+}
+
+double PalpationProtocol::step_force(std::size_t fn, std::size_t step) const {
+  const double f_n = cfg_.normal_forces[fn];
+  const double f_t = f_n * cfg_.tangential_ratios[step];
+  const double cap = cfg_.load_fraction_max * info_.max_force_n;
+  if (f_t > cfg_.tangential_force_max || std::hypot(f_n, f_t) > cap) return std::nan("");
+  return f_t;
+}
+
+double PalpationProtocol::estimated_duration() const {
+  double total = 0;
+  for (std::size_t f = 0; f < cfg_.normal_forces.size(); ++f)
+    for (std::size_t s = 0; s < cfg_.tangential_ratios.size(); ++s) {
+      const double ft = step_force(f, s);
+      if (std::isnan(ft)) continue;
+      for (double tp : cfg_.plateaus) {
+        LoadingProfile prof(cfg_.normal_forces[f], ft, tp, cfg_.rates);
+        const double overhead = 2.5 * cfg_.hover / cfg_.approach_speed + cfg_.tare_time +
+                                cfg_.drop_time + cfg_.settle_min + 0.1;
+        total += cfg_.directions * (prof.duration() + overhead);
+      }
+    }
+  return total;
+}
+
+bool PalpationProtocol::advance() {
+  const std::size_t n_plateaus = cfg_.plateaus.size();
+  if (seq_.plateau + 1 < n_plateaus) {
+    ++seq_.plateau;
+    return true;
+  }
+  // A step is complete: early-stop bookkeeping from its short and long plateau cycles.
+  seq_.plateau = 0;
+  if (n_plateaus >= 2 && cycles_.size() >= n_plateaus) {
+    const CycleRecord& lo = cycles_[cycles_.size() - n_plateaus];
+    const CycleRecord& hi = cycles_.back();
+    const double growth = hi.up_tangential() - lo.up_tangential();
+    seq_.sliding_run = growth > cfg_.slide_threshold ? seq_.sliding_run + 1 : 0;
+  }
+  const bool stop = cfg_.stop_after_sliding > 0 && seq_.sliding_run >= cfg_.stop_after_sliding;
+  if (!stop && seq_.step + 1 < cfg_.tangential_ratios.size() &&
+      !std::isnan(step_force(seq_.fn, seq_.step + 1))) {
+    ++seq_.step;
+    return true;
+  }
+  seq_.step = 0;
+  seq_.sliding_run = 0;
+  if (++seq_.dir < static_cast<std::size_t>(cfg_.directions)) return true;
+  seq_.dir = 0;
+  while (++seq_.fn < cfg_.normal_forces.size())
+    if (!std::isnan(step_force(seq_.fn, 0))) return true;
+  return false;
+}
+
+void PalpationProtocol::begin_move(double time, const Vec3& from, const Vec3& to, double speed) {
+  move_from_ = from;
+  move_to_ = to;
+  // Smooth (sine) time scaling peaks at pi/2 times the mean speed.
+  move_dur_ = std::max(0.02, std::numbers::pi / 2 * (to - from).norm() / speed);
+  phase_t0_ = time;
+}
+
+void PalpationProtocol::begin_cycle(double time, const Vec3& position) {
+  cur_ = CycleRecord{};
+  cur_.point = point_;
+  cur_.reference = c_;
+  cur_.f_normal = now_fn();
+  cur_.f_tangential = step_force(seq_.fn, seq_.step);
+  cur_.t_plateau = cfg_.plateaus[seq_.plateau];
+  cur_.direction = static_cast<int>(seq_.dir);
+  cur_.angle = 2.0 * std::numbers::pi * static_cast<double>(seq_.dir) / cfg_.directions;
+  cur_.tdir = std::cos(cur_.angle) * t0_ + std::sin(cur_.angle) * t1_;
+  cur_.nc = n_;
+  cur_.t_start = time;
+  saturated_ = measured_ = false;
+  begin_lift(time, position);
+}
+
+void PalpationProtocol::begin_lift(double time, const Vec3& position) {
+  const double height = (position - c_).dot(n_);
+  const Vec3 lifted = position + std::max(0.0, cfg_.hover - height) * n_;
+  begin_move(time, position, lifted, cfg_.travel_speed);
+  travel_to_ = c_ + cfg_.hover * n_;
+  phase_ = Phase::lift;
+}
+
+Vec3 PalpationProtocol::clamp_force(const Vec3& f) const {
+  const double m = f.norm();
+  return m > info_.max_force_n ? Vec3(f * (info_.max_force_n / m)) : f;
+}
+
+Vec3 PalpationProtocol::pid(double time, const Vec3& position, const Vec3& target,
+                            const Vec3& target_velocity, double dt) {
+  (void)time;
+  const Vec3 e = target - position;
+  integral_ += e * dt;
+  if (cfg_.ki > 0) {
+    const double lim = cfg_.integral_limit / cfg_.ki;
+    const double m = integral_.norm();
+    if (m > lim) integral_ *= lim / m;
+  }
+  return clamp_force(cfg_.kp * e + cfg_.ki * integral_ + cfg_.kd * (target_velocity - vel_) -
+                     weight_);
+}
+
+Vec3 PalpationProtocol::hold_zero_load() const {
+  return clamp_force(-weight_ - cfg_.load_damping * vel_);
+}
+
+Vec3 PalpationProtocol::fail(const char* why, CycleStatus status, const Vec3& position) {
+  failed_ = true;
+  error_ = why;
+  cur_.status = status;
+  cur_.pr = position.allFinite() ? position : Vec3::Zero();
+  if (cycles_.size() < cycles_.capacity()) cycles_.push_back(cur_);
+  phase_ = Phase::done;
+  return Vec3::Zero();
+}
+
+Vec3 PalpationProtocol::finish_cycle(double time, const Vec3& position) {
+  cur_.pr = position;
+  if (cycles_.size() < cycles_.capacity()) cycles_.push_back(cur_);
+  if (advance() && cycles_.size() < cycles_.capacity()) {
+    begin_cycle(time, position);
+  } else {
+    finishing_ = true;
+    begin_lift(time, position);  // lift and travel back to the hover point, then stop
+  }
+  return hold_zero_load();
+}
+
+Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sensor_force) {
+  if (phase_ == Phase::done) return Vec3::Zero();
+  if (!std::isfinite(time) || !position.allFinite() || !sensor_force.allFinite())
+    return fail("non-finite device reading", CycleStatus::bad_input, position);
+  double dt = have_last_ ? time - last_time_ : 0.0;
+  if (!(dt > 0)) dt = 1.0 / info_.servo_rate_hz;
+  if (have_last_) {
+    const double alpha = 1.0 - std::exp(-2.0 * std::numbers::pi * cfg_.velocity_cutoff * dt);
+    vel_ += alpha * ((position - last_p_) / dt - vel_);
+  }
+  have_last_ = true;
+  last_time_ = time;
+  last_p_ = position;
+  const double tau = time - phase_t0_;
+
+  switch (phase_) {
+    case Phase::start:
+      if (seq_.fn >= cfg_.normal_forces.size()) {
+        phase_ = Phase::done;
+        return Vec3::Zero();
+      }
+      begin_cycle(time, position);
+      return hold_zero_load();
+    case Phase::lift:
+    case Phase::travel: {
+      const double s = std::min(1.0, tau / move_dur_);
+      const double blend = smooth_ramp(s);
+      const double rate =
+          s < 1.0 ? 0.5 * std::numbers::pi * std::sin(std::numbers::pi * s) / move_dur_ : 0.0;
+      const Vec3 target = move_from_ + blend * (move_to_ - move_from_);
+      const Vec3 f = pid(time, position, target, rate * (move_to_ - move_from_), dt);
+      if (s >= 1.0) {
+        if (phase_ == Phase::lift) {
+          begin_move(time, move_to_, travel_to_, cfg_.travel_speed);
+          phase_ = Phase::travel;
+        } else {
+          phase_ = Phase::tare;
+          phase_t0_ = time;
+          bias_sum_.setZero();
+          bias_n_ = 0;
+        }
+      }
+      return f;
+    }
+    case Phase::tare: {
+      if (tau >= 0.5 * cfg_.tare_time) {
+        bias_sum_ += sensor_force;
+        ++bias_n_;
+      }
+      const Vec3 f = pid(time, position, travel_to_, Vec3::Zero(), dt);
+      if (tau >= cfg_.tare_time) {
+        if (bias_n_ > 0) bias_ = bias_sum_ / bias_n_;
+        if (finishing_) {
+          phase_ = Phase::done;
+          return Vec3::Zero();
+        }
+        phase_ = Phase::approach;
+        phase_t0_ = time;
+        contact_run_ = 0;
+      }
+      return f;
+    }
+    case Phase::approach: {
+      const double depth = cfg_.approach_speed * tau;
+      if (depth > cfg_.hover + cfg_.approach_extra)
+        return fail("no contact found below the reference point", CycleStatus::no_contact,
+                    position);
+      const double fn = (sensor_force - bias_).dot(n_);
+      contact_run_ = fn > cfg_.contact_force ? contact_run_ + 1 : 0;
+      if (contact_run_ >= cfg_.contact_ticks) {
+        phase_ = Phase::drop;
+        phase_t0_ = time;
+        return hold_zero_load();
+      }
+      return pid(time, position, travel_to_ - depth * n_, -cfg_.approach_speed * n_, dt);
+    }
+    case Phase::drop:
+      if (tau >= cfg_.drop_time) {
+        cur_.pc = position;
+        profile_ = LoadingProfile(cur_.f_normal, cur_.f_tangential, cur_.t_plateau, cfg_.rates);
+        phase_ = Phase::load;
+        phase_t0_ = time;
+      }
+      return hold_zero_load();
+    case Phase::load: {
+      const Vec3 load = -profile_.normal(tau) * n_ + profile_.tangential(tau) * cur_.tdir;
+      if (load.norm() > info_.max_force_n) saturated_ = true;
+      if (!measured_ && tau >= profile_.t_measurement()) {
+        cur_.f_meas = sensor_force - bias_;
+        cur_.u_meas = position - cur_.pc;
+        measured_ = true;
+      }
+      if (tau >= profile_.duration()) {
+        phase_ = Phase::release;
+        phase_t0_ = time;
+        settle_run_ = 0;
+      }
+      return clamp_force(load - weight_ - cfg_.load_damping * vel_);
+    }
+    case Phase::release: {
+      if (tau >= cfg_.settle_min)
+        settle_run_ = vel_.norm() < cfg_.settle_speed ? settle_run_ + dt : 0.0;
+      const bool settled = settle_run_ >= cfg_.settle_window;
+      if (settled || tau >= cfg_.settle_max) {
+        if (saturated_)
+          cur_.status = CycleStatus::saturated;
+        else if (!settled)
+          cur_.status = CycleStatus::unsettled;
+        return finish_cycle(time, position);
+      }
+      return hold_zero_load();
+    }
+    case Phase::done:
+      break;
+  }
+  return Vec3::Zero();
+}
+
+}  // namespace inhap::friction
