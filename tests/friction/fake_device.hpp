@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 
 #include "inhap/core/device.hpp"
 #include "inhap/core/random.hpp"
@@ -25,6 +26,8 @@ struct FakeContactParams {
   double sensor_noise = 0.0;        ///< N, standard deviation
   double encoder = 0.0;             ///< mm, position quantisation (0: none)
   int substeps = 10;
+  /// Optional friction field mu(x) (position of the anchor); overrides mu when set.
+  std::function<double(const Vec3&)> mu_field;
 };
 
 class FakeContactDevice final : public Device {
@@ -74,7 +77,8 @@ class FakeContactDevice final : public Device {
     const double fn_el = prm_.k_normal * depth;
     const double fn = std::max(0.0, fn_el - prm_.c_normal * v_.z());
     Vec3 d(p_.x() - anchor_.x(), p_.y() - anchor_.y(), 0.0);
-    const double limit = prm_.mu * fn_el;
+    const double mu = prm_.mu_field ? prm_.mu_field(anchor_) : prm_.mu;
+    const double limit = mu * fn_el;
     const double spring = prm_.k_tangential * d.norm();
     if (spring > limit && d.norm() > 0) {
       const Vec3 dir = d / d.norm();
