@@ -72,7 +72,8 @@ double mean_depth(std::span<const BorderStep> s, std::size_t split) {
 
 }  // namespace
 
-BorderResult find_elastic_border(std::span<const BorderStep> steps, const BorderOptions& o) {
+BorderResult find_elastic_border(std::span<const BorderStep> steps, const BorderOptions& o,
+                                 double known_slope) {
   const std::size_t n = steps.size();
   if (n == 0) throw Error("elastic border: expected at least one f_T step");
   for (std::size_t i = 1; i < n; ++i)
@@ -147,8 +148,13 @@ BorderResult find_elastic_border(std::span<const BorderStep> steps, const Border
       const double det = m * sff - sf * sf;
       if (end - best >= 2 && det > 0) {
         const double b = (m * sfg - sf * sg) / det, a = (sg - b * sf) / m;
-        if (b > 0) f = std::clamp(-a / b, f_lo, f_hi);
+        if (b > 0) {
+          f = std::clamp(-a / b, f_lo, f_hi);
+          r.growth_slope = b;
+        }
       }
+      if (r.growth_slope == 0 && known_slope > 0)  // one sliding step: line of known slope
+        f = std::clamp(f_hi - steps[best].growth() / known_slope, f_lo, f_hi);
     }
     r.f_limit = f;
   }

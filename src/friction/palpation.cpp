@@ -49,103 +49,19 @@ double CycleRecord::up_tangential() const {
   return (u - u.dot(nc) * nc).norm();
 }
 
-namespace {
-
-void check_config(const PalpationConfig& c, const DeviceInfo& d) {
-  auto bad = [](const std::string& what) { throw Error("palpation: " + what); };
-  if (c.normal_forces.empty()) bad("expected at least one normal force level");
-  for (double f : c.normal_forces)
-    if (!(f > 0) || !std::isfinite(f)) bad(fmt::format("expected normal forces > 0 N, got {}", f));
-  if (c.directions < 1 || c.directions > 64)
-    bad(fmt::format("expected 1..64 tangential directions, got {}", c.directions));
-  if (c.plateaus.empty()) bad("expected at least one plateau duration");
-  for (double t : c.plateaus)
-    if (!(t >= 0) || !std::isfinite(t)) bad(fmt::format("expected plateaus >= 0 s, got {}", t));
-  if (c.tangential_ratios.empty()) bad("expected at least one tangential step");
-  for (std::size_t i = 0; i < c.tangential_ratios.size(); ++i)
-    if (!(c.tangential_ratios[i] >= 0) ||
-        (i && c.tangential_ratios[i] <= c.tangential_ratios[i - 1]))
-      bad("expected increasing tangential ratios >= 0");
-  if (!(c.rates.normal_rate > 0) || !(c.rates.tangential_rate > 0))
-    bad("expected loading rates > 0 N/s");
-  if (!(c.hover > 0) || !(c.travel_speed > 0) || !(c.approach_speed > 0))
-    bad("expected hover, travel_speed and approach_speed > 0");
-  if (!(d.max_force_n > 0) || !(d.servo_rate_hz > 0))
-    bad("expected a device with max force and rate > 0");
-}
-
-}  // namespace
 
 PalpationProtocol::PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device,
                                      int point_id, const Vec3& reference, const Vec3& normal)
-    : cfg_(config), info_(device), point_(point_id), c_(reference) {
-  check_config(cfg_, info_);
+    : cfg_(config), info_(device), point_(point_id), c_(reference),
+      schedule_(cfg_, device.max_force_n) {
+  if (!(info_.servo_rate_hz > 0)) throw Error("palpation: expected a servo rate > 0 Hz");
   if (!reference.allFinite() || !normal.allFinite() || !(normal.norm() > 0.5))
     throw Error("palpation: expected a finite reference point and a non-zero normal");
   n_ = normal.normalized();
   tangent_basis(n_, cfg_.tangent_reference, t0_, t1_);
-  weight_ = 1e-3 * info_.tool_mass_kg * info_.gravity_mm_s2;
-  for (std::size_t f = 0; f < cfg_.normal_forces.size(); ++f)
-    for (std::size_t s = 0; s < cfg_.tangential_ratios.size(); ++s)
-      if (!std::isnan(step_force(f, s)))
-        max_cycles_ += static_cast<std::size_t>(cfg_.directions) * cfg_.plateaus.size();
-  cycles_.reserve(max_cycles_);
-  // First cycle: the first level with a valid step.
-  seq_ = Steps{};
-  while (seq_.fn < cfg_.normal_forces.size() && std::isnan(step_force(seq_.fn, 0))) ++seq_.fn;
-}
-
-double PalpationProtocol::step_force(std::size_t fn, std::size_t step) const {
-  const double f_n = cfg_.normal_forces[fn];
-  const double f_t = f_n * cfg_.tangential_ratios[step];
-  const double cap = cfg_.load_fraction_max * info_.max_force_n;
-  if (f_t > cfg_.tangential_force_max || std::hypot(f_n, f_t) > cap) return std::nan("");
-  return f_t;
-}
-
-double PalpationProtocol::estimated_duration() const {
-  double total = 0;
-  for (std::size_t f = 0; f < cfg_.normal_forces.size(); ++f)
-    for (std::size_t s = 0; s < cfg_.tangential_ratios.size(); ++s) {
-      const double ft = step_force(f, s);
-      if (std::isnan(ft)) continue;
-      for (double tp : cfg_.plateaus) {
-        LoadingProfile prof(cfg_.normal_forces[f], ft, tp, cfg_.rates);
-        const double overhead = 2.5 * cfg_.hover / cfg_.approach_speed + cfg_.tare_time +
-                                cfg_.drop_time + cfg_.settle_min + 0.1;
-        total += cfg_.directions * (prof.duration() + overhead);
-      }
-    }
-  return total;
-}
-
-bool PalpationProtocol::advance() {
-  const std::size_t n_plateaus = cfg_.plateaus.size();
-  if (seq_.plateau + 1 < n_plateaus) {
-    ++seq_.plateau;
-    return true;
-  }
-  // A step is complete: early-stop bookkeeping from its short and long plateau cycles.
-  seq_.plateau = 0;
-  if (n_plateaus >= 2 && cycles_.size() >= n_plateaus) {
-    const CycleRecord& lo = cycles_[cycles_.size() - n_plateaus];
-    const CycleRecord& hi = cycles_.back();
-    const double growth = hi.up_tangential() - lo.up_tangential();
-    seq_.sliding_run = growth > cfg_.slide_threshold ? seq_.sliding_run + 1 : 0;
-  }
-  const bool stop = cfg_.stop_after_sliding > 0 && seq_.sliding_run >= cfg_.stop_after_sliding;
-  if (!stop && seq_.step + 1 < cfg_.tangential_ratios.size() &&
-      !std::isnan(step_force(seq_.fn, seq_.step + 1))) {
-    ++seq_.step;
-    return true;
-  }
-  seq_.step = 0;
-  seq_.sliding_run = 0;
-  if (++seq_.dir < static_cast<std::size_t>(cfg_.directions)) return true;
-  seq_.dir = 0;
-  while (++seq_.fn < cfg_.normal_forces.size())
-    if (!std::isnan(step_force(seq_.fn, 0))) return true;
-  return false;
+  weight_ = cfg_.gravity_feedforward ? Vec3(1e-3 * info_.tool_mass_kg * info_.gravity_mm_s2)
+                                     : Vec3::Zero();
+  cycles_.reserve(schedule_.max_cycles());
 }
 
 void PalpationProtocol::begin_move(double time, const Vec3& from, const Vec3& to, double speed) {
@@ -160,11 +76,11 @@ void PalpationProtocol::begin_cycle(double time, const Vec3& position) {
   cur_ = CycleRecord{};
   cur_.point = point_;
   cur_.reference = c_;
-  cur_.f_normal = now_fn();
-  cur_.f_tangential = step_force(seq_.fn, seq_.step);
-  cur_.t_plateau = cfg_.plateaus[seq_.plateau];
-  cur_.direction = static_cast<int>(seq_.dir);
-  cur_.angle = 2.0 * std::numbers::pi * static_cast<double>(seq_.dir) / cfg_.directions;
+  cur_.f_normal = schedule_.f_normal();
+  cur_.f_tangential = schedule_.f_tangential();
+  cur_.t_plateau = schedule_.plateau();
+  cur_.direction = schedule_.direction();
+  cur_.angle = 2.0 * std::numbers::pi * schedule_.direction() / cfg_.directions;
   cur_.tdir = std::cos(cur_.angle) * t0_ + std::sin(cur_.angle) * t1_;
   cur_.nc = n_;
   cur_.t_start = time;
@@ -216,7 +132,7 @@ Vec3 PalpationProtocol::fail(const char* why, CycleStatus status, const Vec3& po
 Vec3 PalpationProtocol::finish_cycle(double time, const Vec3& position) {
   cur_.pr = position;
   if (cycles_.size() < cycles_.capacity()) cycles_.push_back(cur_);
-  if (advance() && cycles_.size() < cycles_.capacity()) {
+  if (schedule_.next(cur_.up_tangential()) && cycles_.size() < cycles_.capacity()) {
     begin_cycle(time, position);
   } else {
     finishing_ = true;
@@ -242,7 +158,7 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
 
   switch (phase_) {
     case Phase::start:
-      if (seq_.fn >= cfg_.normal_forces.size()) {
+      if (schedule_.done()) {
         phase_ = Phase::done;
         return Vec3::Zero();
       }

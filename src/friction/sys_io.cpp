@@ -97,6 +97,8 @@ void write_sys_json(const std::string& path, const SysModel& m) {
     jp["id"] = p.id;
     jp["position"] = vec(p.position);
     jp["normal"] = vec(p.normal);
+    jp["creep_viscosity"] = p.creep_viscosity;
+    jp["tangential_stiffness"] = p.tangential_stiffness;
     json bs = json::array();
     for (const SysBorder& b : p.borders) {
       json steps = json::array();
@@ -113,6 +115,8 @@ void write_sys_json(const std::string& path, const SysModel& m) {
                     {"split", b.result.split},
                     {"no_sliding", b.result.no_sliding},
                     {"all_sliding", b.result.all_sliding},
+                    {"extrapolated", b.result.extrapolated},
+                    {"growth_slope", b.result.growth_slope},
                     {"steps", steps}});
     }
     jp["borders"] = bs;
@@ -169,6 +173,12 @@ SysModel read_sys_json(const std::string& path) {
     p.normal = r.vec3(pts[i], "normal", w);
     if (std::abs(p.normal.norm() - 1.0) > 1e-3) r.fail(w + ".normal", "a unit vector");
     p.normal.normalize();
+    if (pts[i].contains("creep_viscosity")) {
+      p.creep_viscosity = r.number(pts[i], "creep_viscosity", w);
+      p.tangential_stiffness = r.number(pts[i], "tangential_stiffness", w);
+      if (p.creep_viscosity < 0 || p.tangential_stiffness < 0)
+        r.fail(w, "creep_viscosity >= 0 and tangential_stiffness >= 0");
+    }
     const json& bs = r.array(pts[i], "borders", w, nl * nk);
     if (bs.size() != nl * nk)
       r.fail(w + ".borders", fmt::format("{} borders (levels x directions)", nl * nk));
@@ -188,6 +198,8 @@ SysModel read_sys_json(const std::string& path) {
       sb.result.split = static_cast<std::size_t>(std::max(0, r.integer(bs[b], "split", wb)));
       sb.result.no_sliding = r.boolean(bs[b], "no_sliding", wb, false);
       sb.result.all_sliding = r.boolean(bs[b], "all_sliding", wb, false);
+      sb.result.extrapolated = r.boolean(bs[b], "extrapolated", wb, false);
+      if (bs[b].contains("growth_slope")) sb.result.growth_slope = r.number(bs[b], "growth_slope", wb);
       const json& steps = r.array(bs[b], "steps", wb);
       for (std::size_t s = 0; s < steps.size(); ++s) {
         const std::string ws = fmt::format("{}.steps[{}]", wb, s);

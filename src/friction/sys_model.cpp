@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "inhap/core/error.hpp"
+#include "inhap/friction/shape_query.hpp"
 
 namespace inhap::friction {
 
@@ -39,6 +40,48 @@ bool usable(const CycleRecord& c) {
 double wrap_angle(double a) {
   a = std::fmod(a, kTwoPi);
   return a < 0 ? a + kTwoPi : a;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
+// Borders of one reference point from its steps (see fit_sys).
+void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
+               const FitOptions& opt) {
+  std::vector<double> slopes, stiff;
+  for (SysBorder& b : p.borders) {
+    b.result = find_elastic_border(b.steps, opt.border);
+    if (b.result.growth_slope > 0) slopes.push_back(b.result.growth_slope);
+  }
+  const double slope = median(slopes);
+  for (SysBorder& b : p.borders)
+    if (b.result.growth_slope == 0 && slope > 0)
+      b.result = find_elastic_border(b.steps, opt.border, slope);
+  // Borders beyond the force range: same f_T / f_N as the highest measured level.
+  for (std::size_t k = 0; k < nk; ++k)
+    for (std::size_t j = 1; j < nl; ++j) {
+      BorderResult& r = p.borders[j * nk + k].result;
+      if (!r.no_sliding) continue;
+      for (std::size_t i = j; i-- > 0;) {
+        const SysBorder& lower = p.borders[i * nk + k];
+        if (lower.result.no_sliding || lower.result.extrapolated) continue;
+        const double f = lower.result.f_limit / lower.f_normal * p.borders[j * nk + k].f_normal;
+        if (f > r.f_limit) {
+          r.radius *= f / r.f_limit;
+          r.f_limit = f;
+          r.extrapolated = true;
+        }
+        break;
+      }
+    }
+  for (const SysBorder& b : p.borders)
+    if (b.result.radius > 0 && !b.result.no_sliding) stiff.push_back(b.result.f_limit / b.result.radius);
+  p.tangential_stiffness = median(stiff);
+  p.creep_viscosity = slope > 0 ? std::max(0.0, plateau_gap / slope - opt.load_damping) : 0.0;
 }
 
 }  // namespace
@@ -177,6 +220,10 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
           st.u_short = s->up_tangential();
           st.u_long = l->up_tangential();
           st.depth = -s->u_meas.dot(s->nc);
+          if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
+            const double d0 = opt.shape->depth(s->pc);
+            if (std::isfinite(d0)) st.depth += d0;
+          }
           st.radius = (s->u_meas - s->u_meas.dot(s->nc) * s->nc).norm();
           b.steps.push_back(st);
         }
@@ -185,9 +232,9 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
               fmt::format("sys fit: reference point {} has no complete f_T step at f_N = {} N, "
                           "direction {} (one cycle per plateau is needed)",
                           id, b.f_normal, k));
-        b.result = find_elastic_border(b.steps, opt.border);
         p.borders.push_back(std::move(b));
       }
+    fit_point(p, nl, nk, m.plateaus[1] - m.plateaus[0], opt);
     m.points.push_back(std::move(p));
   }
   for (std::size_t k = 1; k < m.angles.size(); ++k)

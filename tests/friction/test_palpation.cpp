@@ -63,7 +63,8 @@ PalpationConfig small_config() {
   PalpationConfig c;
   c.normal_forces = {1.0};
   c.directions = 1;
-  c.tangential_ratios = {0.3};
+  c.tangential_step = 0.3;  // a single step: f_T = 0.3 N
+  c.max_ratio = 0.3;
   c.plateaus = {0.1};
   return c;
 }
@@ -96,7 +97,8 @@ TEST(Palpation, SingleElasticCycleMeasuresTheKnownSpring) {
 
 TEST(Palpation, SlidingCycleLeavesPlasticDisplacementGrowingWithPlateau) {
   PalpationConfig cfg = small_config();
-  cfg.tangential_ratios = {0.8};  // mu = 0.5: sliding
+  cfg.tangential_step = 0.8;  // mu = 0.5: sliding
+  cfg.max_ratio = 0.8;
   cfg.plateaus = {0.1, 0.6};
   test::FakeContactDevice dev;
   PalpationProtocol proto(cfg, dev.info(), 0, Vec3(0, 0, 0), Vec3::UnitZ());
@@ -129,7 +131,7 @@ TEST(Palpation, NanReadingStops) {
 
 TEST(Palpation, RejectsBadConfig) {
   PalpationConfig c = small_config();
-  c.tangential_ratios = {0.3, 0.2};
+  c.tangential_step = -0.1;
   EXPECT_THROW(PalpationProtocol(c, DeviceInfo{}, 0, Vec3::Zero(), Vec3::UnitZ()), Error);
   EXPECT_THROW(PalpationProtocol(small_config(), DeviceInfo{}, 0, Vec3::Zero(), Vec3::Zero()),
                Error);

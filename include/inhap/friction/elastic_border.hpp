@@ -52,6 +52,11 @@ struct BorderResult {
   double radius = 0;         ///< tangential part of u_elastic_limit, mm
   bool no_sliding = false;   ///< no step slid: f_limit is the last step (a lower bound)
   bool all_sliding = false;  ///< even the first step slid: f_limit is extrapolated below it
+  /// Slope of the plateau growth over f_T past the border, mm/N, from the line through the
+  /// first sliding steps (0: fewer than two sliding steps; then a known slope may be used).
+  double growth_slope = 0;
+  /// f_limit extrapolated from a lower f_N level (the border lay beyond the force range).
+  bool extrapolated = false;
 };
 
 /// Weighted Lloyd k-means in 2-D: distance sum_d feature_weight[d] (x_d - c_d)^2, centroids
@@ -62,8 +67,10 @@ std::vector<int> weighted_kmeans(std::span<const Vec2> points,
                                  std::vector<Vec2>& centers, int max_iterations = 100);
 
 /// Finds the elastic border of a sweep; `steps` must be ordered by increasing f_T (throws
-/// inhap::Error otherwise or when empty).
+/// inhap::Error otherwise or when empty). `known_slope` (mm/N, 0: none) is the growth slope to
+/// extrapolate with when fewer than two steps slid (e.g. the median over the other sweeps of
+/// the same reference point: the creep viscosity is a property of the material).
 BorderResult find_elastic_border(std::span<const BorderStep> steps,
-                                 const BorderOptions& options = {});
+                                 const BorderOptions& options = {}, double known_slope = 0.0);
 
 }  // namespace inhap::friction

@@ -14,10 +14,14 @@
 //      force f and the displacement u = p - p_c at t_measurement;
 //   5. unload, wait for equilibrium (filtered speed below settle_speed for settle_window) and
 //      record the release point p_r: the plastic displacement is u^p = p_r - p_c (eq. 4.24).
-// The sweep runs f_N over normal_forces, the K tangential directions t_k (angle 2 pi k / K from
-// t_0, the projection of tangent_reference onto the tangent plane) and rising f_T steps; each
-// step is loaded once per plateau duration. A direction stops early after stop_after_sliding
-// consecutive steps whose plateau growth ||u^p_600|| - ||u^p_100|| exceeds slide_threshold.
+// The sweep runs f_N over normal_forces and the K tangential directions t_k (angle 2 pi k / K
+// from t_0, the projection of tangent_reference onto the tangent plane). Along a direction f_T
+// rises on the lattice f_T = i * tangential_step * f_N (i = 1, 2, ...); each step is loaded once
+// per plateau duration. A direction stops after stop_after_sliding consecutive sliding steps
+// (plateau growth ||u^p_600|| - ||u^p_100|| > slide_threshold) or at the force cap. Adaptive
+// start (SweepSchedule): once a border has been seen, later directions start steps_below steps
+// under the mean border ratio f_T / f_N seen so far at that level (else at any level), and
+// start again lower if their first step already slides.
 //
 // step() does not allocate: the cycle records are reserved up front.
 #pragma once
@@ -73,15 +77,21 @@ struct PalpationConfig {
   std::vector<double> normal_forces{1.0, 3.0, 5.0};  ///< f_N levels, N
   int directions = 8;                                ///< K tangential directions
   std::vector<double> plateaus{0.1, 0.6};            ///< t_plateau values, s (short first)
-  /// f_T steps as fractions of f_N: step i loads f_T = f_N * tangential_ratios[i].
-  std::vector<double> tangential_ratios{0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2};
-  double tangential_force_max = 4.0;  ///< absolute f_T cap, N
+  double tangential_step = 0.15;  ///< f_T lattice step as a fraction of f_N
+  double max_ratio = 2.0;         ///< largest f_T / f_N tried
+  double tangential_force_max = 6.0;  ///< absolute f_T cap, N
   /// Total load |f_l| cap as a fraction of the device's max force.
   double load_fraction_max = 0.97;
-  int stop_after_sliding = 3;     ///< early stop: consecutive clearly sliding steps (0: never)
-  double slide_threshold = 0.05;  ///< mm of plateau growth that counts as clearly sliding
-  ProfileRates rates;
+  int stop_after_sliding = 2;     ///< consecutive sliding steps that end a direction (0: never)
+  double slide_threshold = 0.05;  ///< mm of plateau growth that counts as sliding
+  bool adaptive = true;           ///< start near the border seen so far (else from step 1)
+  int steps_below = 2;            ///< adaptive: steps started below the predicted border
+  ProfileRates rates{20.0, 10.0, 0.1, 0.09};
   Vec3 tangent_reference = Vec3::UnitX();
+  /// Feed the tool weight (DeviceInfo tool mass and gravity) forward in the command. Off for
+  /// gravity-balanced devices (PHANToM counterweights, the virtual lab), where only the force
+  /// sensor sees the tool's weight (removed by the tare).
+  bool gravity_feedforward = false;
 
   // Motion (PID position control with the tool weight fed forward).
   double hover = 2.0;            ///< mm above the reference point before each approach
@@ -106,6 +116,47 @@ struct PalpationConfig {
   double settle_max = 0.6;      ///< s (status unsettled beyond)
 };
 
+/// Order of the cycles of a sweep and the adaptive choice of f_T steps (see the file comment).
+/// Allocation-free after construction.
+class SweepSchedule {
+ public:
+  /// `max_force`: the device's force limit, N. Throws inhap::Error on an invalid config.
+  SweepSchedule(const PalpationConfig& config, double max_force);
+  bool done() const { return done_; }
+  std::size_t level() const { return lvl_; }
+  int direction() const { return dir_; }
+  int lattice() const { return lat_; }  ///< f_T = lattice * tangential_step * f_N
+  std::size_t plateau_index() const { return pl_; }
+  double f_normal() const;
+  double f_tangential() const { return f_tangential(lvl_, lat_); }
+  double plateau() const;
+  /// Reports the tangential plastic displacement of the cycle just run (mm) and moves to the
+  /// next cycle; false when the sweep is complete.
+  bool next(double up_tangential);
+  /// Fraction of the (level, direction) pairs completed.
+  double progress() const;
+  /// Upper bound of the number of cycles (for reserving storage).
+  std::size_t max_cycles() const;
+  /// Border ratio f_T / f_N predicted for the current direction (NaN: none yet).
+  double predicted_ratio() const;
+
+ private:
+  double f_tangential(std::size_t level, int lattice) const;
+  int max_lattice(std::size_t level) const { return max_lat_[level]; }
+  void begin_direction();
+  bool end_direction();
+
+  const PalpationConfig* cfg_;
+  double cap_;
+  std::vector<int> max_lat_;
+  std::vector<double> est_sum_;
+  std::vector<int> est_n_;
+  std::size_t lvl_ = 0, pl_ = 0;
+  int dir_ = 0, lat_ = 1, first_lat_ = 1, run_ = 0, first_slide_ = -1;
+  bool backtracked_ = false, done_ = false;
+  double short_up_ = 0;
+};
+
 /// Palpation of one reference point: the whole sweep of cycles.
 class PalpationProtocol final : public TickProtocol {
  public:
@@ -114,6 +165,8 @@ class PalpationProtocol final : public TickProtocol {
   /// an invalid configuration.
   PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device, int point_id,
                     const Vec3& reference, const Vec3& normal);
+  PalpationProtocol(const PalpationProtocol&) = delete;  // the schedule points at cfg_
+  PalpationProtocol& operator=(const PalpationProtocol&) = delete;
 
   Vec3 step(double time, const Vec3& position, const Vec3& sensor_force) override;
   bool done() const override { return phase_ == Phase::done; }
@@ -122,20 +175,13 @@ class PalpationProtocol final : public TickProtocol {
   /// True when the sweep stopped on an error (no contact, bad input); see error().
   bool failed() const { return failed_; }
   const char* error() const { return error_; }
-  /// Upper bound of cycles in the sweep (no early stop).
-  std::size_t max_cycles() const { return max_cycles_; }
-  /// Conservative estimate of the simulated time the sweep takes, s (for progress bars).
-  double estimated_duration() const;
+  /// Upper bound of cycles in the sweep.
+  std::size_t max_cycles() const { return schedule_.max_cycles(); }
+  /// Fraction of the sweep done (for progress bars).
+  double progress() const { return done() ? 1.0 : schedule_.progress(); }
 
  private:
   enum class Phase { start, lift, travel, tare, approach, drop, load, release, done };
-  struct Steps {  // position of the sweep
-    std::size_t fn = 0, dir = 0, step = 0, plateau = 0;
-    int sliding_run = 0;
-  };
-  double now_fn() const { return cfg_.normal_forces[seq_.fn]; }
-  double step_force(std::size_t fn, std::size_t step) const;
-  bool advance();  // moves seq_ to the next cycle; false when the sweep is complete
   void begin_cycle(double time, const Vec3& position);
   void begin_lift(double time, const Vec3& position);
   void begin_move(double time, const Vec3& from, const Vec3& to, double speed);
@@ -150,9 +196,8 @@ class PalpationProtocol final : public TickProtocol {
   DeviceInfo info_;
   int point_;
   Vec3 c_, n_, t0_, t1_, weight_;
+  SweepSchedule schedule_;
   std::vector<CycleRecord> cycles_;
-  std::size_t max_cycles_ = 0;
-  Steps seq_;
   bool finishing_ = false, failed_ = false;
   const char* error_ = "";
 

@@ -31,6 +31,15 @@ struct SysPoint {
   std::vector<SysBorder> borders;  ///< L x K, index level * K + direction
   YieldSurface fs;                 ///< sliding yield surface (force space)
   YieldSurface gs;                 ///< elastic displacement limit surface (displacement space)
+  /// Slip viscosity c_v past the limit, N s/mm (slip speed = excess tangential force / c_v),
+  /// from the plateau growth; 0 when unknown (rate-independent return mapping).
+  double creep_viscosity = 0;
+  /// Tangential elastic stiffness f_limit / radius (median over the borders), N/mm.
+  double tangential_stiffness = 0;
+  /// Relaxation time c_v / k_t of the elastic displacement beyond g_s, s (0: instantaneous).
+  double creep_tau() const {
+    return tangential_stiffness > 0 ? creep_viscosity / tangential_stiffness : 0.0;
+  }
 };
 
 struct SysModel {
@@ -53,15 +62,27 @@ struct SysModel {
   void rebuild(const std::vector<Tri>* triangles = nullptr);
 };
 
+class ShapeQuery;
+
 struct FitOptions {
   BorderOptions border;
+  /// Damping the palpation added while loading (PalpationConfig::load_damping), N s/mm;
+  /// subtracted from the measured creep viscosity.
+  double load_damping = 0.004;
+  /// Undeformed surface (probe-centre) of the object, optional: when given, depths of g_s are
+  /// measured from it (geometric, as the proxy estimator does) instead of from p_c.
+  const ShapeQuery* shape = nullptr;
   Vec3 tangent_reference = Vec3::UnitX();
   double angle_tolerance = 0.05;  ///< rad: direction k must be at the same angle at every point
 };
 
 /// Fits the sliding yield surfaces from palpation cycles. Cycles with status no_contact,
 /// saturated or bad_input are ignored; a step needs one cycle per plateau (the shortest and the
-/// longest). Throws inhap::Error when a reference point lacks a level or direction.
+/// longest). Per reference point: borders with a single sliding step are refined with the median
+/// growth slope of the others; a border beyond the force range (no step slid) is extrapolated
+/// from the highest measured level of the same direction with the same ratio f_T / f_N (flag
+/// `extrapolated`); the creep viscosity follows from the median slope. Throws inhap::Error when
+/// a reference point lacks a level or direction.
 SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& options = {});
 
 /// sys.json: versioned JSON ("format": "inhap-sys", "version": 1); see
