@@ -49,10 +49,12 @@ double CycleRecord::up_tangential() const {
   return (u - u.dot(nc) * nc).norm();
 }
 
-
 PalpationProtocol::PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device,
                                      int point_id, const Vec3& reference, const Vec3& normal)
-    : cfg_(config), info_(device), point_(point_id), c_(reference),
+    : cfg_(config),
+      info_(device),
+      point_(point_id),
+      c_(reference),
       schedule_(cfg_, device.max_force_n) {
   if (!(info_.servo_rate_hz > 0)) throw Error("palpation: expected a servo rate > 0 Hz");
   if (!reference.allFinite() || !normal.allFinite() || !(normal.norm() > 0.5))

@@ -31,7 +31,8 @@ void interpolate_gs(const SysModel& sys, const Vec3& x, int& hint, YieldSurface&
   const std::array<double, 3> w = {loc.weight.x(), loc.weight.y(), loc.weight.z()};
   out.blend(s, w);
   if (tau)
-    *tau = w[0] * sys.points[loc.vertex[0]].creep_tau() + w[1] * sys.points[loc.vertex[1]].creep_tau() +
+    *tau = w[0] * sys.points[loc.vertex[0]].creep_tau() +
+           w[1] * sys.points[loc.vertex[1]].creep_tau() +
            w[2] * sys.points[loc.vertex[2]].creep_tau();
 }
 

@@ -53,8 +53,12 @@ SweepSchedule::SweepSchedule(const PalpationConfig& config, double max_force)
   if (!done_) begin_direction();
 }
 
-double SweepSchedule::f_normal() const { return cfg_->normal_forces[std::min(lvl_, cfg_->normal_forces.size() - 1)]; }
-double SweepSchedule::plateau() const { return cfg_->plateaus[pl_]; }
+double SweepSchedule::f_normal() const {
+  return cfg_->normal_forces[std::min(lvl_, cfg_->normal_forces.size() - 1)];
+}
+double SweepSchedule::plateau() const {
+  return cfg_->plateaus[pl_];
+}
 
 double SweepSchedule::f_tangential(std::size_t level, int lattice) const {
   const double fn = cfg_->normal_forces[level];
@@ -149,7 +153,8 @@ double SweepSchedule::progress() const {
 std::size_t SweepSchedule::max_cycles() const {
   std::size_t n = 0;
   for (int m : max_lat_)
-    n += static_cast<std::size_t>(cfg_->directions) * static_cast<std::size_t>(m + cfg_->steps_below + 2);
+    n += static_cast<std::size_t>(cfg_->directions) *
+         static_cast<std::size_t>(m + cfg_->steps_below + 2);
   return n * cfg_->plateaus.size();
 }
 

@@ -199,7 +199,8 @@ SysModel read_sys_json(const std::string& path) {
       sb.result.no_sliding = r.boolean(bs[b], "no_sliding", wb, false);
       sb.result.all_sliding = r.boolean(bs[b], "all_sliding", wb, false);
       sb.result.extrapolated = r.boolean(bs[b], "extrapolated", wb, false);
-      if (bs[b].contains("growth_slope")) sb.result.growth_slope = r.number(bs[b], "growth_slope", wb);
+      if (bs[b].contains("growth_slope"))
+        sb.result.growth_slope = r.number(bs[b], "growth_slope", wb);
       const json& steps = r.array(bs[b], "steps", wb);
       for (std::size_t s = 0; s < steps.size(); ++s) {
         const std::string ws = fmt::format("{}.steps[{}]", wb, s);

@@ -79,7 +79,8 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
       }
     }
   for (const SysBorder& b : p.borders)
-    if (b.result.radius > 0 && !b.result.no_sliding) stiff.push_back(b.result.f_limit / b.result.radius);
+    if (b.result.radius > 0 && !b.result.no_sliding)
+      stiff.push_back(b.result.f_limit / b.result.radius);
   p.tangential_stiffness = median(stiff);
   p.creep_viscosity = slope > 0 ? std::max(0.0, plateau_gap / slope - opt.load_damping) : 0.0;
 }

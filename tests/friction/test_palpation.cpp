@@ -168,8 +168,41 @@ TEST(Palpation, FullSweepOnUniformCoulombFitsMuTimesFn) {
       EXPECT_NEAR(b.result.depth, b.f_normal / prm.k_normal, 0.05 * b.f_normal);
       EXPECT_NEAR(b.result.radius, truth / prm.k_tangential, 0.08 * truth / prm.k_tangential);
     }
+  // Creep: growth = 0.5 s * excess / (c_v + device damping + load damping).
+  EXPECT_NEAR(m.points[0].creep_viscosity, prm.creep + prm.device_damping, 0.1 * prm.creep);
+  EXPECT_NEAR(m.points[0].tangential_stiffness, prm.k_tangential, 0.05 * prm.k_tangential);
   RecordProperty("worst_limit_rel_error", std::to_string(worst));
   RecordProperty("cycles", std::to_string(proto.cycles().size()));
+}
+
+}  // namespace
+}  // namespace inhap::friction
+
+namespace inhap::friction {
+namespace {
+
+// mu = 0.9: at 5 N the border (4.5 N) lies beyond the device (|f_l| <= 6 N allows f_T <= 3.3 N);
+// the fit extrapolates it from the 1 N level with the same ratio.
+TEST(Palpation, BorderBeyondTheForceRangeIsExtrapolated) {
+  test::FakeContactParams prm;
+  prm.mu = 0.9;
+  test::FakeContactDevice dev(prm);
+  PalpationConfig cfg;
+  cfg.normal_forces = {1.0, 5.0};
+  cfg.directions = 2;
+  PalpationProtocol proto(cfg, dev.info(), 0, Vec3(0, 0, 0), Vec3::UnitZ());
+  run_protocol(dev, proto, 5'000'000);
+  const SysModel m = fit_sys(proto.cycles());
+  for (std::size_t k = 0; k < 2; ++k) {
+    const BorderResult& lo = m.border(0, 0, k).result;
+    const BorderResult& hi = m.border(0, 1, k).result;
+    EXPECT_FALSE(lo.no_sliding);
+    EXPECT_NEAR(lo.f_limit, 0.9, 0.05 * 0.9);
+    EXPECT_TRUE(hi.no_sliding);
+    EXPECT_TRUE(hi.extrapolated);
+    EXPECT_NEAR(hi.f_limit, 4.5, 0.05 * 4.5);
+    EXPECT_NEAR(hi.radius, 4.5 / prm.k_tangential, 0.06 * 4.5 / prm.k_tangential);
+  }
 }
 
 }  // namespace

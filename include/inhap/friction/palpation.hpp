@@ -77,9 +77,9 @@ struct PalpationConfig {
   std::vector<double> normal_forces{1.0, 3.0, 5.0};  ///< f_N levels, N
   int directions = 8;                                ///< K tangential directions
   std::vector<double> plateaus{0.1, 0.6};            ///< t_plateau values, s (short first)
-  double tangential_step = 0.15;  ///< f_T lattice step as a fraction of f_N
-  double max_ratio = 2.0;         ///< largest f_T / f_N tried
-  double tangential_force_max = 6.0;  ///< absolute f_T cap, N
+  double tangential_step = 0.15;                     ///< f_T lattice step as a fraction of f_N
+  double max_ratio = 2.0;                            ///< largest f_T / f_N tried
+  double tangential_force_max = 6.0;                 ///< absolute f_T cap, N
   /// Total load |f_l| cap as a fraction of the device's max force.
   double load_fraction_max = 0.97;
   int stop_after_sliding = 2;     ///< consecutive sliding steps that end a direction (0: never)

@@ -48,7 +48,7 @@ struct ProxyState {
   Vec3 n = Vec3::UnitZ(), t0 = Vec3::UnitX(), t1 = Vec3::UnitY();  ///< frame at q
   YieldSurface gs;                                                 ///< g_s interpolated at q
   double tau = 0;  ///< creep relaxation time interpolated at q, s
-  int hint = -1;                                                   ///< last reference triangle
+  int hint = -1;   ///< last reference triangle
 };
 
 struct ProxyOutput {
