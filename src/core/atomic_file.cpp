@@ -5,8 +5,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "inhap/core/error.hpp"
 
@@ -58,13 +56,26 @@ void write_file_atomic(const std::string& path, std::string_view content) {
 }
 
 std::string read_file(const std::string& path) {
+  // One allocation of the file's size and one fread (large meshes are read this way); the loop
+  // also handles files whose size is unknown or changes while reading.
   errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path, "cannot open for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw IoError(path, "read failed");
-  return ss.str();
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw IoError(path, "cannot open for reading");
+  std::string out;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::size_t used = 0;
+  out.resize(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(size) + 1);
+  while (true) {
+    used += std::fread(out.data() + used, 1, out.size() - used, f);
+    if (used < out.size()) break;
+    out.resize(out.size() * 2);
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) throw IoError(path, "read failed");
+  out.resize(used);
+  return out;
 }
 
 }  // namespace inhap

@@ -1,0 +1,43 @@
+// Mesh file I/O dispatching on the extension.
+#include "inhap/geometry/mesh_io.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <filesystem>
+
+#include "inhap/core/error.hpp"
+#include "inhap/geometry/obj.hpp"
+#include "inhap/geometry/ply.hpp"
+
+namespace inhap {
+
+namespace {
+
+enum class MeshFormat { ply, obj };
+
+MeshFormat format_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") return MeshFormat::ply;
+  if (ext == ".obj") return MeshFormat::obj;
+  throw Error(fmt::format("{}: expected a mesh file ending in .ply or .obj, got {}", path,
+                          ext.empty() ? std::string("no extension") : quote_token(ext)));
+}
+
+}  // namespace
+
+TriMesh read_mesh(const std::string& path) {
+  return format_of(path) == MeshFormat::ply ? read_ply(path) : read_obj(path);
+}
+
+std::vector<std::string> write_mesh(const std::string& path, const TriMesh& mesh,
+                                    const MeshWriteOptions& options) {
+  if (format_of(path) == MeshFormat::obj) return write_obj(path, mesh);
+  PlyWriteOptions ply;
+  ply.format = options.ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
+  write_ply(path, mesh, ply);
+  return {};
+}
+
+}  // namespace inhap
