@@ -110,7 +110,7 @@ std::vector<CycleRecord> read_cycles_csv(const std::string& path) {
     c.angle = i_angle ? r[*i_angle] : 0.0;
     c.t_start = i_ts ? r[*i_ts] : 0.0;
     c.status =
-        i_status ? static_cast<CycleStatus>(integer(*i_status, "status", 0, 4)) : CycleStatus::ok;
+        i_status ? static_cast<CycleStatus>(integer(*i_status, "status", 0, 5)) : CycleStatus::ok;
     out.push_back(c);
   }
   if (out.empty()) throw ParseError(path, r.header_line(), "expected at least one cycle row");

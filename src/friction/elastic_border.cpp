@@ -63,6 +63,30 @@ double radius_per_newton(std::span<const BorderStep> s, std::size_t split) {
   return s[0].f_tangential > 0 ? s[0].radius / s[0].f_tangential : 0.0;
 }
 
+// Measured force ratio at the commanded load f: line through the last (up to 3) elastic steps
+// with a known ratio (proportional with one), NaN without any.
+double ratio_at(std::span<const BorderStep> s, std::size_t split, double f) {
+  double sf = 0, sr = 0, sff = 0, sfr = 0, m = 0;
+  double f1 = 0, r1 = 0;
+  for (std::size_t i = split; i-- > 0 && m < 3;) {
+    if (!std::isfinite(s[i].ratio)) continue;
+    sf += s[i].f_tangential;
+    sr += s[i].ratio;
+    sff += s[i].f_tangential * s[i].f_tangential;
+    sfr += s[i].f_tangential * s[i].ratio;
+    f1 = s[i].f_tangential;
+    r1 = s[i].ratio;
+    m += 1;
+  }
+  if (m == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double det = m * sff - sf * sf;
+  if (m >= 2 && det > 1e-12) {
+    const double b = (m * sfr - sf * sr) / det, a = (sr - b * sf) / m;
+    return a + b * f;
+  }
+  return f1 > 0 ? r1 * f / f1 : std::numeric_limits<double>::quiet_NaN();
+}
+
 double mean_depth(std::span<const BorderStep> s, std::size_t split) {
   const std::size_t n = split > 0 ? split : s.size();
   double sum = 0;
@@ -134,31 +158,37 @@ BorderResult find_elastic_border(std::span<const BorderStep> steps, const Border
     const double f_lo = best >= 1 ? steps[best - 1].f_tangential : 0.0;
     double f = 0.5 * (f_lo + f_hi);
     if (o.refine) {
-      // Least-squares line growth = a + b f_T through the first sliding steps.
-      const std::size_t end =
-          std::min(n, best + static_cast<std::size_t>(std::max(2, o.refine_points)));
-      double sf = 0, sg = 0, sff = 0, sfg = 0;
-      const double m = static_cast<double>(end - best);
-      for (std::size_t i = best; i < end; ++i) {
+      // Least-squares line growth = a + b f_T through the first sliding steps whose growth is
+      // not a lower bound (capped by max_slip).
+      double sf = 0, sg = 0, sff = 0, sfg = 0, m = 0;
+      std::size_t first = n;
+      for (std::size_t i = best; i < n && m < std::max(2, o.refine_points); ++i) {
+        if (steps[i].capped) continue;
+        if (first == n) first = i;
         sf += steps[i].f_tangential;
         sg += steps[i].growth();
         sff += steps[i].f_tangential * steps[i].f_tangential;
         sfg += steps[i].f_tangential * steps[i].growth();
+        m += 1;
       }
       const double det = m * sff - sf * sf;
-      if (end - best >= 2 && det > 0) {
+      if (m >= 2 && det > 0) {
         const double b = (m * sfg - sf * sg) / det, a = (sg - b * sf) / m;
         if (b > 0) {
           f = std::clamp(-a / b, f_lo, f_hi);
           r.growth_slope = b;
         }
       }
-      if (r.growth_slope == 0 && known_slope > 0)  // one sliding step: line of known slope
-        f = std::clamp(f_hi - steps[best].growth() / known_slope, f_lo, f_hi);
+      if (r.growth_slope == 0 && known_slope > 0 && first < n)  // a line of known slope
+        f = std::clamp(steps[first].f_tangential - steps[first].growth() / known_slope, f_lo, f_hi);
     }
     r.f_limit = f;
   }
-  r.radius = radius_per_newton(steps, best) * r.f_limit;
+  r.f_limit_load = r.f_limit;
+  r.ratio_limit = ratio_at(steps, best, r.f_limit_load);
+  if (std::isfinite(r.ratio_limit) && steps[0].f_normal > 0)
+    r.f_limit = r.ratio_limit * steps[0].f_normal;
+  r.radius = radius_per_newton(steps, best) * r.f_limit_load;
   r.depth = mean_depth(steps, best);
   return r;
 }

@@ -25,7 +25,8 @@ bool MeshSurface::closest(const Vec3& p, Vec3& point, Vec3& normal) const noexce
   const ClosestPoint cp = index_.closest_point(p);
   if (!cp.valid()) return false;
   const Tri& t = tris_[cp.triangle];
-  Vec3 n = cp.bary.x() * normals_[t[0]] + cp.bary.y() * normals_[t[1]] + cp.bary.z() * normals_[t[2]];
+  Vec3 n =
+      cp.bary.x() * normals_[t[0]] + cp.bary.y() * normals_[t[1]] + cp.bary.z() * normals_[t[2]];
   const double nn = n.norm();
   if (!(nn > 0)) return false;
   n /= nn;

@@ -38,6 +38,8 @@ const char* to_string(CycleStatus s) {
       return "saturated";
     case CycleStatus::unsettled:
       return "unsettled";
+    case CycleStatus::slip_capped:
+      return "slip_capped";
     case CycleStatus::bad_input:
       return "bad_input";
   }
@@ -50,9 +52,11 @@ double CycleRecord::up_tangential() const {
 }
 
 PalpationProtocol::PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device,
-                                     int point_id, const Vec3& reference, const Vec3& normal)
+                                     int point_id, const Vec3& reference, const Vec3& normal,
+                                     const ShapeQuery* shape)
     : cfg_(config),
       info_(device),
+      shape_(shape),
       point_(point_id),
       c_(reference),
       schedule_(cfg_, device.max_force_n) {
@@ -86,7 +90,7 @@ void PalpationProtocol::begin_cycle(double time, const Vec3& position) {
   cur_.tdir = std::cos(cur_.angle) * t0_ + std::sin(cur_.angle) * t1_;
   cur_.nc = n_;
   cur_.t_start = time;
-  saturated_ = measured_ = false;
+  saturated_ = measured_ = slip_capped_ = false;
   begin_lift(time, position);
 }
 
@@ -228,8 +232,31 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
       }
       return hold_zero_load();
     case Phase::load: {
-      const Vec3 load = -profile_.normal(tau) * n_ + profile_.tangential(tau) * cur_.tdir;
+      Vec3 n = n_, t = cur_.tdir;
+      if (shape_) {  // the frame of the surface under the probe
+        Vec3 c, nn;
+        if (shape_->closest(position, c, nn) && nn.allFinite() && nn.dot(n_) > 0.5) {
+          n = nn;
+          const Vec3 tt = t - t.dot(n) * n;
+          if (tt.norm() > 0.5) t = tt.normalized();
+        }
+      }
+      const Vec3 load = -profile_.normal(tau) * n + profile_.tangential(tau) * t;
       if (load.norm() > info_.max_force_n) saturated_ = true;
+      const Vec3 u = position - cur_.pc;
+      const double ut = (u - u.dot(n_) * n_).norm();
+      const double unload_t = profile_.t_normal() + profile_.t_tangential() + profile_.t_plateau();
+      if (tau < profile_.plateau_start()) plateau_ut_ = ut;
+      if (tau < unload_t && ut - plateau_ut_ > cfg_.max_slip) {
+        // Sliding away: jump to the start of the tangential unloading ramp.
+        slip_capped_ = true;
+        if (!measured_) {
+          cur_.f_meas = sensor_force - bias_;
+          cur_.u_meas = u;
+          measured_ = true;
+        }
+        phase_t0_ = time - unload_t;
+      }
       if (!measured_ && tau >= profile_.t_measurement()) {
         cur_.f_meas = sensor_force - bias_;
         cur_.u_meas = position - cur_.pc;
@@ -249,6 +276,8 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
       if (settled || tau >= cfg_.settle_max) {
         if (saturated_)
           cur_.status = CycleStatus::saturated;
+        else if (slip_capped_)
+          cur_.status = CycleStatus::slip_capped;
         else if (!settled)
           cur_.status = CycleStatus::unsettled;
         return finish_cycle(time, position);

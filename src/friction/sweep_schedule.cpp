@@ -40,15 +40,15 @@ SweepSchedule::SweepSchedule(const PalpationConfig& config, double max_force)
     : cfg_(&config), cap_(config.load_fraction_max * max_force) {
   check_config(config, max_force);
   const std::size_t nl = config.normal_forces.size();
-  max_lat_.assign(nl, 0);
+  max_h_.assign(nl, 0);
   est_sum_.assign(nl, 0.0);
   est_n_.assign(nl, 0);
   for (std::size_t l = 0; l < nl; ++l) {
-    int i = 0;
-    while (!std::isnan(f_tangential(l, i + 1))) ++i;
-    max_lat_[l] = i;
+    int h = 0;
+    while (!std::isnan(f_tangential(l, h + 2))) h += 2;
+    max_h_[l] = h;
   }
-  while (lvl_ < nl && max_lat_[lvl_] == 0) ++lvl_;
+  while (lvl_ < nl && max_h_[lvl_] == 0) ++lvl_;
   done_ = lvl_ >= nl;
   if (!done_) begin_direction();
 }
@@ -60,11 +60,11 @@ double SweepSchedule::plateau() const {
   return cfg_->plateaus[pl_];
 }
 
-double SweepSchedule::f_tangential(std::size_t level, int lattice) const {
+double SweepSchedule::f_tangential(std::size_t level, int half_steps) const {
   const double fn = cfg_->normal_forces[level];
-  const double ratio = lattice * cfg_->tangential_step;
+  const double ratio = 0.5 * half_steps * cfg_->tangential_step;
   const double ft = fn * ratio;
-  if (lattice < 1 || ratio > cfg_->max_ratio + 1e-9 || ft > cfg_->tangential_force_max ||
+  if (half_steps < 1 || ratio > cfg_->max_ratio + 1e-9 || ft > cfg_->tangential_force_max ||
       std::hypot(fn, ft) > cap_)
     return std::numeric_limits<double>::quiet_NaN();
   return ft;
@@ -82,7 +82,7 @@ double SweepSchedule::predicted_ratio() const {
 }
 
 void SweepSchedule::begin_direction() {
-  const int top = max_lattice(lvl_);
+  const int top = max_h_[lvl_] / 2;  // lattice points
   int start = 1;
   const double rho = predicted_ratio();
   if (cfg_->adaptive && std::isfinite(rho)) {
@@ -91,29 +91,42 @@ void SweepSchedule::begin_direction() {
     start = std::max(1, below - cfg_->steps_below + 1);
     if (start > top) start = std::max(1, top - cfg_->steps_below + 1);
   }
-  lat_ = first_lat_ = start;
+  h_ = first_h_ = 2 * start;
   pl_ = 0;
   run_ = 0;
-  first_slide_ = -1;
-  backtracked_ = false;
+  elastic_h_ = sliding_h_ = -1;
+  backtracked_ = half_done_ = false;
 }
 
 bool SweepSchedule::end_direction() {
-  if (first_slide_ >= 1) {
-    est_sum_[lvl_] += (first_slide_ - 0.5) * cfg_->tangential_step;
+  if (sliding_h_ > 0) {  // border ratio: middle of the bracket seen
+    const double lo = std::max(0, elastic_h_) * 0.5, hi = sliding_h_ * 0.5;
+    est_sum_[lvl_] += 0.5 * (lo + hi) * cfg_->tangential_step;
     ++est_n_[lvl_];
   }
   if (++dir_ >= cfg_->directions) {
     dir_ = 0;
     do ++lvl_;
-    while (lvl_ < max_lat_.size() && max_lat_[lvl_] == 0);
-    if (lvl_ >= max_lat_.size()) {
+    while (lvl_ < max_h_.size() && max_h_[lvl_] == 0);
+    if (lvl_ >= max_h_.size()) {
       done_ = true;
       return false;
     }
   }
   begin_direction();
   return true;
+}
+
+bool SweepSchedule::half_step_or_end() {
+  if (cfg_->half_step && !half_done_ && sliding_h_ > 0) {
+    const int h = sliding_h_ - 1;
+    if (h > elastic_h_ && h >= 1 && !std::isnan(f_tangential(lvl_, h))) {
+      h_ = h;
+      half_done_ = true;
+      return true;
+    }
+  }
+  return end_direction();
 }
 
 bool SweepSchedule::next(double up_tangential) {
@@ -126,35 +139,40 @@ bool SweepSchedule::next(double up_tangential) {
   pl_ = 0;
   const double growth = cfg_->plateaus.size() >= 2 ? up_tangential - short_up_ : 0.0;
   const bool sliding = growth > cfg_->slide_threshold;
-  if (sliding && cfg_->adaptive && lat_ == first_lat_ && first_lat_ > 1 && !backtracked_) {
+  if (sliding && cfg_->adaptive && h_ == first_h_ && first_h_ > 2 && !backtracked_) {
     // Started above the border: start again lower.
     backtracked_ = true;
-    lat_ = first_lat_ = std::max(1, first_lat_ - cfg_->steps_below - 1);
+    h_ = first_h_ = std::max(2, first_h_ - 2 * (cfg_->steps_below + 1));
     run_ = 0;
+    sliding_h_ = -1;
     return true;
   }
   if (sliding) {
     ++run_;
-    if (first_slide_ < 0) first_slide_ = lat_;
+    sliding_h_ = sliding_h_ < 0 ? h_ : std::min(sliding_h_, h_);
   } else {
     run_ = 0;
+    elastic_h_ = std::max(elastic_h_, h_);
   }
-  const bool stop = cfg_->stop_after_sliding > 0 && run_ >= cfg_->stop_after_sliding;
-  if (stop || lat_ + 1 > max_lattice(lvl_)) return end_direction();
-  ++lat_;
+  if (half_done_) return end_direction();
+  const int needed =
+      dir_ == 0 ? std::max(cfg_->stop_after_sliding, cfg_->slope_steps) : cfg_->stop_after_sliding;
+  const bool stop = cfg_->stop_after_sliding > 0 && run_ >= needed;
+  if (stop || h_ + 2 > max_h_[lvl_]) return half_step_or_end();
+  h_ += 2;
   return true;
 }
 
 double SweepSchedule::progress() const {
-  const double total = static_cast<double>(max_lat_.size()) * cfg_->directions;
+  const double total = static_cast<double>(max_h_.size()) * cfg_->directions;
   return done_ ? 1.0 : (static_cast<double>(lvl_) * cfg_->directions + dir_) / total;
 }
 
 std::size_t SweepSchedule::max_cycles() const {
   std::size_t n = 0;
-  for (int m : max_lat_)
+  for (int m : max_h_)
     n += static_cast<std::size_t>(cfg_->directions) *
-         static_cast<std::size_t>(m + cfg_->steps_below + 2);
+         static_cast<std::size_t>(m / 2 + cfg_->steps_below + 3);
   return n * cfg_->plateaus.size();
 }
 

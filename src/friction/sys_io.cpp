@@ -110,6 +110,9 @@ void write_sys_json(const std::string& path, const SysModel& m) {
       bs.push_back({{"f_normal", b.f_normal},
                     {"direction", b.direction},
                     {"f_limit", b.result.f_limit},
+                    {"f_limit_load", b.result.f_limit_load},
+                    {"ratio_limit", std::isfinite(b.result.ratio_limit) ? json(b.result.ratio_limit)
+                                                                        : json(nullptr)},
                     {"depth", b.result.depth},
                     {"radius", b.result.radius},
                     {"split", b.result.split},
@@ -192,6 +195,10 @@ SysModel read_sys_json(const std::string& path) {
         r.fail(wb, fmt::format("level {} N and direction {} (level-major order)",
                                m.f_normal_levels[b / nk], b % nk));
       sb.result.f_limit = r.number(bs[b], "f_limit", wb);
+      sb.result.f_limit_load =
+          bs[b].contains("f_limit_load") ? r.number(bs[b], "f_limit_load", wb) : sb.result.f_limit;
+      if (bs[b].contains("ratio_limit") && !bs[b]["ratio_limit"].is_null())
+        sb.result.ratio_limit = r.number(bs[b], "ratio_limit", wb);
       sb.result.depth = r.number(bs[b], "depth", wb);
       sb.result.radius = r.number(bs[b], "radius", wb);
       if (sb.result.f_limit < 0 || sb.result.radius < 0) r.fail(wb, "f_limit >= 0 and radius >= 0");

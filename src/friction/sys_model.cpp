@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -34,12 +35,26 @@ std::size_t index_of(const std::vector<double>& levels, double x) {
 }
 
 bool usable(const CycleRecord& c) {
-  return c.status == CycleStatus::ok || c.status == CycleStatus::unsettled;
+  return c.status == CycleStatus::ok || c.status == CycleStatus::unsettled ||
+         c.status == CycleStatus::slip_capped;
 }
 
 double wrap_angle(double a) {
   a = std::fmod(a, kTwoPi);
   return a < 0 ? a + kTwoPi : a;
+}
+
+// |f_t| / f_n of the measured reaction force, decomposed at the normal of the surface under the
+// displaced probe (the shape's normal at p_c + u_meas; n_c without a shape).
+double contact_ratio(const CycleRecord& c, const ShapeQuery* shape) {
+  Vec3 n = c.nc, point;
+  if (shape) {
+    Vec3 nn;
+    if (shape->closest(c.pc + c.u_meas, point, nn) && nn.allFinite()) n = nn;
+  }
+  const double fn = c.f_meas.dot(n);
+  if (!(fn > 1e-6)) return std::numeric_limits<double>::quiet_NaN();
+  return (c.f_meas - fn * n).norm() / fn;
 }
 
 double median(std::vector<double> v) {
@@ -69,10 +84,14 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
       for (std::size_t i = j; i-- > 0;) {
         const SysBorder& lower = p.borders[i * nk + k];
         if (lower.result.no_sliding || lower.result.extrapolated) continue;
-        const double f = lower.result.f_limit / lower.f_normal * p.borders[j * nk + k].f_normal;
+        const double fn = p.borders[j * nk + k].f_normal;
+        const double f = lower.result.f_limit / lower.f_normal * fn;
+        const double load = lower.result.f_limit_load / lower.f_normal * fn;
         if (f > r.f_limit) {
-          r.radius *= f / r.f_limit;
+          if (r.f_limit_load > 0) r.radius *= load / r.f_limit_load;
           r.f_limit = f;
+          r.f_limit_load = load;
+          r.ratio_limit = f / fn;
           r.extrapolated = true;
         }
         break;
@@ -80,7 +99,7 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
     }
   for (const SysBorder& b : p.borders)
     if (b.result.radius > 0 && !b.result.no_sliding)
-      stiff.push_back(b.result.f_limit / b.result.radius);
+      stiff.push_back(b.result.f_limit_load / b.result.radius);
   p.tangential_stiffness = median(stiff);
   p.creep_viscosity = slope > 0 ? std::max(0.0, plateau_gap / slope - opt.load_damping) : 0.0;
 }
@@ -193,6 +212,11 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
         throw Error(
             fmt::format("sys fit: reference point {} has no cycles in direction {}", id, k));
       angles[k] = wrap_angle(std::atan2(tsum[k].dot(t1), tsum[k].dot(t0)));
+      // Snap to the protocol's nominal angle 2 pi k / K (avoids 2 pi - epsilon for k = 0).
+      const double nominal = kTwoPi * static_cast<double>(k) / static_cast<double>(nk);
+      double d = std::abs(angles[k] - nominal);
+      d = std::min(d, kTwoPi - d);
+      if (d <= opt.angle_tolerance) angles[k] = nominal;
     }
     if (m.angles.empty()) {
       m.angles = angles;
@@ -220,7 +244,11 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
           st.f_tangential = ft;
           st.u_short = s->up_tangential();
           st.u_long = l->up_tangential();
+          st.capped =
+              s->status == CycleStatus::slip_capped || l->status == CycleStatus::slip_capped;
+          st.f_normal = s->f_normal;
           st.depth = -s->u_meas.dot(s->nc);
+          st.ratio = contact_ratio(*s, opt.shape);
           if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
             const double d0 = opt.shape->depth(s->pc);
             if (std::isfinite(d0)) st.depth += d0;

@@ -99,6 +99,7 @@ TEST(Palpation, SlidingCycleLeavesPlasticDisplacementGrowingWithPlateau) {
   PalpationConfig cfg = small_config();
   cfg.tangential_step = 0.8;  // mu = 0.5: sliding
   cfg.max_ratio = 0.8;
+  cfg.half_step = false;
   cfg.plateaus = {0.1, 0.6};
   test::FakeContactDevice dev;
   PalpationProtocol proto(cfg, dev.info(), 0, Vec3(0, 0, 0), Vec3::UnitZ());

@@ -11,7 +11,8 @@ namespace {
 
 struct Visit {
   std::size_t level;
-  int dir, lattice;
+  int dir;
+  double lattice;
 };
 
 // Runs the schedule; a step "slides" (plateau growth 1 mm) when f_T / f_N > border(dir).
@@ -27,8 +28,8 @@ std::vector<Visit> run(const PalpationConfig& cfg, double max_force, double (*bo
   return v;
 }
 
-std::vector<int> lattices(const std::vector<Visit>& v, std::size_t level, int dir) {
-  std::vector<int> out;
+std::vector<double> lattices(const std::vector<Visit>& v, std::size_t level, int dir) {
+  std::vector<double> out;
   for (const Visit& x : v)
     if (x.level == level && x.dir == dir) out.push_back(x.lattice);
   return out;
@@ -39,11 +40,12 @@ TEST(SweepSchedule, FirstDirectionSweepsUpThenLaterOnesStartNearTheBorder) {
   cfg.normal_forces = {1.0};
   cfg.directions = 3;
   const auto v = run(cfg, 6.2, [](int) { return 0.5; });
-  // Direction 0: 0.15, 0.30, 0.45 elastic; 0.60, 0.75 slide -> stop after two.
-  EXPECT_EQ(lattices(v, 0, 0), (std::vector<int>{1, 2, 3, 4, 5}));
-  // Border seen at (4 - 0.5) * 0.15 = 0.525: start two lattice points below it.
-  EXPECT_EQ(lattices(v, 0, 1), (std::vector<int>{2, 3, 4, 5}));
-  EXPECT_EQ(lattices(v, 0, 2), (std::vector<int>{2, 3, 4, 5}));
+  // Direction 0: 0.15, 0.30, 0.45 elastic; 0.60 and 0.75 slide (the first direction of a level
+  // takes two sliding steps: growth slope); the half step 0.525 slides too.
+  EXPECT_EQ(lattices(v, 0, 0), (std::vector<double>{1, 2, 3, 4, 5, 3.5}));
+  // Border seen in [0.45, 0.525] (mid 0.4875): start two lattice points below it.
+  EXPECT_EQ(lattices(v, 0, 1), (std::vector<double>{2, 3, 4, 3.5}));
+  EXPECT_EQ(lattices(v, 0, 2), (std::vector<double>{2, 3, 4, 3.5}));
 }
 
 TEST(SweepSchedule, StartsAgainLowerWhenTheFirstStepSlides) {
@@ -51,21 +53,23 @@ TEST(SweepSchedule, StartsAgainLowerWhenTheFirstStepSlides) {
   cfg.normal_forces = {1.0};
   cfg.directions = 2;
   const auto v = run(cfg, 6.2, [](int d) { return d == 0 ? 0.9 : 0.2; });
-  EXPECT_EQ(lattices(v, 0, 0), (std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}));
-  // Predicted (7 - 0.5) * 0.15 = 0.975: starts at lattice 5 (0.75), which slides -> back to 2.
-  EXPECT_EQ(lattices(v, 0, 1), (std::vector<int>{5, 2, 3}));
+  EXPECT_EQ(lattices(v, 0, 0), (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 6.5}));
+  // Predicted 0.9375: starts at lattice 5 (0.75), which slides -> back to 2 (0.3, slides) and
+  // the half step 1.5 (0.225, slides).
+  EXPECT_EQ(lattices(v, 0, 1), (std::vector<double>{5, 2, 1.5}));
 }
 
 TEST(SweepSchedule, RespectsTheForceCapAndUsesOtherLevels) {
   PalpationConfig cfg;  // 1, 3, 5 N; cap 0.97 * 6.2 N on |f_l|
   cfg.directions = 1;
   const auto v = run(cfg, 6.2, [](int) { return 1.2; });
-  // 1 N: up to 1.35 and 1.5 (two sliding steps).
-  EXPECT_EQ(lattices(v, 0, 0).back(), 10);
-  // 3 N: starts below the 1 N border ratio (1.275) -> lattice 7.
-  EXPECT_EQ(lattices(v, 1, 0), (std::vector<int>{7, 8, 9, 10}));
+  // 1 N: up to 1.35 and 1.5 (slide) and the half step 1.275.
+  EXPECT_EQ(lattices(v, 0, 0).back(), 8.5);
+  EXPECT_EQ(lattices(v, 0, 0).size(), 11u);
+  // 3 N: starts below the 1 N border ratio (1.2375) -> lattice 7.
+  EXPECT_EQ(lattices(v, 1, 0), (std::vector<double>{7, 8, 9, 10, 8.5}));
   // 5 N: f_T <= sqrt(6.014^2 - 25) = 3.34 N -> lattice <= 4; the last two points are measured.
-  EXPECT_EQ(lattices(v, 2, 0), (std::vector<int>{3, 4}));
+  EXPECT_EQ(lattices(v, 2, 0), (std::vector<double>{3, 4}));
 }
 
 TEST(SweepSchedule, NonAdaptiveAlwaysStartsAtTheFirstStep) {
@@ -74,7 +78,10 @@ TEST(SweepSchedule, NonAdaptiveAlwaysStartsAtTheFirstStep) {
   cfg.directions = 2;
   cfg.adaptive = false;
   const auto v = run(cfg, 6.2, [](int) { return 0.5; });
-  EXPECT_EQ(lattices(v, 0, 1), (std::vector<int>{1, 2, 3, 4, 5}));
+  cfg.slope_steps = 1;
+  const auto w = run(cfg, 6.2, [](int) { return 0.5; });
+  EXPECT_EQ(lattices(w, 0, 0), (std::vector<double>{1, 2, 3, 4, 3.5}));
+  EXPECT_EQ(lattices(w, 0, 1), (std::vector<double>{1, 2, 3, 4, 3.5}));
 }
 
 }  // namespace

@@ -15,7 +15,8 @@
 //   umx,umy,umz      displacement u = p - p_c at t_measurement, mm
 //   prx,pry,prz      release point p_r, mm (u^p = p_r - p_c)
 //   t_start          device time at the start of the cycle, s                [optional]
-//   status           0 ok, 1 no contact, 2 saturated, 3 unsettled, 4 bad input [optional: 0]
+//   status           0 ok, 1 no contact, 2 saturated, 3 unsettled, 4 bad input,
+//                    5 slip capped (unloaded early after max_slip)      [optional: 0]
 #pragma once
 
 #include <span>

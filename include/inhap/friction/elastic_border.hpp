@@ -12,6 +12,7 @@
 // docs/sliding-yield-surface.md for the weights and why.
 #pragma once
 
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -26,6 +27,11 @@ struct BorderStep {
   double u_long = 0;        ///< ||u^p|| after the long plateau (tangential), mm
   double depth = 0;         ///< -u_meas . n_c at t_measurement (short plateau), mm
   double radius = 0;        ///< |tangential part of u_meas| at t_measurement, mm
+  bool capped = false;      ///< a cycle was unloaded early (max_slip): the growth is a lower bound
+  double f_normal = 0;      ///< commanded f_N, N (0: unknown)
+  /// Measured |f_t| / f_n of the reaction force at t_measurement, decomposed at the normal of
+  /// the surface under the displaced probe (NaN: unknown).
+  double ratio = std::numeric_limits<double>::quiet_NaN();
   double growth() const { return u_long - u_short; }  ///< Delta u^p_plateau, mm
 };
 
@@ -45,9 +51,13 @@ struct BorderOptions {
 };
 
 struct BorderResult {
-  std::vector<int> labels;   ///< k-means label per step: 0 elastic, 1 sliding
-  std::size_t split = 0;     ///< index of the first sliding step (steps.size(): none)
-  double f_limit = 0;        ///< f_elastic_limit (tangential), N
+  std::vector<int> labels;  ///< k-means label per step: 0 elastic, 1 sliding
+  std::size_t split = 0;    ///< index of the first sliding step (steps.size(): none)
+  /// f_elastic_limit: tangential force at the border in the contact frame under the probe,
+  /// ratio_limit * f_N when the measured ratios are known, else f_limit_load, N.
+  double f_limit = 0;
+  double f_limit_load = 0;  ///< border of the commanded tangential load (frame of n_c), N
+  double ratio_limit = std::numeric_limits<double>::quiet_NaN();  ///< measured f_t/f_n there
   double depth = 0;          ///< normal part of u_elastic_limit (depth, positive inward), mm
   double radius = 0;         ///< tangential part of u_elastic_limit, mm
   bool no_sliding = false;   ///< no step slid: f_limit is the last step (a lower bound)

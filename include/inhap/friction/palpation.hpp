@@ -10,18 +10,20 @@
 //   3. drop the command force (hold only the tool weight), let the probe settle and record the
 //      contact point p_c;
 //   4. apply the loading profile: load = -f_N(t) n_c + f_T(t) t_k (the force the probe exerts on
-//      the object: into the surface and along the tangential direction t_k); record the reaction
+//      the object: into the surface and along the tangential direction t_k; with a shape, n_c
+//      and t_k follow the surface under the probe); record the reaction
 //      force f and the displacement u = p - p_c at t_measurement;
 //   5. unload, wait for equilibrium (filtered speed below settle_speed for settle_window) and
 //      record the release point p_r: the plastic displacement is u^p = p_r - p_c (eq. 4.24).
 // The sweep runs f_N over normal_forces and the K tangential directions t_k (angle 2 pi k / K
 // from t_0, the projection of tangent_reference onto the tangent plane). Along a direction f_T
 // rises on the lattice f_T = i * tangential_step * f_N (i = 1, 2, ...); each step is loaded once
-// per plateau duration. A direction stops after stop_after_sliding consecutive sliding steps
-// (plateau growth ||u^p_600|| - ||u^p_100|| > slide_threshold) or at the force cap. Adaptive
-// start (SweepSchedule): once a border has been seen, later directions start steps_below steps
-// under the mean border ratio f_T / f_N seen so far at that level (else at any level), and
-// start again lower if their first step already slides.
+// per plateau duration. After stop_after_sliding consecutive sliding steps (plateau growth
+// ||u^p_600|| - ||u^p_100|| > slide_threshold) one more step half-way between the last elastic
+// and the first sliding step narrows the border, and the direction ends (also at the force
+// cap). Adaptive start (SweepSchedule): once a border has been seen, later directions start
+// steps_below steps under the mean border ratio f_T / f_N seen so far at that level (else at
+// any level), and start again lower if their first step already slides.
 //
 // step() does not allocate: the cycle records are reserved up front.
 #pragma once
@@ -32,6 +34,7 @@
 #include "inhap/core/device.hpp"
 #include "inhap/core/types.hpp"
 #include "inhap/friction/loading_profile.hpp"
+#include "inhap/friction/shape_query.hpp"
 
 namespace inhap::friction {
 
@@ -43,10 +46,11 @@ Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle);
 
 enum class CycleStatus : int {
   ok = 0,
-  no_contact = 1,  ///< the approach found no surface
-  saturated = 2,   ///< the commanded load exceeded the device's force limit
-  unsettled = 3,   ///< the probe had not come to rest when the release point was taken
-  bad_input = 4,   ///< non-finite readings
+  no_contact = 1,   ///< the approach found no surface
+  saturated = 2,    ///< the commanded load exceeded the device's force limit
+  unsettled = 3,    ///< the probe had not come to rest when the release point was taken
+  bad_input = 4,    ///< non-finite readings
+  slip_capped = 5,  ///< slid past max_slip: unloaded early (the plateau growth is a lower bound)
 };
 const char* to_string(CycleStatus s);
 
@@ -82,7 +86,11 @@ struct PalpationConfig {
   double tangential_force_max = 6.0;                 ///< absolute f_T cap, N
   /// Total load |f_l| cap as a fraction of the device's max force.
   double load_fraction_max = 0.97;
-  int stop_after_sliding = 2;     ///< consecutive sliding steps that end a direction (0: never)
+  int stop_after_sliding = 1;  ///< consecutive sliding steps that end a direction (0: never)
+  bool half_step = true;       ///< then one step half-way back into the border bracket
+  /// The first direction of each level goes on to this many sliding steps, so that the growth
+  /// slope (the creep viscosity) is measured at every level.
+  int slope_steps = 2;
   double slide_threshold = 0.05;  ///< mm of plateau growth that counts as sliding
   bool adaptive = true;           ///< start near the border seen so far (else from step 1)
   int steps_below = 2;            ///< adaptive: steps started below the predicted border
@@ -108,6 +116,9 @@ struct PalpationConfig {
   /// for the device's internal friction; bounds the slip speed; no effect at rest).
   double load_damping = 0.004;
   double drop_time = 0.04;  ///< s of zero load after contact before p_c is taken
+  /// Tangential slip during the plateau (mm) that ends the loading early (keeps the probe on
+  /// small objects; the cycle gets status slip_capped).
+  double max_slip = 15.0;
 
   // Equilibrium after unloading.
   double settle_speed = 0.5;    ///< mm/s
@@ -125,10 +136,11 @@ class SweepSchedule {
   bool done() const { return done_; }
   std::size_t level() const { return lvl_; }
   int direction() const { return dir_; }
-  int lattice() const { return lat_; }  ///< f_T = lattice * tangential_step * f_N
+  /// f_T = lattice * tangential_step * f_N (a half-integer for the half step).
+  double lattice() const { return 0.5 * h_; }
   std::size_t plateau_index() const { return pl_; }
   double f_normal() const;
-  double f_tangential() const { return f_tangential(lvl_, lat_); }
+  double f_tangential() const { return f_tangential(lvl_, h_); }
   double plateau() const;
   /// Reports the tangential plastic displacement of the cycle just run (mm) and moves to the
   /// next cycle; false when the sweep is complete.
@@ -141,19 +153,21 @@ class SweepSchedule {
   double predicted_ratio() const;
 
  private:
-  double f_tangential(std::size_t level, int lattice) const;
-  int max_lattice(std::size_t level) const { return max_lat_[level]; }
+  double f_tangential(std::size_t level, int half_steps) const;
   void begin_direction();
   bool end_direction();
+  bool half_step_or_end();
 
   const PalpationConfig* cfg_;
   double cap_;
-  std::vector<int> max_lat_;
+  std::vector<int> max_h_;  // per level: largest valid f_T in half steps
   std::vector<double> est_sum_;
   std::vector<int> est_n_;
   std::size_t lvl_ = 0, pl_ = 0;
-  int dir_ = 0, lat_ = 1, first_lat_ = 1, run_ = 0, first_slide_ = -1;
-  bool backtracked_ = false, done_ = false;
+  // Position in half steps (h = 2 i on the lattice); per direction: first, largest elastic and
+  // smallest sliding step (-1: none yet).
+  int dir_ = 0, h_ = 2, first_h_ = 2, run_ = 0, elastic_h_ = -1, sliding_h_ = -1;
+  bool backtracked_ = false, half_done_ = false, done_ = false;
   double short_up_ = 0;
 };
 
@@ -163,8 +177,12 @@ class PalpationProtocol final : public TickProtocol {
   /// `reference` is the probe-centre position of the reference point on the undeformed surface
   /// and `normal` the outward surface normal there (from the shape mesh). Throws inhap::Error on
   /// an invalid configuration.
+  /// `shape` (optional, not owned, must outlive the protocol): with it the load follows the
+  /// surface under the probe, f_l = -f_N n(p) + f_T t_k projected on the tangent plane at p,
+  /// so that f_N and f_T stay normal and tangential where the contact is even when the probe
+  /// has moved on a curved object (else the frame of n_c at the reference point, as the thesis).
   PalpationProtocol(const PalpationConfig& config, const DeviceInfo& device, int point_id,
-                    const Vec3& reference, const Vec3& normal);
+                    const Vec3& reference, const Vec3& normal, const ShapeQuery* shape = nullptr);
   PalpationProtocol(const PalpationProtocol&) = delete;  // the schedule points at cfg_
   PalpationProtocol& operator=(const PalpationProtocol&) = delete;
 
@@ -194,6 +212,7 @@ class PalpationProtocol final : public TickProtocol {
 
   PalpationConfig cfg_;
   DeviceInfo info_;
+  const ShapeQuery* shape_;
   int point_;
   Vec3 c_, n_, t0_, t1_, weight_;
   SweepSchedule schedule_;
@@ -215,7 +234,8 @@ class PalpationProtocol final : public TickProtocol {
   double settle_run_ = 0;
   LoadingProfile profile_;
   CycleRecord cur_;
-  bool measured_ = false, saturated_ = false;
+  bool measured_ = false, saturated_ = false, slip_capped_ = false;
+  double plateau_ut_ = 0;  // tangential displacement at the start of the plateau
 };
 
 }  // namespace inhap::friction
