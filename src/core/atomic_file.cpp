@@ -15,8 +15,9 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   errno = 0;
   file_ = std::fopen(tmp_.c_str(), "wb");
   if (!file_) throw IoError(path_, "cannot open for writing");
-  static thread_local char buffer[1 << 16];
-  std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+  // A buffer of its own per file (stdio allocates it): two AtomicFiles open at once must not
+  // share one.
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
 }
 
 AtomicFile::~AtomicFile() {
@@ -26,7 +27,9 @@ AtomicFile::~AtomicFile() {
   }
 }
 
-void AtomicFile::write(std::string_view bytes) { write(bytes.data(), bytes.size()); }
+void AtomicFile::write(std::string_view bytes) {
+  write(bytes.data(), bytes.size());
+}
 
 void AtomicFile::write(const void* data, std::size_t size) {
   if (size == 0) return;

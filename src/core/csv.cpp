@@ -17,11 +17,14 @@ namespace {
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
-bool blank(std::string_view s) { return trim(s).empty(); }
+bool blank(std::string_view s) {
+  return trim(s).empty();
+}
 
 std::string join(const std::vector<std::string>& names) {
   std::string out;
@@ -50,12 +53,14 @@ bool parse_double(std::string_view token, double& out) {
 // ---------------------------------------------------------------------------------------------
 CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
   errno = 0;
-  file_ = std::fopen(path_.c_str(), "rb");
-  if (!file_) throw IoError(path_, "cannot open for reading");
+  src_.file = std::fopen(path_.c_str(), "rb");
+  if (!src_.file) throw IoError(path_, "cannot open for reading");
   static constexpr std::size_t kBuf = 1 << 20;
-  std::setvbuf(file_, nullptr, _IOFBF, kBuf);
+  std::setvbuf(src_.file, nullptr, _IOFBF, kBuf);
   while (true) {
-    if (!read_line()) throw ParseError(path_, line_ ? line_ : 1, "empty file: expected a header row of column names");
+    if (!read_line())
+      throw ParseError(path_, line_ ? line_ : 1,
+                       "empty file: expected a header row of column names");
     std::string_view t = trim(current_);
     if (t.empty() || t.front() == '#') continue;
     break;
@@ -66,10 +71,15 @@ CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
     std::size_t comma = rest.find(',');
     std::string_view field = trim(rest.substr(0, comma));
     if (field.empty())
-      throw ParseError(path_, line_, fmt::format("empty column name in header (column {})", header_.size() + 1));
+      throw ParseError(path_, line_,
+                       fmt::format("empty column name in header (column {})", header_.size() + 1));
     double dummy;
     if (header_.empty() && parse_double(field, dummy))
-      throw ParseError(path_, line_, fmt::format("expected a header row of column names (e.g. t,px,py,pz,fx,fy,fz), got number {}", quote_token(field)));
+      throw ParseError(
+          path_, line_,
+          fmt::format(
+              "expected a header row of column names (e.g. t,px,py,pz,fx,fy,fz), got number {}",
+              quote_token(field)));
     if (std::find(header_.begin(), header_.end(), field) != header_.end())
       throw ParseError(path_, line_, fmt::format("duplicate column name {}", quote_token(field)));
     header_.emplace_back(field);
@@ -79,24 +89,24 @@ CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
   values_.resize(header_.size());
 }
 
-CsvReader::~CsvReader() {
-  if (file_) std::fclose(file_);
-  std::free(line_buf_);
+CsvReader::Source::~Source() {
+  if (file) std::fclose(file);
+  std::free(buf);
 }
 
 bool CsvReader::read_line() {
-  ssize_t n = ::getline(&line_buf_, &line_cap_, file_);
+  ssize_t n = ::getline(&src_.buf, &src_.cap, src_.file);
   if (n < 0) {
-    if (std::ferror(file_)) throw IoError(path_, "read failed");
+    if (std::ferror(src_.file)) throw IoError(path_, "read failed");
     return false;
   }
   ++line_;
   std::size_t len = static_cast<std::size_t>(n);
-  if (len && line_buf_[len - 1] == '\n') --len;
-  if (len && line_buf_[len - 1] == '\r') --len;
-  if (std::memchr(line_buf_, '\0', len))
+  if (len && src_.buf[len - 1] == '\n') --len;
+  if (len && src_.buf[len - 1] == '\r') --len;
+  if (std::memchr(src_.buf, '\0', len))
     throw ParseError(path_, line_, "binary data (NUL byte) in a text CSV file");
-  current_ = std::string_view(line_buf_, len);
+  current_ = std::string_view(src_.buf, len);
   return true;
 }
 
@@ -108,7 +118,8 @@ std::optional<std::size_t> CsvReader::find(std::string_view name) const {
 
 std::size_t CsvReader::require(std::string_view name) const {
   if (auto i = find(name)) return *i;
-  throw ParseError(path_, header_line_, fmt::format("missing column '{}' (header has: {})", name, join(header_)));
+  throw ParseError(path_, header_line_,
+                   fmt::format("missing column '{}' (header has: {})", name, join(header_)));
 }
 
 bool CsvReader::next() {
@@ -121,15 +132,21 @@ bool CsvReader::next() {
     std::size_t comma = rest.find(',');
     std::string_view field = rest.substr(0, comma);
     if (col >= values_.size())
-      throw ParseError(path_, line_, fmt::format("expected {} fields as in the header, got more", values_.size()));
+      throw ParseError(
+          path_, line_,
+          fmt::format("expected {} fields as in the header, got more", values_.size()));
     if (!parse_double(field, values_[col]))
-      throw ParseError(path_, line_, fmt::format("column '{}': expected a number, got {}", header_[col], quote_token(trim(field))));
+      throw ParseError(path_, line_,
+                       fmt::format("column '{}': expected a number, got {}", header_[col],
+                                   quote_token(trim(field))));
     ++col;
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
   }
   if (col != values_.size())
-    throw ParseError(path_, line_, fmt::format("expected {} fields as in the header, got {}", values_.size(), col));
+    throw ParseError(
+        path_, line_,
+        fmt::format("expected {} fields as in the header, got {}", values_.size(), col));
   return true;
 }
 
@@ -172,7 +189,8 @@ CsvWriter::CsvWriter(std::string path, std::vector<std::string> header,
 
 void CsvWriter::row(std::span<const double> values) {
   if (values.size() != ncols_)
-    throw Error(fmt::format("{}: internal error: row with {} values for {} columns", file_.path(), values.size(), ncols_));
+    throw Error(fmt::format("{}: internal error: row with {} values for {} columns", file_.path(),
+                            values.size(), ncols_));
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (i) buf_ += ',';
     // Shortest representation that round-trips: deterministic bytes, exact reload.
@@ -200,7 +218,8 @@ const std::vector<double>* Recording::find_extra(std::string_view name) const {
 
 void Recording::set_extra(const std::string& name, std::vector<double> values) {
   if (values.size() != size())
-    throw Error(fmt::format("recording column '{}' has {} values, expected {}", name, values.size(), size()));
+    throw Error(fmt::format("recording column '{}' has {} values, expected {}", name, values.size(),
+                            size()));
   for (std::size_t i = 0; i < extra_names.size(); ++i)
     if (extra_names[i] == name) {
       extra[i] = std::move(values);
@@ -227,10 +246,14 @@ Recording read_recording(const std::string& path) {
   while (r.next()) {
     for (std::size_t c = 0; c < r.values().size(); ++c)
       if (!std::isfinite(r[c]))
-        throw ParseError(path, r.line(), fmt::format("column '{}': expected a finite number, got {}", r.header()[c], r[c]));
+        throw ParseError(
+            path, r.line(),
+            fmt::format("column '{}': expected a finite number, got {}", r.header()[c], r[c]));
     double t = r[idx[0]];
     if (!rec.t.empty() && !(t > rec.t.back()))
-      throw ParseError(path, r.line(), fmt::format("time must be strictly increasing: t = {} after t = {}", t, rec.t.back()));
+      throw ParseError(
+          path, r.line(),
+          fmt::format("time must be strictly increasing: t = {} after t = {}", t, rec.t.back()));
     rec.t.push_back(t);
     rec.p.emplace_back(r[idx[1]], r[idx[2]], r[idx[3]]);
     rec.f.emplace_back(r[idx[4]], r[idx[5]], r[idx[6]]);

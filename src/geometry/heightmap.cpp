@@ -14,8 +14,12 @@
 
 namespace inhap {
 
-double Grid::min() const { return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end()); }
-double Grid::max() const { return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end()); }
+double Grid::min() const {
+  return values.empty() ? 0.0 : *std::min_element(values.begin(), values.end());
+}
+double Grid::max() const {
+  return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
+}
 
 namespace {
 
@@ -35,7 +39,8 @@ Grid read_csv_grid(const std::string& path, const std::string& text) {
     std::string_view line(text.data() + pos, end - pos);
     pos = end + 1;
     ++line_no;
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+      line.remove_suffix(1);
     std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string_view::npos || line[first] == '#') continue;
     int count = 0;
@@ -47,21 +52,29 @@ Grid read_csv_grid(const std::string& path, const std::string& text) {
       if (!tok.empty()) {
         double v;
         if (!parse_double(tok, v) || !std::isfinite(v))
-          throw ParseError(path, line_no, fmt::format("column {}: expected a finite number, got {}", count + 1, quote_token(tok)));
+          throw ParseError(path, line_no,
+                           fmt::format("column {}: expected a finite number, got {}", count + 1,
+                                       quote_token(tok)));
         g.values.push_back(v);
         ++count;
       } else if (j < line.size() && line[j] == ',') {
-        throw ParseError(path, line_no, fmt::format("column {}: expected a number, got an empty field", count + 1));
+        throw ParseError(
+            path, line_no,
+            fmt::format("column {}: expected a number, got an empty field", count + 1));
       }
       i = j + 1;
     }
     if (g.width == 0) g.width = count;
     if (count != g.width)
-      throw ParseError(path, line_no, fmt::format("expected {} values as in the first row, got {}", g.width, count));
+      throw ParseError(
+          path, line_no,
+          fmt::format("expected {} values as in the first row, got {}", g.width, count));
     ++g.height;
   }
   if (g.width < 2 || g.height < 2)
-    throw ParseError(path, 0, fmt::format("expected a grid of at least 2x2 values, got {}x{}", g.width, g.height));
+    throw ParseError(
+        path, 0,
+        fmt::format("expected a grid of at least 2x2 values, got {}x{}", g.width, g.height));
   return g;
 }
 
@@ -83,22 +96,29 @@ Grid read_pgm(const std::string& path, const std::string& data) {
     std::size_t start = pos;
     while (pos < data.size() && std::isdigit(static_cast<unsigned char>(data[pos]))) ++pos;
     if (start == pos || pos - start > 9)
-      throw ParseError(path, line, fmt::format("PGM header: expected {} (a positive integer), got {}", what, quote_token(std::string_view(data).substr(start, 8))));
+      throw ParseError(path, line,
+                       fmt::format("PGM header: expected {} (a positive integer), got {}", what,
+                                   quote_token(std::string_view(data).substr(start, 8))));
     return std::stol(data.substr(start, pos - start));
   };
   const bool binary = data[1] == '5';
   long w = next_token("width"), h = next_token("height"), maxval = next_token("maxval");
   if (w < 2 || h < 2 || w > 100000 || h > 100000)
-    throw ParseError(path, line, fmt::format("PGM header: expected width and height in [2, 100000], got {}x{}", w, h));
+    throw ParseError(
+        path, line,
+        fmt::format("PGM header: expected width and height in [2, 100000], got {}x{}", w, h));
   if (maxval < 1 || maxval > 65535)
-    throw ParseError(path, line, fmt::format("PGM header: expected maxval in [1, 65535], got {}", maxval));
+    throw ParseError(path, line,
+                     fmt::format("PGM header: expected maxval in [1, 65535], got {}", maxval));
   Grid g(static_cast<int>(w), static_cast<int>(h));
   const std::size_t n = std::size_t(w) * h;
   if (binary) {
     ++pos;  // exactly one whitespace after maxval
     const std::size_t bytes = maxval > 255 ? 2 : 1;
     if (data.size() < pos + n * bytes)
-      throw ParseError(path, 0, fmt::format("truncated PGM data: expected {} bytes of pixels, got {}", n * bytes, data.size() > pos ? data.size() - pos : 0));
+      throw ParseError(path, 0,
+                       fmt::format("truncated PGM data: expected {} bytes of pixels, got {}",
+                                   n * bytes, data.size() > pos ? data.size() - pos : 0));
     for (std::size_t i = 0; i < n; ++i) {
       const auto* b = reinterpret_cast<const unsigned char*>(data.data() + pos + i * bytes);
       g.values[i] = bytes == 2 ? double((b[0] << 8) | b[1]) : double(b[0]);  // PGM is big-endian
@@ -106,7 +126,8 @@ Grid read_pgm(const std::string& path, const std::string& data) {
   } else {
     for (std::size_t i = 0; i < n; ++i) {
       long v = next_token("a pixel value");
-      if (v > maxval) throw ParseError(path, line, fmt::format("pixel value {} exceeds maxval {}", v, maxval));
+      if (v > maxval)
+        throw ParseError(path, line, fmt::format("pixel value {} exceeds maxval {}", v, maxval));
       g.values[i] = double(v);
     }
   }
@@ -116,12 +137,16 @@ Grid read_pgm(const std::string& path, const std::string& data) {
 }  // namespace
 
 Grid read_grid(const std::string& path) {
-  // TODO(wsxm): dispatch .top files to read_wsxm_top once it lands.
   std::string data = read_file(path);
-  if (data.empty()) throw ParseError(path, 0, "empty file: expected a height/stiffness grid (CSV or PGM)");
-  if (data.size() >= 2 && data[0] == 'P' && (data[1] == '2' || data[1] == '5')) return read_pgm(path, data);
+  if (data.rfind("WSxM file copyright", 0) == 0) return read_wsxm_top(path);  // AFM topography
+  if (data.empty())
+    throw ParseError(path, 0, "empty file: expected a height/stiffness grid (CSV or PGM)");
+  if (data.size() >= 2 && data[0] == 'P' && (data[1] == '2' || data[1] == '5'))
+    return read_pgm(path, data);
   if (data.size() >= 2 && data[0] == 'P')
-    throw ParseError(path, 1, fmt::format("expected a PGM (P2 or P5) or a CSV grid, got magic {}", quote_token(data.substr(0, 2))));
+    throw ParseError(path, 1,
+                     fmt::format("expected a PGM (P2 or P5) or a CSV grid, got magic {}",
+                                 quote_token(data.substr(0, 2))));
   return read_csv_grid(path, data);
 }
 
@@ -143,17 +168,20 @@ void level_plane(Grid& grid) {
 
 TriMesh grid_to_mesh(const Grid& height, double spacing_mm, const Grid* stiffness) {
   if (height.width < 2 || height.height < 2)
-    throw Error(fmt::format("height map must be at least 2x2, got {}x{}", height.width, height.height));
+    throw Error(
+        fmt::format("height map must be at least 2x2, got {}x{}", height.width, height.height));
   if (!(spacing_mm > 0) || !std::isfinite(spacing_mm))
     throw Error(fmt::format("pixel spacing must be a positive number of mm, got {}", spacing_mm));
   if (stiffness && (stiffness->width != height.width || stiffness->height != height.height))
-    throw Error(fmt::format("stiffness map is {}x{} but the height map is {}x{}: they must be the same size",
-                            stiffness->width, stiffness->height, height.width, height.height));
+    throw Error(fmt::format(
+        "stiffness map is {}x{} but the height map is {}x{}: they must be the same size",
+        stiffness->width, stiffness->height, height.width, height.height));
   const int W = height.width, H = height.height;
   TriMesh m;
   m.positions.reserve(std::size_t(W) * H);
   for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) m.positions.emplace_back(x * spacing_mm, y * spacing_mm, height.at(x, y));
+    for (int x = 0; x < W; ++x)
+      m.positions.emplace_back(x * spacing_mm, y * spacing_mm, height.at(x, y));
   m.triangles.reserve(2 * std::size_t(W - 1) * (H - 1));
   for (int y = 0; y + 1 < H; ++y)
     for (int x = 0; x + 1 < W; ++x) {
@@ -169,7 +197,8 @@ TriMesh grid_to_mesh(const Grid& height, double spacing_mm, const Grid* stiffnes
     }
   if (stiffness) {
     for (double k : stiffness->values)
-      if (!std::isfinite(k) || k < 0) throw Error(fmt::format("stiffness map: expected finite values >= 0 N/mm, got {}", k));
+      if (!std::isfinite(k) || k < 0)
+        throw Error(fmt::format("stiffness map: expected finite values >= 0 N/mm, got {}", k));
     m.set_property("stiffness", stiffness->values);
   }
   m.compute_normals();

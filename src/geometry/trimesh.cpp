@@ -49,14 +49,16 @@ const std::vector<double>& TriMesh::property(const std::string& name) const {
   if (it == properties.end()) {
     std::string have;
     for (const auto& [k, v] : properties) have += (have.empty() ? "" : ", ") + k;
-    throw Error(fmt::format("mesh has no vertex property '{}' (has: {})", name, have.empty() ? "none" : have));
+    throw Error(fmt::format("mesh has no vertex property '{}' (has: {})", name,
+                            have.empty() ? "none" : have));
   }
   return it->second;
 }
 
 void TriMesh::set_property(const std::string& name, std::vector<double> values) {
   if (values.size() != positions.size())
-    throw Error(fmt::format("vertex property '{}' has {} values, mesh has {} vertices", name, values.size(), positions.size()));
+    throw Error(fmt::format("vertex property '{}' has {} values, mesh has {} vertices", name,
+                            values.size(), positions.size()));
   properties[name] = std::move(values);
 }
 
@@ -70,23 +72,29 @@ void TriMesh::validate(const std::string& source) const {
   const auto nv = static_cast<std::int64_t>(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i)
     if (!positions[i].allFinite())
-      throw Error(fmt::format("{}: vertex {}: expected finite coordinates, got ({}, {}, {})", source, i, positions[i].x(), positions[i].y(), positions[i].z()));
+      throw Error(fmt::format("{}: vertex {}: expected finite coordinates, got ({}, {}, {})",
+                              source, i, positions[i].x(), positions[i].y(), positions[i].z()));
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     const Tri& t = triangles[f];
     for (int c = 0; c < 3; ++c)
       if (t[c] < 0 || t[c] >= nv)
-        throw Error(fmt::format("{}: face {}: vertex index {} out of range [0, {})", source, f, t[c], nv));
+        throw Error(
+            fmt::format("{}: face {}: vertex index {} out of range [0, {})", source, f, t[c], nv));
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      throw Error(fmt::format("{}: face {}: repeats a vertex ({}, {}, {})", source, f, t[0], t[1], t[2]));
+      throw Error(
+          fmt::format("{}: face {}: repeats a vertex ({}, {}, {})", source, f, t[0], t[1], t[2]));
   }
   if (!normals.empty() && normals.size() != positions.size())
-    throw Error(fmt::format("{}: {} normals for {} vertices", source, normals.size(), positions.size()));
+    throw Error(
+        fmt::format("{}: {} normals for {} vertices", source, normals.size(), positions.size()));
   for (const auto& [name, v] : properties) {
     if (v.size() != positions.size())
-      throw Error(fmt::format("{}: property '{}' has {} values for {} vertices", source, name, v.size(), positions.size()));
+      throw Error(fmt::format("{}: property '{}' has {} values for {} vertices", source, name,
+                              v.size(), positions.size()));
     for (std::size_t i = 0; i < v.size(); ++i)
       if (!std::isfinite(v[i]))
-        throw Error(fmt::format("{}: vertex {}: property '{}' is not finite ({})", source, i, name, v[i]));
+        throw Error(
+            fmt::format("{}: vertex {}: property '{}' is not finite ({})", source, i, name, v[i]));
   }
 }
 
@@ -202,7 +210,8 @@ MeshTopology analyze_topology(const TriMesh& mesh, const MeshAdjacency& adj) {
         parent[find(static_cast<std::int32_t>(a))] = find(b);
       }
     for (std::size_t v = 0; v < parent.size(); ++v)
-      if (on_boundary[v] && find(static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v)) ++topo.boundary_loops;
+      if (on_boundary[v] && find(static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v))
+        ++topo.boundary_loops;
   }
   // Face components (across manifold and non-manifold edges alike: shared vertices of an edge).
   {
@@ -238,7 +247,8 @@ MeshTopology analyze_topology(const TriMesh& mesh, const MeshAdjacency& adj) {
         if (g < 0) continue;
         // neighbour must also contain v and the edge must contain v
         const Tri& t = mesh.triangles[f];
-        if (t[e] != static_cast<std::int32_t>(v) && t[(e + 1) % 3] != static_cast<std::int32_t>(v)) continue;
+        if (t[e] != static_cast<std::int32_t>(v) && t[(e + 1) % 3] != static_cast<std::int32_t>(v))
+          continue;
         if (std::find(seen.begin(), seen.end(), g) == seen.end()) {
           seen.push_back(g);
           stack.push_back(g);

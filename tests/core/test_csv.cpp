@@ -28,7 +28,9 @@ std::string error_of(const std::string& path) {
 
 TEST(Csv, ReadsRecordingByHeaderNamesInAnyOrder) {
   test::TempDir dir;
-  auto path = write(dir, "r.csv", "# units\nfz,t,px,py,pz,fx,fy,extra\n3,0.001,1,2,3,1,2,9\n6,0.002,4,5,6,4,5,8\n");
+  auto path =
+      write(dir, "r.csv",
+            "# units\nfz,t,px,py,pz,fx,fy,extra\n3,0.001,1,2,3,1,2,9\n6,0.002,4,5,6,4,5,8\n");
   Recording rec = read_recording(path);
   ASSERT_EQ(rec.size(), 2u);
   EXPECT_DOUBLE_EQ(rec.t[1], 0.002);
@@ -85,11 +87,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadCase{"empty", "", "empty file"},
         BadCase{"missing", "t,px,py,pz,fx,fy\n0,1,2,3,4,5\n", ":1: missing column 'fz'"},
-        BadCase{"ragged_short", "t,px,py,pz,fx,fy,fz\n0,1,2,3,4,5,6\n1,1,2,3\n", ":3: expected 7 fields"},
+        BadCase{"ragged_short", "t,px,py,pz,fx,fy,fz\n0,1,2,3,4,5,6\n1,1,2,3\n",
+                ":3: expected 7 fields"},
         BadCase{"ragged_long", "t,px,py,pz,fx,fy,fz\n0,1,2,3,4,5,6,7\n", ":2: expected 7 fields"},
-        BadCase{"nonnumber", "t,px,py,pz,fx,fy,fz\n0,1,2,abc,4,5,6\n", ":2: column 'pz': expected a number, got 'abc'"},
-        BadCase{"time", "t,px,py,pz,fx,fy,fz\n0,1,2,3,4,5,6\n0,1,2,3,4,5,6\n", ":3: time must be strictly increasing"},
-        BadCase{"nan", "t,px,py,pz,fx,fy,fz\n0,1,2,nan,4,5,6\n", ":2: column 'pz': expected a finite number"},
+        BadCase{"nonnumber", "t,px,py,pz,fx,fy,fz\n0,1,2,abc,4,5,6\n",
+                ":2: column 'pz': expected a number, got 'abc'"},
+        BadCase{"time", "t,px,py,pz,fx,fy,fz\n0,1,2,3,4,5,6\n0,1,2,3,4,5,6\n",
+                ":3: time must be strictly increasing"},
+        BadCase{"nan", "t,px,py,pz,fx,fy,fz\n0,1,2,nan,4,5,6\n",
+                ":2: column 'pz': expected a finite number"},
         BadCase{"header_is_number", "0,1,2\n", ":1: expected a header row"},
         BadCase{"duplicate", "t,t,px\n", "duplicate column name 't'"}),
     [](const auto& tp) { return std::string(tp.param.name); });

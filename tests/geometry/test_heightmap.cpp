@@ -26,7 +26,8 @@ TEST(Heightmap, GridGives2WHTrianglesAndStiffness) {
     EXPECT_DOUBLE_EQ(m.positions.back().z(), 0.1 * (w - 1) - 0.2 * (h - 1));
     // Plane z = 0.1 x - 0.2 y in grid units -> normal ∝ (-0.1/0.5, 0.2/0.5, 1) in mm.
     Vec3 expect = Vec3(-0.2, 0.4, 1).normalized();
-    for (std::size_t f = 0; f < m.num_triangles(); f += 97) EXPECT_NEAR(m.face_normal(f).dot(expect), 1.0, 1e-12);
+    for (std::size_t f = 0; f < m.num_triangles(); f += 97)
+      EXPECT_NEAR(m.face_normal(f).dot(expect), 1.0, 1e-12);
     for (const auto& n : m.normals) EXPECT_NEAR(n.dot(expect), 1.0, 1e-12);
     MeshAdjacency adj = build_adjacency(m);
     MeshTopology topo = analyze_topology(m, adj);
@@ -47,7 +48,8 @@ TEST(Heightmap, StiffnessSizeMismatchIsAnError) {
 TEST(Heightmap, LevelPlaneRemovesTiltExactly) {
   Grid g(30, 20);
   for (int y = 0; y < 20; ++y)
-    for (int x = 0; x < 30; ++x) g.at(x, y) = 3.0 + 0.7 * x - 1.3 * y + (x == 10 && y == 10 ? 5.0 : 0.0);
+    for (int x = 0; x < 30; ++x)
+      g.at(x, y) = 3.0 + 0.7 * x - 1.3 * y + (x == 10 && y == 10 ? 5.0 : 0.0);
   level_plane(g);
   // The bump survives; everything else is flat (a single outlier shifts the fit by a tiny amount).
   double spread = 0;

@@ -16,7 +16,8 @@ class TempDir {
     std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "inhap";
     for (auto& c : name)
       if (c == '/') c = '_';
-    std::string templ = (std::filesystem::temp_directory_path() / ("inhap-" + name + "-XXXXXX")).string();
+    std::string templ =
+        (std::filesystem::temp_directory_path() / ("inhap-" + name + "-XXXXXX")).string();
     if (!::mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
     root_ = templ;
   }

@@ -29,7 +29,7 @@ class CsvReader {
  public:
   /// Opens `path` and reads the header row. Throws IoError / ParseError.
   explicit CsvReader(std::string path);
-  ~CsvReader();
+  ~CsvReader() = default;
   CsvReader(const CsvReader&) = delete;
   CsvReader& operator=(const CsvReader&) = delete;
 
@@ -50,11 +50,19 @@ class CsvReader {
   std::size_t header_line() const { return header_line_; }
 
  private:
-  bool read_line();  // into line_buf_/line_len_; false at EOF
+  bool read_line();  // into current_; false at EOF
+  // Owns the FILE* and getline's buffer; a member, so a throwing constructor still frees them.
+  struct Source {
+    std::FILE* file = nullptr;
+    char* buf = nullptr;
+    std::size_t cap = 0;
+    Source() = default;
+    Source(const Source&) = delete;
+    Source& operator=(const Source&) = delete;
+    ~Source();
+  };
   std::string path_;
-  std::FILE* file_ = nullptr;
-  char* line_buf_ = nullptr;
-  std::size_t line_cap_ = 0;
+  Source src_;
   std::string_view current_;
   std::size_t line_ = 0, header_line_ = 0;
   std::vector<std::string> header_;
@@ -83,7 +91,9 @@ class CsvWriter {
   CsvWriter(std::string path, std::vector<std::string> header,
             std::span<const std::string> comments = {});
   void row(std::span<const double> values);
-  void row(std::initializer_list<double> values) { row(std::span<const double>(values.begin(), values.size())); }
+  void row(std::initializer_list<double> values) {
+    row(std::span<const double>(values.begin(), values.size()));
+  }
   void commit();
   std::size_t columns() const { return ncols_; }
 

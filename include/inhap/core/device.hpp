@@ -17,8 +17,8 @@ namespace inhap {
 struct DeviceInfo {
   std::string name = "device";
   double servo_rate_hz = 1000.0;
-  double max_force_n = 6.2;    ///< output saturation (continuous), N
-  double tool_mass_kg = 0.0;   ///< mass of the tool beyond the force sensor, kg
+  double max_force_n = 6.2;           ///< output saturation (continuous), N
+  double tool_mass_kg = 0.0;          ///< mass of the tool beyond the force sensor, kg
   Vec3 gravity_mm_s2{0, 0, -9810.0};  ///< gravity in the device frame, mm/s^2
   /// Orientation of the force sensor frame in the device frame (readings are rotated by this
   /// into the device frame before they are returned; identity for the simulated device).

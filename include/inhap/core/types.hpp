@@ -3,8 +3,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <limits>
 #include <cstdint>
+#include <limits>
 
 namespace inhap {
 
@@ -31,6 +31,8 @@ struct Box3 {
 };
 
 /// True when every component is finite (no NaN, no inf).
-inline bool all_finite(const Vec3& v) { return v.allFinite(); }
+inline bool all_finite(const Vec3& v) {
+  return v.allFinite();
+}
 
 }  // namespace inhap

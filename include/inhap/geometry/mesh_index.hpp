@@ -37,6 +37,9 @@ struct ClosestPoint : SurfacePoint {
 class MeshIndex {
  public:
   MeshIndex() = default;
+  /// Builds the index (allocates; not for the servo loop). Throws Error on an out-of-range
+  /// vertex index or a non-finite vertex used by a triangle. Zero-area triangles are kept but
+  /// never hit by segments.
   explicit MeshIndex(const TriMesh& mesh);
 
   /// First intersection of the closed segment a->b with the surface (smallest t), any face
@@ -53,17 +56,21 @@ class MeshIndex {
   std::size_t memory_bytes() const;
 
  private:
-  struct Node {
-    float lo[3], hi[3];     // bounds (float, conservatively rounded outwards)
-    std::int32_t first;     // leaf: first triangle slot; inner: index of the right child
-    std::int32_t count;     // leaf: number of triangles (>0); inner: 0 (left child = this + 1)
+  // Inner node with the bounds of both children: one 64-byte cache line per visited node.
+  struct alignas(64) Node {
+    float lo[3][2], hi[3][2];  // [axis][child], float, conservatively rounded outwards
+    std::int32_t child[2];     // leaf child: first triangle slot; inner child: node index
+    std::int32_t count[2];     // leaf child: number of triangles (1..4); inner child: 0
   };
   struct TriData {
-    Vec3 v0, e1, e2;  // v1 = v0 + e1, v2 = v0 + e2
+    // Raw vertex positions (not v0 + edges): a vertex shared by several triangles must be
+    // bit-identical in each of them for the watertight segment test.
+    Vec3 v0, v1, v2;
   };
-  std::vector<Node> nodes_;
-  std::vector<TriData> tris_;            // leaf order
-  std::vector<std::int32_t> tri_ids_;    // leaf slot -> original triangle id
+  std::vector<Node> nodes_;            // root = nodes_[0]; empty when all triangles fit one leaf
+  std::vector<TriData> tris_;          // leaf order
+  std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
+  Box3 bounds_;                        // exact bounds of all vertices
 };
 
 }  // namespace inhap

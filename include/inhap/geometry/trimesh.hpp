@@ -77,8 +77,8 @@ struct MeshTopology {
   std::size_t edges = 0, boundary_edges = 0, nonmanifold_edges = 0;
   std::size_t nonmanifold_vertices = 0;  ///< vertices whose fan is not a single disk/half-disk
   std::size_t boundary_loops = 0;
-  std::size_t components = 0;            ///< connected components of faces
-  std::size_t inconsistent_edges = 0;    ///< interior edges whose faces disagree on orientation
+  std::size_t components = 0;          ///< connected components of faces
+  std::size_t inconsistent_edges = 0;  ///< interior edges whose faces disagree on orientation
   bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
   bool watertight() const { return manifold() && boundary_edges == 0; }
   bool oriented() const { return inconsistent_edges == 0; }

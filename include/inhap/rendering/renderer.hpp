@@ -17,12 +17,19 @@ namespace inhap::render {
 enum class Algorithm { kCBA, kTCA };
 
 struct Params {
-  double a_s = 0.05;             ///< height restoration slope of s(n) (eq. 5.11), dimensionless
-  double a_t = 0.5;              ///< mesh restoration ratio of t(n) (eq. 5.15), dimensionless
-  double force_limit_n = 6.2;    ///< output force clamp (device limit), N
+  double a_s = 0.05;               ///< height restoration slope of s(n) (eq. 5.11), dimensionless
+  double a_t = 0.5;                ///< mesh restoration ratio of t(n) (eq. 5.15), dimensionless
+  double force_limit_n = 6.2;      ///< output force clamp (device limit), N
   double default_stiffness = 1.0;  ///< N/mm, used when the mesh has no `stiffness` property
-  double min_stiffness = 1e-3;   ///< N/mm, floor applied to k(q) (k = 0 would divide by zero in 5.4)
-  bool force_shading = true;     ///< interpolate vertex normals for the force direction
+  double min_stiffness = 1e-3;  ///< N/mm, floor applied to k(q) (k = 0 would divide by zero in 5.4)
+  bool force_shading = true;    ///< interpolate vertex normals for the force direction
+  // --- added by the renderer implementation (append-only) ---
+  /// A HIP step of at least this length in one tick (mm) is treated as a tracking glitch: zero
+  /// force and a state reset; contact is then re-detected from outside. 20 mm/tick = 20 m/s.
+  double max_jump_mm = 20.0;
+  /// Budget of triangle moves of the local surface search per tick before the global
+  /// closest-point fallback (bounds the worst-case step time).
+  std::uint32_t max_walk_steps = 1024;
 };
 
 /// Immutable rendering model: mesh with per-vertex stiffness and normals, adjacency, index.
@@ -50,20 +57,31 @@ class Model {
 
 /// Everything that changes per servo tick (thesis notation in brackets).
 struct State {
-  bool has_prev = false;     ///< p(n-1) valid
+  bool has_prev = false;         ///< p(n-1) valid
   Vec3 hip_prev = Vec3::Zero();  ///< p(n-1), mm
-  bool collision = false;    ///< COLLISION
-  SurfacePoint ihip;         ///< q(n) on M^t(n) (point includes the translation t), mm
-  Vec3 cihip = Vec3::Zero(); ///< q'(n) = q(n) + s(n) n(n), mm
-  Vec3 normal = Vec3::UnitZ();  ///< n(n)
-  double k = 0;              ///< k(n), N/mm
-  double k_prev = 0;         ///< k(n-1), N/mm
-  double s = 0;              ///< s(n), signed point compensation, mm
-  Vec3 t = Vec3::Zero();     ///< t(n), mesh compensation vector, mm
-  Vec3 force = Vec3::Zero(); ///< last output force, N
-  std::uint32_t resets = 0;  ///< how many times bad input forced a reset
+  bool collision = false;        ///< COLLISION
+  SurfacePoint ihip;             ///< q(n) on M^t(n) (point includes the translation t), mm
+  Vec3 cihip = Vec3::Zero();     ///< q'(n) = q(n) + s(n) n(n), mm
+  Vec3 normal = Vec3::UnitZ();   ///< n(n)
+  double k = 0;                  ///< k(n), N/mm
+  double k_prev = 0;             ///< k(n-1), N/mm
+  double s = 0;                  ///< s(n), signed point compensation, mm
+  Vec3 t = Vec3::Zero();         ///< t(n), mesh compensation vector, mm
+  Vec3 force = Vec3::Zero();     ///< last output force, N
+  std::uint32_t resets = 0;      ///< how many times bad input forced a reset
+  // --- added by the renderer implementation (append-only) ---
+  /// Previous HIP in mesh coordinates, p(n-1) - t (the t the mesh had when p(n-1) was seen): the
+  /// contact test sweeps the HIP's motion *relative to* M^t, so a restoring mesh cannot jump over
+  /// a hovering probe.
+  Vec3 hip_prev_mesh = Vec3::Zero();
+  std::uint32_t walk_steps = 0;  ///< triangles crossed by the local search in the last tick
+  std::uint32_t fallbacks = 0;   ///< global closest-point fallbacks since the last reset
 
-  void reset() { *this = State{.resets = resets + 1}; }
+  void reset() {
+    const std::uint32_t n = resets + 1;
+    *this = State{};
+    resets = n;
+  }
 };
 
 /// One servo tick: HIP position p (mm) in, force (N) out. CBA ignores s and t (they stay 0).

@@ -1,0 +1,246 @@
+// inhap mesh info | convert | heightmap
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+
+#include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/geometry/heightmap.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+#include "inhap/geometry/trimesh.hpp"
+
+namespace inhap::cli {
+namespace {
+
+void print_warnings(const std::string& path, const std::vector<std::string>& dropped) {
+  for (const auto& name : dropped)
+    fmt::print(stderr,
+               "inhap: warning: {}: the format cannot store vertex property '{}'; it was dropped\n",
+               path, name);
+}
+
+// ------------------------------------------------------------------------------------ info
+struct InfoOptions {
+  std::string file, json;
+};
+
+void run_info(const InfoOptions& o) {
+  TriMesh m = read_mesh(o.file);
+  MeshAdjacency adj = build_adjacency(m);
+  MeshTopology topo = analyze_topology(m, adj);
+  Box3 b = m.bbox();
+  fmt::print("file        {}\n", o.file);
+  fmt::print("vertices    {}\n", m.num_vertices());
+  fmt::print("faces       {}\n", m.num_triangles());
+  fmt::print("edges       {}\n", topo.edges);
+  if (!b.empty()) {
+    fmt::print("bbox min    {:.6g} {:.6g} {:.6g} mm\n", b.min.x(), b.min.y(), b.min.z());
+    fmt::print("bbox max    {:.6g} {:.6g} {:.6g} mm\n", b.max.x(), b.max.y(), b.max.z());
+    Vec3 s = b.size();
+    fmt::print("size        {:.6g} x {:.6g} x {:.6g} mm\n", s.x(), s.y(), s.z());
+  }
+  nlohmann::json props = nlohmann::json::object();
+  for (const auto& [name, v] : m.properties) {
+    auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    double l = v.empty() ? 0 : *lo, h = v.empty() ? 0 : *hi;
+    fmt::print("property    {} in [{:.6g}, {:.6g}]{}\n", name, l, h,
+               name == "stiffness" ? " N/mm" : "");
+    props[name] = {{"min", l}, {"max", h}};
+  }
+  fmt::print("manifold    {}{}\n", topo.manifold() ? "yes" : "no",
+             topo.manifold() ? ""
+                             : fmt::format(" ({} non-manifold edges, {} non-manifold vertices)",
+                                           topo.nonmanifold_edges, topo.nonmanifold_vertices));
+  fmt::print("watertight  {}\n", topo.watertight() ? "yes" : "no");
+  fmt::print("boundary    {} loops, {} edges\n", topo.boundary_loops, topo.boundary_edges);
+  fmt::print("oriented    {}{}\n", topo.oriented() ? "yes" : "no",
+             topo.oriented()
+                 ? ""
+                 : fmt::format(" ({} edges with inconsistent faces)", topo.inconsistent_edges));
+  fmt::print("components  {}\n", topo.components);
+  if (!o.json.empty()) {
+    nlohmann::json j = {
+        {"file", o.file},
+        {"vertices", m.num_vertices()},
+        {"faces", m.num_triangles()},
+        {"edges", topo.edges},
+        {"bbox_mm",
+         {{"min", {b.min.x(), b.min.y(), b.min.z()}}, {"max", {b.max.x(), b.max.y(), b.max.z()}}}},
+        {"properties", props},
+        {"manifold", topo.manifold()},
+        {"watertight", topo.watertight()},
+        {"oriented", topo.oriented()},
+        {"boundary_loops", topo.boundary_loops},
+        {"boundary_edges", topo.boundary_edges},
+        {"components", topo.components}};
+    write_file_atomic(o.json, j.dump(2) + "\n");
+  }
+}
+
+// --------------------------------------------------------------------------------- convert
+struct ConvertOptions {
+  std::string in, out;
+  double scale_to = 0;
+  bool center = false, ascii = false;
+  std::string stiffness_from;
+  std::vector<double> k_range;
+};
+
+void map_property_to_stiffness(TriMesh& m, const std::string& prop, double kmin, double kmax) {
+  const auto& v = m.property(prop);
+  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  const double a = v.empty() ? 0 : *lo, b = v.empty() ? 0 : *hi;
+  std::vector<double> k(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    k[i] = b > a ? kmin + (v[i] - a) / (b - a) * (kmax - kmin) : kmax;
+  m.set_property("stiffness", std::move(k));
+}
+
+void run_convert(const ConvertOptions& o) {
+  TriMesh m = read_mesh(o.in);
+  if (!o.stiffness_from.empty()) {
+    if (o.k_range.size() != 2) throw Error("--stiffness-from needs --k-range KMIN KMAX (N/mm)");
+    if (!(o.k_range[0] >= 0) || !(o.k_range[1] >= o.k_range[0]) || !std::isfinite(o.k_range[1]))
+      throw Error(fmt::format("--k-range: expected 0 <= KMIN <= KMAX N/mm, got {} {}", o.k_range[0],
+                              o.k_range[1]));
+    map_property_to_stiffness(m, o.stiffness_from, o.k_range[0], o.k_range[1]);
+  } else if (!o.k_range.empty()) {
+    throw Error("--k-range needs --stiffness-from PROP");
+  }
+  Box3 b = m.bbox();
+  Vec3 origin = o.center ? b.center() : Vec3::Zero();
+  double scale = 1.0;
+  if (o.scale_to > 0) {
+    double largest = b.size().maxCoeff();
+    if (!(largest > 0)) throw Error(fmt::format("{}: cannot scale a mesh of zero size", o.in));
+    scale = o.scale_to / largest;
+  }
+  if (o.center || scale != 1.0) {
+    m.transform(scale, origin);
+    if (!o.center) {  // keep the original position of the box minimum when only scaling
+      for (auto& p : m.positions) p += origin;
+    }
+  }
+  print_warnings(o.out, write_mesh(o.out, m, MeshWriteOptions{.ascii = o.ascii}));
+  Box3 nb = m.bbox();
+  fmt::print(
+      "wrote {}: {} vertices, {} faces, size {:.4g} x {:.4g} x {:.4g} mm{}\n", o.out,
+      m.num_vertices(), m.num_triangles(), nb.size().x(), nb.size().y(), nb.size().z(),
+      m.has_property("stiffness")
+          ? fmt::format(
+                ", stiffness in [{:.4g}, {:.4g}] N/mm",
+                *std::min_element(m.property("stiffness").begin(), m.property("stiffness").end()),
+                *std::max_element(m.property("stiffness").begin(), m.property("stiffness").end()))
+          : std::string());
+}
+
+// ------------------------------------------------------------------------------- heightmap
+struct HeightmapOptions {
+  std::string height, stiffness, out;
+  double spacing = 0, height_scale = 1.0;
+  std::vector<double> k_range, k_from_height;
+  bool level = false, ascii = false;
+};
+
+void run_heightmap(const HeightmapOptions& o) {
+  Grid h = read_grid(o.height);
+  for (auto& v : h.values) v *= o.height_scale;
+  if (o.level) level_plane(h);
+  std::unique_ptr<Grid> k;
+  if (!o.stiffness.empty() && !o.k_from_height.empty())
+    throw Error("give either --stiffness MAP or --stiffness-from-height KMIN KMAX, not both");
+  if (!o.stiffness.empty()) {
+    k = std::make_unique<Grid>(read_grid(o.stiffness));
+    if (o.k_range.size() == 2) {  // map the map's raw levels [min, max] linearly onto the range
+      double a = k->min(), b = k->max();
+      for (auto& v : k->values)
+        v = b > a ? o.k_range[0] + (v - a) / (b - a) * (o.k_range[1] - o.k_range[0]) : o.k_range[1];
+    }
+  } else if (o.k_from_height.size() == 2) {
+    k = std::make_unique<Grid>(h);
+    double a = h.min(), b = h.max();
+    for (auto& v : k->values)
+      v = b > a ? o.k_from_height[0] + (v - a) / (b - a) * (o.k_from_height[1] - o.k_from_height[0])
+                : o.k_from_height[1];
+  }
+  TriMesh m = grid_to_mesh(h, o.spacing, k.get());
+  print_warnings(o.out, write_mesh(o.out, m, MeshWriteOptions{.ascii = o.ascii}));
+  Box3 b = m.bbox();
+  fmt::print("wrote {}: {}x{} grid, {} vertices, {} triangles, size {:.4g} x {:.4g} x {:.4g} mm\n",
+             o.out, h.width, h.height, m.num_vertices(), m.num_triangles(), b.size().x(),
+             b.size().y(), b.size().z());
+}
+
+void register_mesh(CLI::App& app) {
+  auto* mesh = app.add_subcommand(
+      "mesh", "Mesh files: inspect, convert, build from height maps (units: mm, N/mm)");
+  mesh->require_subcommand(1);
+
+  auto info = std::make_shared<InfoOptions>();
+  auto* ci = mesh->add_subcommand(
+      "info",
+      "Vertex/face counts, bounding box (mm), vertex properties with min/max,\n"
+      "manifold / watertight / boundary loops / orientation / components.");
+  ci->add_option("FILE", info->file, "Mesh file (.ply or .obj)")->required();
+  ci->add_option("--json", info->json, "Also write the report as JSON to this file");
+  ci->callback([info] { run_info(*info); });
+
+  auto conv = std::make_shared<ConvertOptions>();
+  auto* cc = mesh->add_subcommand(
+      "convert",
+      "Convert between PLY and OBJ (by extension), optionally scale, centre and map a\n"
+      "vertex property linearly onto a `stiffness` property in N/mm.");
+  cc->add_option("IN", conv->in, "Input mesh (.ply or .obj)")->required();
+  cc->add_option("OUT", conv->out,
+                 "Output mesh (.ply keeps every vertex property; .obj keeps geometry only)")
+      ->required();
+  cc->add_option("--scale-to", conv->scale_to,
+                 "Scale uniformly so the largest bounding-box side is MM millimetres")
+      ->check(CLI::PositiveNumber);
+  cc->add_flag("--center", conv->center, "Move the bounding-box centre to the origin");
+  cc->add_option("--stiffness-from", conv->stiffness_from,
+                 "Vertex property mapped onto `stiffness` (e.g. confidence)");
+  cc->add_option("--k-range", conv->k_range,
+                 "KMIN KMAX: stiffness in N/mm for the property's min and max")
+      ->expected(2);
+  cc->add_flag("--ascii", conv->ascii, "Write ASCII PLY instead of binary little-endian");
+  cc->callback([conv] { run_convert(*conv); });
+
+  auto hm = std::make_shared<HeightmapOptions>();
+  auto* ch = mesh->add_subcommand(
+      "heightmap",
+      "Height map (+ optional stiffness map of the same size) -> triangle mesh.\n"
+      "A WxH grid gives 2(W-1)(H-1) triangles; vertex (x*spacing, y*spacing, height).\n"
+      "Grids: CSV of numbers (one row per line) or PGM (P2/P5, 8/16-bit).");
+  ch->add_option("HEIGHT", hm->height, "Height map file; values in mm (times --height-scale)")
+      ->required();
+  ch->add_option("--stiffness", hm->stiffness,
+                 "Stiffness map file, N/mm (or raw levels mapped by --k-range)");
+  ch->add_option("--k-range", hm->k_range,
+                 "KMIN KMAX: map the stiffness map's min..max linearly to N/mm")
+      ->expected(2);
+  ch->add_option("--stiffness-from-height", hm->k_from_height,
+                 "KMIN KMAX: stiffness linear in height (lowest..highest), N/mm")
+      ->expected(2);
+  ch->add_option("--spacing", hm->spacing, "Pixel spacing, mm")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  ch->add_option("--height-scale", hm->height_scale,
+                 "Multiply height values by this to get mm (default 1)");
+  ch->add_flag("--level", hm->level, "Remove the best-fitting plane (level the tilt)");
+  ch->add_option("--out", hm->out, "Output mesh (.ply recommended: keeps `stiffness`)")->required();
+  ch->add_flag("--ascii", hm->ascii, "Write ASCII PLY");
+  ch->callback([hm] { run_heightmap(*hm); });
+}
+
+}  // namespace
+
+INHAP_COMMAND(10, "mesh", register_mesh);
+
+}  // namespace inhap::cli

@@ -1,0 +1,127 @@
+// Servo-step latency of the renderer (CBA and TCA-MESH) while a force-tracking hand strokes a
+// bumpy heightmap with a stiffness map: 257 x 257 grid at 0.39 mm (131,072 triangles, the
+// protein-on-mica size of thesis sec. 5.3) and a 708 x 708 grid (1.0 M triangles).
+// Each step() is timed on its own; counters report p50/p99/max in microseconds (target p99 <= 5).
+// Units: mm, N, N/mm, s.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "inhap/core/random.hpp"
+#include "inhap/geometry/heightmap.hpp"
+#include "inhap/rendering/renderer.hpp"
+
+using namespace inhap;
+
+namespace {
+
+// Bumps of a few mm (Gaussians, 1-4 mm high) and a smooth stiffness map in [0.1, 1] N/mm over
+// a 100 mm square.
+TriMesh bumpy_map(int n, std::uint64_t seed) {
+  const double spacing = 100.0 / (n - 1);
+  Grid h(n, n), k(n, n);
+  Rng rng(seed);
+  struct Blob {
+    double x, y, r, a;
+  };
+  std::vector<Blob> bumps, soft;
+  for (int i = 0; i < 40; ++i)
+    bumps.push_back(
+        {rng.uniform(0, 100), rng.uniform(0, 100), rng.uniform(2, 8), rng.uniform(1, 4)});
+  for (int i = 0; i < 25; ++i)
+    soft.push_back(
+        {rng.uniform(0, 100), rng.uniform(0, 100), rng.uniform(4, 12), rng.uniform(0.3, 1)});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = i * spacing, y = j * spacing;
+      double z = 0, s = 0;
+      for (const auto& b : bumps)
+        z += b.a * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (2 * b.r * b.r));
+      for (const auto& b : soft)
+        s += b.a * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (2 * b.r * b.r));
+      h.at(i, j) = z;
+      k.at(i, j) = 1.0 - 0.9 * std::min(1.0, s);  // 0.1 .. 1 N/mm
+    }
+  return grid_to_mesh(h, spacing, &k);
+}
+
+const render::Model& model(int n) {
+  static std::unique_ptr<render::Model> m257, m708;
+  auto& m = n == 257 ? m257 : m708;
+  if (!m) m = std::make_unique<render::Model>(bumpy_map(n, 42));
+  return *m;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const auto i = static_cast<std::size_t>(q * double(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
+  return v[i];
+}
+
+// args: grid size, algorithm (0 CBA, 1 TCA), mean stroke speed (mm/s)
+void BM_ServoStep(benchmark::State& bs) {
+  const int n = static_cast<int>(bs.range(0));
+  const auto alg = bs.range(1) ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  const double speed = static_cast<double>(bs.range(2));
+  const render::Model& m = model(n);
+  const double dt = 1e-3, F = 1.5, tau = 0.03;
+  // Lissajous path over the map; angular rate chosen for the requested mean speed.
+  const double w = speed / 45.0;
+  render::State st;
+  Vec3 p(50, 50, 10);
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(bs.max_iterations));
+  long contact = 0, touches = 0, walk = 0, max_walk = 0;
+  bool was = false;
+  double t = 0;
+  for (auto _ : bs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Vec3 f = render::step(m, st, p, alg);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(f);
+    const double sec = std::chrono::duration<double>(t1 - t0).count();
+    bs.SetIterationTime(sec);
+    us.push_back(sec * 1e6);
+    contact += st.collision;
+    touches += st.collision && !was;
+    was = st.collision;
+    walk += st.walk_steps;
+    max_walk = std::max<long>(max_walk, st.walk_steps);
+    // Force-tracking hand (as in render::simulate_stroke).
+    t += dt;
+    const double vz =
+        st.collision ? std::clamp((f.norm() - F) / (st.k * tau), -100.0, 100.0) : -20.0;
+    p = Vec3(50 + 45 * std::sin(w * t), 50 + 45 * std::sin(1.37 * w * t + 0.5), p.z() + vz * dt);
+  }
+  const double ticks = static_cast<double>(us.size());
+  bs.counters["p50_us"] = percentile(us, 0.50);
+  bs.counters["p99_us"] = percentile(us, 0.99);
+  bs.counters["max_us"] = *std::max_element(us.begin(), us.end());
+  bs.counters["contact_frac"] = double(contact) / ticks;
+  bs.counters["touches"] = double(touches);
+  bs.counters["walk_mean"] = double(walk) / ticks;
+  bs.counters["walk_max"] = double(max_walk);
+  bs.counters["fallbacks"] = st.fallbacks;
+  bs.counters["triangles"] = double(m.mesh().num_triangles());
+}
+
+}  // namespace
+
+BENCHMARK(BM_ServoStep)
+    ->ArgNames({"grid", "tca", "mm_s"})
+    ->Args({257, 0, 50})
+    ->Args({257, 1, 50})
+    ->Args({257, 0, 500})
+    ->Args({257, 1, 500})
+    ->Args({708, 0, 50})
+    ->Args({708, 1, 50})
+    ->Iterations(200000)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,85 @@
+// Virtual lab: simulated operators (people holding the stylus) and the recording driver.
+// Units: mm, N, s.
+//
+// An operator holds the stylus through a simulated hand (an impedance, see sim_device.hpp) and
+// decides, every tick, where the hand wants the probe to be. Like a person it perceives the
+// contact force with a reaction delay (80-120 ms), plans with an imperfect idea of where the
+// surface is, trembles slightly (8-12 Hz physiological tremor plus slow drift) and varies
+// speeds, forces and durations from gesture to gesture. Everything random comes from its seed.
+//
+//   tap      taps random points of the scene's region (surface normal within 50 deg of +z):
+//            approach 20-200 mm/s (log-uniform), press to a peak of 1-4 N, dwell, retract, move
+//            on (thesis ch. 3 shape modeling).
+//   explore  free exploration for force modeling (thesis 4.4.1): pushes up to 5 N, deep pushes,
+//            strokes, rubbing circles, then a sliding-only passage (the last third) that never
+//            leaves the surface; the normal force is regulated like a person would (delayed
+//            feedback on a feed-forward guess).
+//   air      moves the probe in free air above the object with tapping-like accelerations
+//            (for compensation tests: the contact force is zero throughout).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "inhap/lab/recorder.hpp"
+#include "inhap/lab/scene.hpp"
+#include "inhap/lab/sim_device.hpp"
+
+namespace inhap::lab {
+
+class HandOperator {
+ public:
+  virtual ~HandOperator() = default;
+  virtual std::string name() const = 0;
+  /// Called once before the first tick: attaches the hand and places the probe.
+  virtual void begin(SimDevice& device) = 0;
+  /// Called every tick before the device advances: sets the hand target for the tick's end.
+  virtual void step(SimDevice& device) = 0;
+};
+
+struct TapOptions {
+  double min_speed = 20.0, max_speed = 200.0;  ///< approach speed range, mm/s (log-uniform)
+  double min_force = 1.0, max_force = 4.0;     ///< planned peak force range, N
+  double max_tilt_deg = 50.0;                  ///< accepted surface-normal angle from +z
+};
+
+struct ExploreOptions {
+  double max_force = 5.0;             ///< N
+  double sliding_fraction = 1.0 / 3;  ///< final share of the duration that only slides
+};
+
+/// The operator names make_operator() accepts: tap, explore, air.
+std::vector<std::string> operator_names();
+std::unique_ptr<HandOperator> make_tap_operator(const Scene& scene, std::uint64_t seed,
+                                                TapOptions options = {});
+std::unique_ptr<HandOperator> make_explore_operator(const Scene& scene, std::uint64_t seed,
+                                                    double seconds, ExploreOptions options = {});
+std::unique_ptr<HandOperator> make_air_operator(const Scene& scene, std::uint64_t seed);
+/// By name; throws Error listing the names when unknown.
+std::unique_ptr<HandOperator> make_operator(std::string_view name, const Scene& scene,
+                                            std::uint64_t seed, double seconds);
+
+/// Runs `op` on the device for `seconds` (round(seconds * rate) ticks, one row each).
+/// `progress(fraction)` is called about every simulated second.
+LabRecording record(SimDevice& device, HandOperator& op, double seconds,
+                    const std::function<void(double)>& progress = {});
+
+/// Everything `inhap lab record` needs.
+struct RecordSpec {
+  std::string operator_name = "explore";
+  double seconds = 60.0;
+  std::uint64_t seed = 1;
+  ProbeSpec probe;
+  bool noise = true, gravity = true, inertia = true;
+};
+
+/// Builds the device (noise seed and operator seed derived from spec.seed), runs the operator
+/// and returns the recording with provenance comments.
+LabRecording record_scene(const Scene& scene, const RecordSpec& spec,
+                          const std::function<void(double)>& progress = {});
+
+}  // namespace inhap::lab

@@ -1,0 +1,164 @@
+// The tapping operator (thesis ch. 3): a person tapping random surface points with the stylus.
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "operator_common.hpp"
+
+namespace inhap::lab {
+
+namespace {
+
+using detail::log_uniform;
+using detail::min_jerk;
+
+class TapOperator final : public HandOperator {
+ public:
+  TapOperator(const Scene& scene, std::uint64_t seed, TapOptions o)
+      : scene_(scene), opt_(o), rng_(seed), tremor_(rng_), perception_(0.1, 1000.0) {}
+
+  std::string name() const override { return "tap"; }
+
+  void begin(SimDevice& dev) override {
+    radius_ = dev.probe_radius();
+    hand_ = detail::random_hand(rng_, dev.params());
+    perception_ = detail::Perception(rng_.uniform(0.08, 0.12), dev.info().servo_rate_hz);
+    dev.attach_hand(hand_);
+    target_ = detail::rest_point(scene_, radius_, 25.0);
+    dev.place(target_);
+    dev.set_hand_target(target_);
+    tremor_.start(dev.time());
+    plan_next(dev.time());
+  }
+
+  void step(SimDevice& dev) override {
+    const double t = dev.time() + 1.0 / dev.info().servo_rate_hz;  // target for the tick's end
+    perception_.push(dev.contact().normal_force);
+    update(t);
+    dev.set_hand_target(target_ + tremor_.at(t));
+  }
+
+ private:
+  enum class Phase { transit, approach, dwell, retract, pause };
+
+  void plan_next(double t) {
+    detail::SurfaceSpot spot{};
+    bool found = false;
+    const double min_nz = std::cos(opt_.max_tilt_deg * M_PI / 180.0);
+    for (int attempt = 0; attempt < 100 && !found; ++attempt) {
+      const auto s =
+          detail::spot_at(scene_.object, radius_, detail::random_in_region(rng_, scene_.region));
+      if (s && s->normal.z() >= min_nz) spot = *s, found = true;
+    }
+    if (!found) spot = {detail::rest_point(scene_, radius_, 0.0), Vec3::UnitZ()};
+    // Approach direction: the normal, tilted up to 12 degrees like a hand would.
+    Vec3 w = spot.normal.unitOrthogonal();
+    const double roll = rng_.uniform(0, 2 * M_PI);
+    w = std::cos(roll) * w + std::sin(roll) * spot.normal.cross(w);
+    const double tilt = rng_.uniform(0, 12.0) * M_PI / 180.0;
+    u_ = (std::cos(tilt) * spot.normal + std::sin(tilt) * w).normalized();
+    if (u_.z() < 0.3) u_ = spot.normal;
+
+    speed_ = log_uniform(rng_, opt_.min_speed, opt_.max_speed);
+    peak_ = rng_.uniform(opt_.min_force, opt_.max_force);
+    ramp_t_ = std::max(0.02, speed_ / 4000.0);
+    const double ramp_s = 0.5 * speed_ * ramp_t_;
+    const double h0 = ramp_s + 5.0 + rng_.uniform(0.0, 8.0);
+    believed_ = h0 + std::clamp(rng_.normal(0.0, 0.7), -2.0, 2.0);
+    const ContactLaw law = scene_.object.law_at(spot.center);
+    plan_depth_ = std::max(
+        1.0, rng_.uniform(0.85, 1.15) * (law.depth_at(peak_) + peak_ / hand_.stiffness_n_per_mm));
+    // A tilted approach must not pass through another part of the object (think of an ear
+    // above the point): otherwise come straight down, which drop() found to be free.
+    const double retract = rng_.uniform(0.0, 5.0);
+    if (!approach_is_clear(spot.center, h0 + retract)) u_ = Vec3::UnitZ();
+    start_ = spot.center + h0 * u_;
+    retract_to_ = start_ + retract * u_;
+    phase_ = Phase::transit;
+    t0_ = t;
+    path_ = detail::over_path(scene_.object, radius_, target_, start_, rng_.uniform(150.0, 350.0));
+  }
+
+  bool approach_is_clear(const Vec3& touch, double length) const {
+    const Vec3 far = touch + length * u_;
+    const Vec3 above(far.x(), far.y(),
+                     std::max(far.z(), detail::safe_height(scene_.object, radius_)));
+    return detail::clear_segment(scene_.object, radius_, touch + 0.5 * u_, far) &&
+           detail::clear_segment(scene_.object, radius_, far, above);
+  }
+
+  void begin_move(double t, Phase phase, const Vec3& to, double duration) {
+    phase_ = phase;
+    t0_ = t;
+    from_ = target_;
+    to_ = to;
+    duration_ = duration;
+  }
+
+  /// Distance travelled along -u since the approach began.
+  double approach_path(double tau, bool& finished) const {
+    const double v = speed_, ta = ramp_t_, sa = 0.5 * v * ta;
+    const double tb = std::max(0.0, (believed_ - sa) / v);
+    const double tc = 2.0 * plan_depth_ / v, decel = v * v / (2.0 * plan_depth_);
+    finished = false;
+    if (tau < ta) return 0.5 * v * (tau - ta / M_PI * std::sin(M_PI * tau / ta));
+    if (tau < ta + tb) return sa + v * (tau - ta);
+    const double s0 = sa + v * tb;
+    const double tcc = tau - ta - tb;
+    if (tcc < tc) return s0 + v * tcc - 0.5 * decel * tcc * tcc;
+    finished = true;
+    return s0 + plan_depth_;
+  }
+
+  void update(double t) {
+    const double tau = t - t0_;
+    switch (phase_) {
+      case Phase::transit:
+        target_ = path_.at(tau);
+        if (tau >= path_.duration()) phase_ = Phase::approach, t0_ = t;
+        break;
+      case Phase::retract:
+        target_ = from_ + min_jerk(tau / duration_) * (to_ - from_);
+        if (tau >= duration_) phase_ = Phase::pause, t0_ = t, duration_ = rng_.uniform(0.05, 0.3);
+        break;
+      case Phase::approach: {
+        bool finished;
+        target_ = start_ - approach_path(tau, finished) * u_;
+        if (perception_.force() > 1.4 * peak_ + 0.3) {  // felt too hard: pull back now
+          begin_move(t, Phase::retract, retract_to_, rng_.uniform(0.2, 0.4));
+        } else if (finished) {
+          phase_ = Phase::dwell, t0_ = t, duration_ = rng_.uniform(0.05, 0.25);
+        }
+        break;
+      }
+      case Phase::dwell:
+        if (tau >= duration_) begin_move(t, Phase::retract, retract_to_, rng_.uniform(0.2, 0.4));
+        break;
+      case Phase::pause:
+        if (tau >= duration_) plan_next(t);
+        break;
+    }
+  }
+
+  Scene scene_;
+  TapOptions opt_;
+  Rng rng_;
+  detail::Tremor tremor_;
+  detail::Perception perception_;
+  HandParams hand_;
+  double radius_ = 0;
+  Phase phase_ = Phase::pause;
+  double t0_ = 0, duration_ = 0;
+  Vec3 target_ = Vec3::Zero(), from_ = Vec3::Zero(), to_ = Vec3::Zero();
+  Vec3 start_ = Vec3::Zero(), retract_to_ = Vec3::Zero(), u_ = Vec3::UnitZ();
+  detail::Path path_;
+  double speed_ = 100, peak_ = 2, ramp_t_ = 0.05, believed_ = 10, plan_depth_ = 5;
+};
+
+}  // namespace
+
+std::unique_ptr<HandOperator> make_tap_operator(const Scene& scene, std::uint64_t seed,
+                                                TapOptions options) {
+  return std::make_unique<TapOperator>(scene, seed, options);
+}
+
+}  // namespace inhap::lab

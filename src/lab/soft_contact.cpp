@@ -1,0 +1,82 @@
+#include "inhap/lab/soft_contact.hpp"
+
+#include <cmath>
+
+namespace inhap::lab {
+
+Vec3 project_to_offset(const SoftObject& object, double probe_radius, const Vec3& q) {
+  const SurfaceQuery s = object.query(q);
+  return s.closest + probe_radius * s.normal;
+}
+
+namespace {
+
+void leave_contact(ContactState& st) {
+  st.in_contact = false;
+  st.slipping = false;
+  st.delta = 0;
+  st.normal_force = 0;
+  st.force.setZero();
+}
+
+void begin_contact(const SoftObject& object, double radius, ContactState& st, const Vec3& p,
+                   double delta, double t) {
+  double frac = 1.0;  // where delta crossed 0 between the previous and this evaluation
+  if (st.has_prev && st.prev_delta <= 0 && delta > st.prev_delta)
+    frac = -st.prev_delta / (delta - st.prev_delta);
+  st.start_point = st.has_prev ? Vec3(st.prev_point + frac * (p - st.prev_point)) : p;
+  st.start_time = st.has_prev ? st.prev_time + frac * (t - st.prev_time) : t;
+  st.proxy = project_to_offset(object, radius, st.start_point);
+  st.law = object.law_at(st.proxy);
+  st.in_contact = true;
+  ++st.episode;
+}
+
+}  // namespace
+
+Vec3 contact_step(const SoftObject& object, double probe_radius, ContactState& st, const Vec3& p,
+                  const Vec3& v, double t, double dt) {
+  if (!all_finite(p) || !all_finite(v) || !std::isfinite(t) || !std::isfinite(dt)) {
+    const auto episode = st.episode;
+    st.reset();
+    st.episode = episode;
+    return Vec3::Zero();
+  }
+  const SurfaceQuery s = object.query(p);
+  const double delta = probe_radius - s.distance;
+  if (!(delta > 0)) {
+    if (st.in_contact) leave_contact(st);
+  } else {
+    if (!st.in_contact) begin_contact(object, probe_radius, st, p, delta, t);
+    const ContactLaw law = st.law;  // copy: a slip may move the proxy onto other material
+    const Vec3& n = s.normal;
+    const double rate = -n.dot(v);
+    const double fn =
+        std::max(0.0, law.k * std::pow(delta, law.exponent) * (1.0 + law.damping * rate));
+    const Vec3 u = p - st.proxy;
+    Vec3 ut = u - u.dot(n) * n;
+    const double ut_len = ut.norm();
+    const double limit = law.mu * fn;
+    st.slipping = law.k_t * ut_len > limit;
+    if (st.slipping) {
+      // Implicit slip: c_v (|u_t| - |u_t'|) / dt = k_t |u_t'| - mu f_n.
+      const double cdt = dt > 0 ? law.creep / dt : 1e300;
+      const double len_new = (cdt * ut_len + limit) / (cdt + law.k_t);
+      const Vec3 ut_new = ut * (len_new / ut_len);
+      st.proxy = project_to_offset(object, probe_radius, st.proxy + (ut - ut_new));
+      if (!object.inclusions().empty()) st.law = object.law_at(st.proxy);
+      ut = ut_new;
+    }
+    st.normal = n;
+    st.delta = delta;
+    st.normal_force = fn;
+    st.force = fn * n - law.k_t * ut;
+  }
+  st.has_prev = true;
+  st.prev_delta = delta;
+  st.prev_time = t;
+  st.prev_point = p;
+  return st.force;
+}
+
+}  // namespace inhap::lab

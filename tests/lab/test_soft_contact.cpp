@@ -1,0 +1,173 @@
+// The ground-truth contact law, driven kinematically (prescribed probe motion), against the
+// closed-form answers of its equations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "inhap/core/random.hpp"
+#include "inhap/lab/soft_contact.hpp"
+
+namespace inhap::lab {
+namespace {
+
+constexpr double R = 8.0;  // probe radius, mm
+constexpr double kTop = 25.0;
+
+ContactLaw test_law() {
+  ContactLaw law;
+  law.k = 0.35, law.exponent = 1.5, law.damping = 0.004, law.k_t = 0.5, law.mu = 1.2,
+  law.creep = 0.02;
+  return law;
+}
+
+SoftObject slab(ContactLaw law = test_law(), std::vector<Inclusion> inc = {}) {
+  return SoftObject(CylinderShape{Vec3::Zero(), 50, kTop}, law, std::move(inc));
+}
+
+/// Drives the contact along a path of probe centres, dt apart; returns the last force and
+/// accumulates the work done by the contact on the probe (trapezoid rule).
+struct Driver {
+  const SoftObject& obj;
+  ContactState st;
+  double t = 0, work = 0;
+  Vec3 last_p = Vec3::Zero(), last_f = Vec3::Zero();
+  bool first = true;
+  Vec3 go(const Vec3& p, double dt) {
+    const Vec3 v = first ? Vec3::Zero() : Vec3((p - last_p) / dt);
+    t += dt;
+    const Vec3 f = contact_step(obj, R, st, p, v, t, dt);
+    if (!first) work += 0.5 * (f + last_f).dot(p - last_p);
+    first = false;
+    last_p = p, last_f = f;
+    return f;
+  }
+};
+
+TEST(SoftContact, StaticNormalLawAndDamping) {
+  const SoftObject obj = slab();
+  ContactState st;
+  for (double delta : {0.5, 2.0, 4.0}) {
+    st.reset();
+    const Vec3 f = contact_step(obj, R, st, Vec3(1, 2, kTop + R - delta), Vec3::Zero(), 0, 1e-4);
+    EXPECT_NEAR(f.z(), 0.35 * std::pow(delta, 1.5), 1e-12);
+    EXPECT_NEAR(f.head<2>().norm(), 0.0, 1e-12);
+    // Pressing in at 10 mm/s adds the Hunt-Crossley term c * delta_dot.
+    const Vec3 g = contact_step(obj, R, st, Vec3(1, 2, kTop + R - delta), Vec3(0, 0, -10), 0, 1e-4);
+    EXPECT_NEAR(g.z(), 0.35 * std::pow(delta, 1.5) * (1 + 0.004 * 10), 1e-12);
+    // Pulling out fast enough clips the force at zero (never adhesive).
+    const Vec3 h = contact_step(obj, R, st, Vec3(1, 2, kTop + R - delta), Vec3(0, 0, 400), 0, 1e-4);
+    EXPECT_EQ(h.z(), 0.0);
+  }
+  st.reset();
+  EXPECT_EQ(contact_step(obj, R, st, Vec3(0, 0, kTop + R + 0.1), Vec3::Zero(), 0, 1e-4),
+            Vec3::Zero());
+  EXPECT_FALSE(st.in_contact);
+}
+
+TEST(SoftContact, FirstContactIsInterpolatedBetweenEvaluations) {
+  const SoftObject obj = slab();
+  Driver d{obj, {}};
+  const double v = 150.0, dt = 1e-3;  // crossing lands between two evaluations
+  double z = kTop + R + 0.37;
+  while (!d.st.in_contact) {
+    d.go(Vec3(3, -4, z), dt);
+    z -= v * dt;
+  }
+  // z(t) = z0 - v (t - dt): crosses kTop + R at t = dt + 0.37 / v.
+  EXPECT_NEAR(d.st.start_time, dt + 0.37 / v, 1e-12);
+  EXPECT_NEAR((d.st.start_point - Vec3(3, -4, kTop + R)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((d.st.proxy - Vec3(3, -4, kTop + R)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(d.st.episode, 0);
+}
+
+TEST(SoftContact, PreSlidingForceIsLinearInTheLateralDisplacement) {
+  const SoftObject obj = slab();
+  Driver d{obj, {}};
+  const Vec3 q(0, 0, kTop + R);
+  d.go(q + Vec3(0, 0, 0.01), 1e-3);
+  const double delta = 3.0;
+  for (double z = 0; z <= delta; z += 0.01) d.go(q - Vec3(0, 0, z), 1e-3);
+  const double fn = 0.35 * std::pow(delta, 1.5);
+  const double limit = 1.2 * fn / 0.5;  // elastic displacement limit, mm
+  for (double u = 0.0; u <= 0.9 * limit; u += 0.05 * limit) {
+    const Vec3 f = d.go(q + Vec3(u * 0.6, u * 0.8, -delta), 1e-3);
+    EXPECT_NEAR(f.x(), -0.5 * 0.6 * u, 1e-9);
+    EXPECT_NEAR(f.y(), -0.5 * 0.8 * u, 1e-9);
+    EXPECT_FALSE(d.st.slipping);
+    EXPECT_NEAR((d.st.proxy - q).norm(), 0.0, 1e-12);  // the anchor has not moved
+  }
+}
+
+TEST(SoftContact, SteadyDragSettlesAtMuPlusCreep) {
+  const SoftObject obj = slab();
+  Driver d{obj, {}};
+  const double delta = 3.0, dt = 1e-3;
+  Vec3 p(-45, 0, kTop + R + 0.01);
+  d.go(p, dt);
+  p.z() = kTop + R - delta;
+  d.go(p, dt);
+  for (double speed : {2.0, 20.0}) {  // 20 mm then 50 mm of sliding, well inside the top
+    const int steps = speed < 10 ? 10000 : 2500;
+    for (int i = 0; i < steps; ++i) d.go(p += Vec3(speed * dt, 0, 0), dt);
+    const Vec3 f = d.last_f;
+    const double fn = f.z(), ft = f.head<2>().norm();
+    EXPECT_TRUE(d.st.slipping);
+    // Steady slip: |f_t| = mu f_n + c_v v (fixed point of the implicit update).
+    EXPECT_NEAR(ft / fn, 1.2 + 0.02 * speed / fn, 1e-9) << "speed " << speed;
+    EXPECT_NEAR(f.x(), -ft, 1e-12);  // opposes the motion
+  }
+}
+
+TEST(SoftContact, ClosedLoadingUnloadingCyclesCreateNoEnergy) {
+  Rng rng(9);
+  for (int trial = 0; trial < 20; ++trial) {
+    ContactLaw law = test_law();
+    const bool lossless = trial % 2 == 0;  // no damping, no sliding: conservative
+    if (lossless) law.damping = 0, law.mu = 100;
+    const SoftObject obj = slab(law);
+    Driver d{obj, {}};
+    const Vec3 start(rng.uniform(-5, 5), rng.uniform(-5, 5), kTop + R + 1.0);
+    const Vec3 deep = start + Vec3(rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(2, 6));
+    const Vec3 side = deep + Vec3(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-1, 1));
+    const Vec3 path[] = {start, deep, side, deep, start};
+    double peak_energy = 0;
+    const int n = 4000;
+    for (int leg = 0; leg + 1 < 5; ++leg)
+      for (int i = 0; i < n; ++i) {
+        const double s = 0.5 - 0.5 * std::cos(M_PI * (i + 1) / n);
+        const Vec3 f = d.go(path[leg] + s * (path[leg + 1] - path[leg]), 1e-4);
+        peak_energy = std::max(peak_energy, f.norm() * 6.0);
+      }
+    EXPECT_FALSE(d.st.in_contact);
+    if (lossless)
+      EXPECT_NEAR(d.work, 0.0, 1e-6 * peak_energy) << "trial " << trial;
+    else
+      EXPECT_LT(d.work, 1e-9) << "trial " << trial;  // work done on the probe <= 0
+  }
+}
+
+TEST(SoftContact, MaterialComesFromTheAnchorPoint) {
+  const std::vector<Inclusion> inc = {{Vec3(0, 0, kTop - 6), 10.0, 0.4, 1.5}};
+  const SoftObject obj = slab(test_law(), inc);
+  const double w = std::exp(-0.36);  // blob weight at the surface above its centre
+  const ContactLaw law = obj.law_at(Vec3(0, 0, 40));
+  EXPECT_NEAR(law.k, 0.35 * (1 + (0.4 - 1) * w), 1e-12);
+  EXPECT_NEAR(law.k_t, 0.5 * (1 + (0.4 - 1) * w), 1e-12);
+  EXPECT_NEAR(law.mu, 1.2 * (1 + (1.5 - 1) * w), 1e-12);
+  ContactState st;
+  const Vec3 f = contact_step(obj, R, st, Vec3(0, 0, kTop + R - 2), Vec3::Zero(), 0, 1e-4);
+  EXPECT_NEAR(f.z(), law.k * std::pow(2.0, 1.5), 1e-12);
+}
+
+TEST(SoftContact, NonFiniteInputResets) {
+  const SoftObject obj = slab();
+  ContactState st;
+  contact_step(obj, R, st, Vec3(0, 0, kTop + R - 1), Vec3::Zero(), 0, 1e-4);
+  ASSERT_TRUE(st.in_contact);
+  EXPECT_EQ(contact_step(obj, R, st, Vec3(NAN, 0, 0), Vec3::Zero(), 0, 1e-4), Vec3::Zero());
+  EXPECT_FALSE(st.in_contact);
+  EXPECT_EQ(st.episode, 0);
+}
+
+}  // namespace
+}  // namespace inhap::lab

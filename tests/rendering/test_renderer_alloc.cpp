@@ -1,0 +1,92 @@
+// The servo step never allocates: global operator new is counted while step() runs.
+// (This file replaces the global allocation functions for the whole test_rendering program;
+// counting is off except inside the measured region.) Units: mm, N.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <limits>
+#include <new>
+
+#include "inhap/rendering/renderer.hpp"
+#include "rendering/render_fixtures.hpp"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+
+void* counted_alloc(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed))
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t n) {
+  return counted_alloc(n);
+}
+void* operator new[](std::size_t n) {
+  return counted_alloc(n);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+using namespace inhap;
+using render::Algorithm;
+
+TEST(RendererAlloc, StepNeverAllocates) {
+  // Bumpy heightmap with a stiffness map, plus a box corner: every branch of step() runs
+  // (free, first contact, contact, release with re-contact sweep, restoration, resets, clamp).
+  TriMesh mesh = test::grid_mesh(
+      60, 60, 0.5, -15, -15,
+      [](double x, double y) { return std::sin(0.4 * x) * std::cos(0.3 * y); },
+      [](double x, double) { return x < 0 ? 1.0 : 0.2; });
+  render::Model m(mesh);
+  for (Algorithm a : {Algorithm::kCBA, Algorithm::kTCA}) {
+    render::State st;
+    long ticks = 0, contact = 0, touches = 0, clamped = 0;
+    bool was = false;
+    g_allocations = 0;
+    g_counting = true;
+    for (int i = 0; i < 4000; ++i) {
+      const double ph = i * 0.003;
+      // Stroke in and out of the surface (depth oscillates around 0), with occasional glitches.
+      Vec3 p(12 * std::sin(ph), 10 * std::cos(1.3 * ph),
+             std::sin(0.4 * 12 * std::sin(ph)) - 0.8 + std::sin(i * 0.05));
+      if (i == 1000) p.x() = std::numeric_limits<double>::quiet_NaN();
+      if (i == 2000) p.z() += 100;                                             // jump
+      if (i % 1000 >= 500 && i % 1000 < 700) p.z() -= 0.1 * (i % 1000 - 500);  // deep push: clamp
+      const Vec3 f = render::step(m, st, p, a);
+      ++ticks;
+      contact += st.collision;
+      touches += st.collision && !was;
+      clamped += f.norm() > 6.2 - 1e-9;
+      was = st.collision;
+    }
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0) << (a == Algorithm::kTCA ? "TCA" : "CBA");
+    EXPECT_EQ(ticks, 4000);
+    EXPECT_GT(contact, 500);
+    EXPECT_GT(touches, 5);
+    EXPECT_GT(clamped, 0);
+    EXPECT_GE(st.resets, 2u);
+  }
+  // The counter itself works (a test that cannot fail is a defect).
+  g_allocations = 0;
+  g_counting = true;
+  auto* v = new std::vector<int>(100);
+  g_counting = false;
+  delete v;
+  EXPECT_GE(g_allocations.load(), 1);
+}
