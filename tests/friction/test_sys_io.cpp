@@ -11,6 +11,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/friction/cycles_io.hpp"
 #include "inhap/friction/sys_model.hpp"
+#include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 namespace inhap::friction {
@@ -145,34 +146,23 @@ TEST(SysJson, RoundTripAndValidation) {
   EXPECT_THROW(read_sys_json(dir.path("bad.json")), ParseError);
 }
 
-std::string run(const std::string& cmd, int& status) {
-  std::string out;
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  status = pclose(p);
-  return out;
-}
-
 TEST(SysCli, FitAndTable) {
   test::TempDir dir;
   write_cycles_csv(dir.path("cycles.csv"), palpated());
-  int st = 0;
-  std::string out = run(fmt::format("{} sys fit {} --out {}", INHAP_CLI, dir.path("cycles.csv"),
-                                    dir.path("sys.json")),
-                        st);
-  ASSERT_EQ(st, 0) << out;
+  auto r = test::run_cli(
+      fmt::format("sys fit {} --out {}", dir.path("cycles.csv"), dir.path("sys.json")));
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::string out = r.out;
   EXPECT_NE(out.find("3 reference points"), std::string::npos) << out;
-  out =
-      run(fmt::format("{} sys table {} --point 12 --fn 3 --dir 1", INHAP_CLI, dir.path("sys.json")),
-          st);
-  ASSERT_EQ(st, 0) << out;
+  r = test::run_cli(fmt::format("sys table {} --point 12 --fn 3 --dir 1", dir.path("sys.json")));
+  ASSERT_EQ(r.status, 0) << r.out;
+  out = r.out;
   EXPECT_NE(out.find("Table 4.1: reference point 12"), std::string::npos) << out;
   EXPECT_NE(out.find("sliding"), std::string::npos) << out;
   EXPECT_NE(out.find("elastic limit: f_T = "), std::string::npos) << out;
-  out = run(fmt::format("{} sys table {} --point 5", INHAP_CLI, dir.path("sys.json")), st);
-  EXPECT_NE(st, 0);
-  EXPECT_NE(out.find("inhap: error:"), std::string::npos) << out;
+  r = test::run_cli(fmt::format("sys table {} --point 5", dir.path("sys.json")));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("inhap: error:"), std::string::npos) << r.out;
 }
 
 }  // namespace
