@@ -183,6 +183,7 @@ Vec3 parse_vec3(const std::string& s, const char* flag) {
 struct FitArgs {
   std::string cycles, mesh, out, tangent_reference = "1,0,0";
   BorderOptions border;
+  double probe_radius = 0.0, load_damping = 0.004;
 };
 
 void print_summary(const SysModel& m) {
@@ -208,6 +209,12 @@ void run_fit(const FitArgs& a) {
   FitOptions opt;
   opt.border = a.border;
   opt.tangent_reference = parse_vec3(a.tangent_reference, "--tangent-reference");
+  opt.load_damping = a.load_damping;
+  std::unique_ptr<MeshSurface> shape;
+  if (!a.mesh.empty()) {
+    shape = std::make_unique<MeshSurface>(read_mesh(a.mesh), a.probe_radius);
+    opt.shape = shape.get();
+  }
   SysModel m = fit_sys(cycles, opt);
   write_sys_json(a.out, m);
   print_summary(m);
@@ -218,6 +225,7 @@ struct TableArgs {
   std::string sys;
   int point = 0, dir = 0;
   double fn = 1.0;
+  std::string gs_mesh, fs_mesh;
 };
 
 void run_table(const TableArgs& a) {
@@ -245,6 +253,8 @@ void run_table(const TableArgs& a) {
   fmt::print("elastic limit: f_T = {:.3f} N{} (commanded load at the border {:.3f} N)\n", r.f_limit,
              note, r.f_limit_load);
   fmt::print("u_elastic_limit: depth {:.3f} mm, tangential {:.3f} mm\n", r.depth, r.radius);
+  if (!a.gs_mesh.empty()) write_mesh(a.gs_mesh, m.points[i].gs.to_mesh(4));
+  if (!a.fs_mesh.empty()) write_mesh(a.fs_mesh, m.points[i].fs.to_mesh(4));
 }
 
 std::string stem_of(const std::string& out) {
@@ -322,7 +332,16 @@ void register_sys(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   fit->add_option("--mesh", fa->mesh,
-                  "shape mesh (PLY/OBJ) of the probe-centre surface (optional)");
+                  "shape mesh (PLY/OBJ), optional: depths of g_s are then measured from the "
+                  "undeformed surface and forces decomposed at the surface under the probe")
+      ->check(CLI::ExistingFile);
+  fit->add_option("--probe-radius", fa->probe_radius,
+                  "mm; 0 when the mesh is the probe-centre surface, else the probe radius")
+      ->capture_default_str();
+  fit->add_option("--load-damping", fa->load_damping,
+                  "damping the palpation commanded while loading, N s/mm (subtracted from the "
+                  "measured slip viscosity)")
+      ->capture_default_str();
   fit->add_option("--out,-o", fa->out, "sys.json to write")->required();
   fit->add_option("--tangent-reference", fa->tangent_reference,
                   "world direction whose projection onto the tangent plane is t_0 (x,y,z)")
@@ -347,6 +366,11 @@ void register_sys(CLI::App& app) {
   table->add_option("--fn", ta->fn, "normal force level f_N (N; nearest level)")
       ->capture_default_str();
   table->add_option("--dir", ta->dir, "tangential direction index")->capture_default_str();
+  table->add_option("--gs-mesh", ta->gs_mesh,
+                    "also write the point's elastic displacement limit surface g_s (fig. 4.8) as a "
+                    "mesh: local mm, x along t_0, y along t_1, z = depth");
+  table->add_option("--fs-mesh", ta->fs_mesh,
+                    "also write the point's sliding yield surface f_s as a mesh: local N, z = f_N");
   table->callback([ta] { run_table(*ta); });
 
   auto pa = std::make_shared<PalpateArgs>();

@@ -20,9 +20,11 @@ MeshSurface::MeshSurface(const TriMesh& mesh, double probe_radius)
   }
 }
 
-bool MeshSurface::closest(const Vec3& p, Vec3& point, Vec3& normal) const noexcept {
+bool MeshSurface::closest(const Vec3& p, Vec3& point, Vec3& normal,
+                          double max_distance) const noexcept {
   if (!p.allFinite()) return false;
-  const ClosestPoint cp = index_.closest_point(p);
+  // The mesh is the offset surface's base: search radius + max_distance around p.
+  const ClosestPoint cp = index_.closest_point(p, max_distance + radius_);
   if (!cp.valid()) return false;
   const Tri& t = tris_[cp.triangle];
   Vec3 n =

@@ -59,7 +59,7 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
     const Vec3 local = to_local(trial, s.t0, s.t1, s.n);
     if (!(local.z() > 0.0)) return no_contact(s, p);  // left the surface
     if (local.z() > m.max_depth) return no_contact(s, p);
-    if (s.gs.excess(local) <= 1e-9 || it >= m.max_iterations || (viscous && it > 0)) {
+    if (s.gs.excess(local) <= m.tolerance || it >= m.max_iterations || (viscous && it > 0)) {
       s.ue = trial;
       out.depth = local.z();
       break;
@@ -73,7 +73,10 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
     const Vec3 ue = to_world(back, s.t0, s.t1, s.n);
     Vec3 q = p - ue;
     Vec3 c, n;
-    if (m.shape->closest(q, c, n) && c.allFinite() && n.allFinite()) {
+    // q lies in the tangent plane at the old proxy, close to the surface: a bounded search first.
+    const double bound = 1.0 + (q - s.q).norm();
+    if ((m.shape->closest(q, c, n, bound) || m.shape->closest(q, c, n)) && c.allFinite() &&
+        n.allFinite()) {
       q = c;
       set_frame(s, n, sys.tangent_reference);
     }

@@ -22,7 +22,9 @@ class MeshSurface final : public ShapeQuery {
   /// Copies what it needs (the mesh may be destroyed afterwards). Throws inhap::Error on an
   /// empty mesh or a negative radius.
   explicit MeshSurface(const TriMesh& mesh, double probe_radius = 0.0);
-  bool closest(const Vec3& p, Vec3& point, Vec3& normal) const noexcept override;
+  using ShapeQuery::closest;
+  bool closest(const Vec3& p, Vec3& point, Vec3& normal,
+               double max_distance) const noexcept override;
   double probe_radius() const { return radius_; }
 
  private:

@@ -15,7 +15,8 @@
 //                     viscous creep does). The plastic increment delta u^p = u* - u^e moves the
 //                     proxy, q += delta u^p (eq. 4.23); q is projected back onto the surface and
 //                     g_s is re-interpolated (re-centred) at the new q; the rate-independent
-//                     return is repeated up to max_iterations times while u^e is still outside.
+//                     return is repeated up to max_iterations times while u^e is still outside
+//                     by more than tolerance.
 // Contact starts when p enters the shape (geometric contact: the closest surface point q0 with
 // its outward normal n has (q0 - p).n > 0); then p_c = q = q0. It ends when the depth of p
 // below the tangent plane at q is <= 0. Out of contact the output proxy is p itself.
@@ -35,6 +36,7 @@ struct ProxyModel {
   const SysModel* sys = nullptr;      ///< sliding yield surfaces (not owned)
   const ShapeQuery* shape = nullptr;  ///< undeformed surface (not owned)
   int max_iterations = 3;             ///< return-mapping passes per tick
+  double tolerance = 1e-4;            ///< mm outside g_s still accepted as on it (ends the passes)
   double max_depth = 100.0;           ///< mm; deeper trial displacements are absurd -> reset
   double max_coordinate = 1e5;        ///< mm; larger |p| is absurd -> reset
   bool creep = true;                  ///< use the measured slip viscosity (else rate-independent)
