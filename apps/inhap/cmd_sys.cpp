@@ -314,13 +314,7 @@ void run_proxy(const ProxyArgs& a) {
              contact, sliding, a.out);
 }
 
-void register_sys(CLI::App& app) {
-  auto* sys = app.add_subcommand(
-      "sys",
-      "Sliding yield surfaces (thesis 4.2-4.3): automatic palpation, elastic limits, proxy.\n"
-      "Units: positions/displacements mm, forces N, times s, angles rad.");
-  sys->require_subcommand(1);
-
+void register_fit(CLI::App* sys) {
   auto fa = std::make_shared<FitArgs>();
   auto* fit = sys->add_subcommand("fit",
                                   "Fit sliding yield surfaces from palpation cycles (CSV; one "
@@ -356,7 +350,9 @@ void register_sys(CLI::App& app) {
                   "plateau growth (mm) below which a step is not sliding")
       ->capture_default_str();
   fit->callback([fa] { run_fit(*fa); });
+}
 
+void register_table(CLI::App* sys) {
   auto ta = std::make_shared<TableArgs>();
   auto* table = sys->add_subcommand(
       "table",
@@ -372,7 +368,9 @@ void register_sys(CLI::App& app) {
   table->add_option("--fs-mesh", ta->fs_mesh,
                     "also write the point's sliding yield surface f_s as a mesh: local N, z = f_N");
   table->callback([ta] { run_table(*ta); });
+}
 
+void register_palpate(CLI::App* sys) {
   auto pa = std::make_shared<PalpateArgs>();
   auto* palpate = sys->add_subcommand(
       "palpate",
@@ -392,7 +390,9 @@ void register_sys(CLI::App& app) {
   palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
   palpate->callback([pa] { run_palpate(*pa); });
+}
 
+void register_proxy(CLI::App* sys) {
   auto xa = std::make_shared<ProxyArgs>();
   auto* proxy = sys->add_subcommand(
       "proxy",
@@ -414,6 +414,19 @@ void register_sys(CLI::App& app) {
                   "rate-independent return mapping (ignore the slip viscosity)");
   proxy->add_option("--out,-o", xa->out, "recording CSV to write")->required();
   proxy->callback([xa] { run_proxy(*xa); });
+}
+
+void register_sys(CLI::App& app) {
+  auto* sys = app.add_subcommand(
+      "sys",
+      "Sliding yield surfaces (thesis 4.2-4.3): automatic palpation, elastic limits, proxy.\n"
+      "Units: positions/displacements mm, forces N, times s, angles rad.");
+  sys->require_subcommand(1);
+
+  register_fit(sys);
+  register_table(sys);
+  register_palpate(sys);
+  register_proxy(sys);
 }
 
 }  // namespace

@@ -96,6 +96,93 @@ double mean_depth(std::span<const BorderStep> s, std::size_t split) {
 
 }  // namespace
 
+namespace {
+
+// 2-D features: log-compressed (a probe that slid off the object must not squash every other
+// step into one corner), divided by their largest value over the sweep (at least that of the
+// floor, so a sweep of pure noise is not blown up into two clusters).
+std::vector<Vec2> features(std::span<const BorderStep> steps, const BorderOptions& o) {
+  std::vector<Vec2> x(steps.size());
+  double max_a = std::log1p(1.0), max_b = std::log1p(1.0);
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    x[i] = Vec2(std::log1p(std::max(0.0, steps[i].u_short) / o.floor_up),
+                std::log1p(std::max(0.0, steps[i].growth()) / o.floor_growth));
+    max_a = std::max(max_a, x[i].x());
+    max_b = std::max(max_b, x[i].y());
+  }
+  for (Vec2& v : x) v = Vec2(v.x() / max_a, v.y() / max_b);
+  return x;
+}
+
+// Index of the first sliding step from the k-means labels (steps.size(): none).
+std::size_t border_split(std::span<const BorderStep> steps, const std::vector<int>& labels,
+                         const BorderOptions& o) {
+  const std::size_t n = steps.size();
+  // Monotone split with the fewest disagreements (ties: the later split, since sliding
+  // persists at higher loads while a lone noisy step does not).
+  std::size_t best = n, best_cost = std::numeric_limits<std::size_t>::max();
+  for (std::size_t s = 0; s <= n; ++s) {
+    std::size_t cost = 0;
+    for (std::size_t i = 0; i < n; ++i) cost += (i < s) == (labels[i] == 1);
+    if (cost <= best_cost) {
+      best_cost = cost;
+      best = s;
+    }
+  }
+  if (best == n) return n;
+  // The sliding side must actually grow on the long plateau (or have moved much more).
+  double g = 0, up_elastic = 0, up_sliding = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i >= best) g = std::max(g, steps[i].growth());
+    double& m = i < best ? up_elastic : up_sliding;
+    m = std::max(m, steps[i].u_short);
+  }
+  if (g < o.min_sliding_growth && !(best > 0 && up_sliding > 3.0 * up_elastic + o.floor_up))
+    return n;
+  // A step just past the limit creeps only a little, and the 2-means (dominated by the much
+  // larger growth of the later steps) puts it with the elastic ones: move every step before the
+  // border whose plateau growth is above the noise floor to the sliding side.
+  while (best > 0 && steps[best - 1].growth() >= o.min_sliding_growth) --best;
+  return best;
+}
+
+// Border load in [f_T of the last elastic step, f_T of the first sliding step]: zero of the
+// least-squares line growth = a + b f_T through the first sliding steps whose growth is not a
+// lower bound (capped by max_slip); with one such step, a line of known slope; else the middle.
+double refine_border(std::span<const BorderStep> steps, std::size_t best, const BorderOptions& o,
+                     double known_slope, double& slope) {
+  const std::size_t n = steps.size();
+  const double f_hi = steps[best].f_tangential;
+  const double f_lo = best >= 1 ? steps[best - 1].f_tangential : 0.0;
+  double f = 0.5 * (f_lo + f_hi);
+  slope = 0;
+  if (!o.refine) return f;
+  double sf = 0, sg = 0, sff = 0, sfg = 0, m = 0;
+  std::size_t first = n;
+  for (std::size_t i = best; i < n && m < std::max(2, o.refine_points); ++i) {
+    if (steps[i].capped) continue;
+    if (first == n) first = i;
+    sf += steps[i].f_tangential;
+    sg += steps[i].growth();
+    sff += steps[i].f_tangential * steps[i].f_tangential;
+    sfg += steps[i].f_tangential * steps[i].growth();
+    m += 1;
+  }
+  const double det = m * sff - sf * sf;
+  if (m >= 2 && det > 0) {
+    const double b = (m * sfg - sf * sg) / det, a = (sg - b * sf) / m;
+    if (b > 0) {
+      slope = b;
+      return std::clamp(-a / b, f_lo, f_hi);
+    }
+  }
+  if (known_slope > 0 && first < n)
+    f = std::clamp(steps[first].f_tangential - steps[first].growth() / known_slope, f_lo, f_hi);
+  return f;
+}
+
+}  // namespace
+
 BorderResult find_elastic_border(std::span<const BorderStep> steps, const BorderOptions& o,
                                  double known_slope) {
   const std::size_t n = steps.size();
@@ -103,88 +190,22 @@ BorderResult find_elastic_border(std::span<const BorderStep> steps, const Border
   for (std::size_t i = 1; i < n; ++i)
     if (!(steps[i].f_tangential > steps[i - 1].f_tangential))
       throw Error("elastic border: expected steps ordered by increasing f_T");
-
-  // Normalised 2-D features.
-  double max_up = o.floor_up, max_growth = o.floor_growth;
-  for (const auto& s : steps) {
-    max_up = std::max(max_up, s.u_short);
-    max_growth = std::max(max_growth, s.growth());
-  }
-  std::vector<Vec2> x(n);
-  for (std::size_t i = 0; i < n; ++i)
-    x[i] = Vec2(steps[i].u_short / max_up, steps[i].growth() / max_growth);
+  const std::vector<Vec2> x = features(steps, o);
   // Initial centres: the smallest-load step (elastic) and the largest-load step (sliding).
   std::vector<Vec2> centers = {x.front(), x.back()};
   if (n == 1) centers[1] = Vec2(1.0, 1.0);
   BorderResult r;
   r.labels = weighted_kmeans(x, {}, Vec2(o.weight_up, o.weight_growth), centers, o.max_iterations);
-
-  // Monotone split with the fewest disagreements (ties: the later split, since sliding
-  // persists at higher loads while a lone noisy step does not).
-  std::size_t best = n, best_cost = std::numeric_limits<std::size_t>::max();
-  for (std::size_t s = 0; s <= n; ++s) {
-    std::size_t cost = 0;
-    for (std::size_t i = 0; i < n; ++i) cost += (i < s) == (r.labels[i] == 1);
-    if (cost <= best_cost) {
-      best_cost = cost;
-      best = s;
-    }
-  }
-  // The sliding side must actually grow on the long plateau (or have moved much more).
-  if (best < n) {
-    double g = 0;
-    for (std::size_t i = best; i < n; ++i) g = std::max(g, steps[i].growth());
-    double up_elastic = 0, up_sliding = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      double& m = i < best ? up_elastic : up_sliding;
-      m = std::max(m, steps[i].u_short);
-    }
-    if (g < o.min_sliding_growth && !(best > 0 && up_sliding > 3.0 * up_elastic + o.floor_up))
-      best = n;
-  }
-  // A step just past the limit creeps only a little, and the 2-means (dominated by the much
-  // larger growth of the later steps) puts it with the elastic ones: move every step before the
-  // border whose plateau growth is above the noise floor to the sliding side.
-  if (best < n)
-    while (best > 0 && steps[best - 1].growth() >= o.min_sliding_growth) --best;
+  const std::size_t best = border_split(steps, r.labels, o);
   r.split = best;
-
   if (best == n) {
     r.no_sliding = true;
-    r.f_limit = steps[n - 1].f_tangential;
+    r.f_limit_load = steps[n - 1].f_tangential;
   } else {
     r.all_sliding = best == 0;
-    const double f_hi = steps[best].f_tangential;
-    const double f_lo = best >= 1 ? steps[best - 1].f_tangential : 0.0;
-    double f = 0.5 * (f_lo + f_hi);
-    if (o.refine) {
-      // Least-squares line growth = a + b f_T through the first sliding steps whose growth is
-      // not a lower bound (capped by max_slip).
-      double sf = 0, sg = 0, sff = 0, sfg = 0, m = 0;
-      std::size_t first = n;
-      for (std::size_t i = best; i < n && m < std::max(2, o.refine_points); ++i) {
-        if (steps[i].capped) continue;
-        if (first == n) first = i;
-        sf += steps[i].f_tangential;
-        sg += steps[i].growth();
-        sff += steps[i].f_tangential * steps[i].f_tangential;
-        sfg += steps[i].f_tangential * steps[i].growth();
-        m += 1;
-      }
-      const double det = m * sff - sf * sf;
-      if (m >= 2 && det > 0) {
-        const double b = (m * sfg - sf * sg) / det, a = (sg - b * sf) / m;
-        if (b > 0) {
-          f = std::clamp(-a / b, f_lo, f_hi);
-          r.growth_slope = b;
-        }
-      }
-      if (r.growth_slope == 0 && known_slope > 0 && first < n)  // a line of known slope
-        f = std::clamp(steps[first].f_tangential - steps[first].growth() / known_slope, f_lo, f_hi);
-    }
-    r.f_limit = f;
+    r.f_limit_load = refine_border(steps, best, o, known_slope, r.growth_slope);
   }
-  r.f_limit_load = r.f_limit;
+  r.f_limit = r.f_limit_load;
   r.ratio_limit = ratio_at(steps, best, r.f_limit_load);
   if (std::isfinite(r.ratio_limit) && steps[0].f_normal > 0)
     r.f_limit = r.ratio_limit * steps[0].f_normal;

@@ -107,9 +107,8 @@ Vec3 PalpationProtocol::clamp_force(const Vec3& f) const {
   return m > info_.max_force_n ? Vec3(f * (info_.max_force_n / m)) : f;
 }
 
-Vec3 PalpationProtocol::pid(double time, const Vec3& position, const Vec3& target,
-                            const Vec3& target_velocity, double dt) {
-  (void)time;
+Vec3 PalpationProtocol::pid(const Vec3& position, const Vec3& target, const Vec3& target_velocity,
+                            double dt) {
   const Vec3 e = target - position;
   integral_ += e * dt;
   if (cfg_.ki > 0) {
@@ -160,8 +159,7 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
   have_last_ = true;
   last_time_ = time;
   last_p_ = position;
-  const double tau = time - phase_t0_;
-
+  const Tick k{time, time - phase_t0_, dt, position, sensor_force};
   switch (phase_) {
     case Phase::start:
       if (schedule_.done()) {
@@ -171,123 +169,136 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
       begin_cycle(time, position);
       return hold_zero_load();
     case Phase::lift:
-    case Phase::travel: {
-      const double s = std::min(1.0, tau / move_dur_);
-      const double blend = smooth_ramp(s);
-      const double rate =
-          s < 1.0 ? 0.5 * std::numbers::pi * std::sin(std::numbers::pi * s) / move_dur_ : 0.0;
-      const Vec3 target = move_from_ + blend * (move_to_ - move_from_);
-      const Vec3 f = pid(time, position, target, rate * (move_to_ - move_from_), dt);
-      if (s >= 1.0) {
-        if (phase_ == Phase::lift) {
-          begin_move(time, move_to_, travel_to_, cfg_.travel_speed);
-          phase_ = Phase::travel;
-        } else {
-          phase_ = Phase::tare;
-          phase_t0_ = time;
-          bias_sum_.setZero();
-          bias_n_ = 0;
-        }
-      }
-      return f;
-    }
-    case Phase::tare: {
-      if (tau >= 0.5 * cfg_.tare_time) {
-        bias_sum_ += sensor_force;
-        ++bias_n_;
-      }
-      const Vec3 f = pid(time, position, travel_to_, Vec3::Zero(), dt);
-      if (tau >= cfg_.tare_time) {
-        if (bias_n_ > 0) bias_ = bias_sum_ / bias_n_;
-        if (finishing_) {
-          phase_ = Phase::done;
-          return Vec3::Zero();
-        }
-        phase_ = Phase::approach;
-        phase_t0_ = time;
-        contact_run_ = 0;
-      }
-      return f;
-    }
-    case Phase::approach: {
-      const double depth = cfg_.approach_speed * tau;
-      if (depth > cfg_.hover + cfg_.approach_extra)
-        return fail("no contact found below the reference point", CycleStatus::no_contact,
-                    position);
-      const double fn = (sensor_force - bias_).dot(n_);
-      contact_run_ = fn > cfg_.contact_force ? contact_run_ + 1 : 0;
-      if (contact_run_ >= cfg_.contact_ticks) {
-        phase_ = Phase::drop;
-        phase_t0_ = time;
-        return hold_zero_load();
-      }
-      return pid(time, position, travel_to_ - depth * n_, -cfg_.approach_speed * n_, dt);
-    }
+    case Phase::travel:
+      return move_step(k);
+    case Phase::tare:
+      return tare_step(k);
+    case Phase::approach:
+      return approach_step(k);
     case Phase::drop:
-      if (tau >= cfg_.drop_time) {
+      if (k.tau >= cfg_.drop_time) {
         cur_.pc = position;
         profile_ = LoadingProfile(cur_.f_normal, cur_.f_tangential, cur_.t_plateau, cfg_.rates);
         phase_ = Phase::load;
         phase_t0_ = time;
       }
       return hold_zero_load();
-    case Phase::load: {
-      Vec3 n = n_, t = cur_.tdir;
-      if (shape_) {  // the frame of the surface under the probe
-        Vec3 c, nn;
-        if (shape_->closest(position, c, nn) && nn.allFinite() && nn.dot(n_) > 0.5) {
-          n = nn;
-          const Vec3 tt = t - t.dot(n) * n;
-          if (tt.norm() > 0.5) t = tt.normalized();
-        }
-      }
-      const Vec3 load = -profile_.normal(tau) * n + profile_.tangential(tau) * t;
-      if (load.norm() > info_.max_force_n) saturated_ = true;
-      const Vec3 u = position - cur_.pc;
-      const double ut = (u - u.dot(n_) * n_).norm();
-      const double unload_t = profile_.t_normal() + profile_.t_tangential() + profile_.t_plateau();
-      if (tau < profile_.plateau_start()) plateau_ut_ = ut;
-      if (tau < unload_t && ut - plateau_ut_ > cfg_.max_slip) {
-        // Sliding away: jump to the start of the tangential unloading ramp.
-        slip_capped_ = true;
-        if (!measured_) {
-          cur_.f_meas = sensor_force - bias_;
-          cur_.u_meas = u;
-          measured_ = true;
-        }
-        phase_t0_ = time - unload_t;
-      }
-      if (!measured_ && tau >= profile_.t_measurement()) {
-        cur_.f_meas = sensor_force - bias_;
-        cur_.u_meas = position - cur_.pc;
-        measured_ = true;
-      }
-      if (tau >= profile_.duration()) {
-        phase_ = Phase::release;
-        phase_t0_ = time;
-        settle_run_ = 0;
-      }
-      return clamp_force(load - weight_ - cfg_.load_damping * vel_);
-    }
-    case Phase::release: {
-      if (tau >= cfg_.settle_min)
-        settle_run_ = vel_.norm() < cfg_.settle_speed ? settle_run_ + dt : 0.0;
-      const bool settled = settle_run_ >= cfg_.settle_window;
-      if (settled || tau >= cfg_.settle_max) {
-        if (saturated_)
-          cur_.status = CycleStatus::saturated;
-        else if (slip_capped_)
-          cur_.status = CycleStatus::slip_capped;
-        else if (!settled)
-          cur_.status = CycleStatus::unsettled;
-        return finish_cycle(time, position);
-      }
-      return hold_zero_load();
-    }
+    case Phase::load:
+      return load_step(k);
+    case Phase::release:
+      return release_step(k);
     case Phase::done:
       break;
   }
   return Vec3::Zero();
+}
+
+Vec3 PalpationProtocol::move_step(const Tick& k) {
+  const double s = std::min(1.0, k.tau / move_dur_);
+  const double blend = smooth_ramp(s);
+  const double rate =
+      s < 1.0 ? 0.5 * std::numbers::pi * std::sin(std::numbers::pi * s) / move_dur_ : 0.0;
+  const Vec3 target = move_from_ + blend * (move_to_ - move_from_);
+  const Vec3 f = pid(k.position, target, rate * (move_to_ - move_from_), k.dt);
+  if (s >= 1.0) {
+    if (phase_ == Phase::lift) {
+      begin_move(k.time, move_to_, travel_to_, cfg_.travel_speed);
+      phase_ = Phase::travel;
+    } else {
+      phase_ = Phase::tare;
+      phase_t0_ = k.time;
+      bias_sum_.setZero();
+      bias_n_ = 0;
+    }
+  }
+  return f;
+}
+
+Vec3 PalpationProtocol::tare_step(const Tick& k) {
+  if (k.tau >= 0.5 * cfg_.tare_time) {
+    bias_sum_ += k.sensor;
+    ++bias_n_;
+  }
+  const Vec3 f = pid(k.position, travel_to_, Vec3::Zero(), k.dt);
+  if (k.tau >= cfg_.tare_time) {
+    if (bias_n_ > 0) bias_ = bias_sum_ / bias_n_;
+    if (finishing_) {
+      phase_ = Phase::done;
+      return Vec3::Zero();
+    }
+    phase_ = Phase::approach;
+    phase_t0_ = k.time;
+    contact_run_ = 0;
+  }
+  return f;
+}
+
+Vec3 PalpationProtocol::approach_step(const Tick& k) {
+  const double depth = cfg_.approach_speed * k.tau;
+  if (depth > cfg_.hover + cfg_.approach_extra)
+    return fail("no contact found below the reference point", CycleStatus::no_contact, k.position);
+  const double fn = (k.sensor - bias_).dot(n_);
+  contact_run_ = fn > cfg_.contact_force ? contact_run_ + 1 : 0;
+  if (contact_run_ >= cfg_.contact_ticks) {
+    phase_ = Phase::drop;
+    phase_t0_ = k.time;
+    return hold_zero_load();
+  }
+  return pid(k.position, travel_to_ - depth * n_, -cfg_.approach_speed * n_, k.dt);
+}
+
+Vec3 PalpationProtocol::load_step(const Tick& k) {
+  Vec3 n = n_, t = cur_.tdir;
+  if (shape_) {  // the frame of the surface under the probe
+    Vec3 c, nn;
+    if (shape_->closest(k.position, c, nn) && nn.allFinite() && nn.dot(n_) > 0.5) {
+      n = nn;
+      const Vec3 tt = t - t.dot(n) * n;
+      if (tt.norm() > 0.5) t = tt.normalized();
+    }
+  }
+  const Vec3 load = -profile_.normal(k.tau) * n + profile_.tangential(k.tau) * t;
+  if (load.norm() > info_.max_force_n) saturated_ = true;
+  const Vec3 u = k.position - cur_.pc;
+  const double ut = (u - u.dot(n_) * n_).norm();
+  const double unload_t = profile_.t_normal() + profile_.t_tangential() + profile_.t_plateau();
+  if (k.tau < profile_.plateau_start()) plateau_ut_ = ut;
+  const bool measure_now = !measured_ && k.tau >= profile_.t_measurement();
+  if (k.tau < unload_t && (ut - plateau_ut_ > cfg_.max_slip || ut > cfg_.max_displacement)) {
+    // Sliding away: jump to the start of the tangential unloading ramp.
+    slip_capped_ = true;
+    phase_t0_ = k.time - unload_t;
+    if (!measured_) measure(k);
+  }
+  if (measure_now && !measured_) measure(k);
+  if (k.tau >= profile_.duration()) {
+    phase_ = Phase::release;
+    phase_t0_ = k.time;
+    settle_run_ = 0;
+  }
+  return clamp_force(load - weight_ - cfg_.load_damping * vel_);
+}
+
+void PalpationProtocol::measure(const Tick& k) {
+  cur_.f_meas = k.sensor - bias_;
+  cur_.u_meas = k.position - cur_.pc;
+  measured_ = true;
+}
+
+Vec3 PalpationProtocol::release_step(const Tick& k) {
+  if (k.tau >= cfg_.settle_min)
+    settle_run_ = vel_.norm() < cfg_.settle_speed ? settle_run_ + k.dt : 0.0;
+  const bool settled = settle_run_ >= cfg_.settle_window;
+  if (settled || k.tau >= cfg_.settle_max) {
+    if (saturated_)
+      cur_.status = CycleStatus::saturated;
+    else if (slip_capped_)
+      cur_.status = CycleStatus::slip_capped;
+    else if (!settled)
+      cur_.status = CycleStatus::unsettled;
+    return finish_cycle(k.time, k.position);
+  }
+  return hold_zero_load();
 }
 
 }  // namespace inhap::friction

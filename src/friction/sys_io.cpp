@@ -133,6 +133,66 @@ void write_sys_json(const std::string& path, const SysModel& m) {
   write_file_atomic(path, j.dump(1) + "\n");
 }
 
+SysBorder read_border(const Reader& r, const json& jb, const std::string& wb, double level,
+                      std::size_t direction) {
+  SysBorder sb;
+  sb.f_normal = r.number(jb, "f_normal", wb);
+  sb.direction = r.integer(jb, "direction", wb);
+  if (std::abs(sb.f_normal - level) > 1e-6 || sb.direction != static_cast<int>(direction))
+    r.fail(wb, fmt::format("level {} N and direction {} (level-major order)", level, direction));
+  sb.result.f_limit = r.number(jb, "f_limit", wb);
+  sb.result.f_limit_load =
+      jb.contains("f_limit_load") ? r.number(jb, "f_limit_load", wb) : sb.result.f_limit;
+  if (jb.contains("ratio_limit") && !jb["ratio_limit"].is_null())
+    sb.result.ratio_limit = r.number(jb, "ratio_limit", wb);
+  sb.result.depth = r.number(jb, "depth", wb);
+  sb.result.radius = r.number(jb, "radius", wb);
+  if (sb.result.f_limit < 0 || sb.result.radius < 0) r.fail(wb, "f_limit >= 0 and radius >= 0");
+  sb.result.split = static_cast<std::size_t>(std::max(0, r.integer(jb, "split", wb)));
+  sb.result.no_sliding = r.boolean(jb, "no_sliding", wb, false);
+  sb.result.all_sliding = r.boolean(jb, "all_sliding", wb, false);
+  sb.result.extrapolated = r.boolean(jb, "extrapolated", wb, false);
+  if (jb.contains("growth_slope")) sb.result.growth_slope = r.number(jb, "growth_slope", wb);
+  const json& steps = r.array(jb, "steps", wb);
+  for (std::size_t s = 0; s < steps.size(); ++s) {
+    const std::string ws = fmt::format("{}.steps[{}]", wb, s);
+    if (!steps[s].is_array() || steps[s].size() != 6)
+      r.fail(ws, "[f_tangential, u_short, u_long, depth, radius, label]");
+    BorderStep st;
+    st.f_tangential = r.number(steps[s][0], ws);
+    st.u_short = r.number(steps[s][1], ws);
+    st.u_long = r.number(steps[s][2], ws);
+    st.depth = r.number(steps[s][3], ws);
+    st.radius = r.number(steps[s][4], ws);
+    sb.result.labels.push_back(static_cast<int>(r.number(steps[s][5], ws)) != 0);
+    sb.steps.push_back(st);
+  }
+  return sb;
+}
+
+SysPoint read_point(const Reader& r, const json& jp, const std::string& w, const SysModel& m) {
+  const std::size_t nl = m.f_normal_levels.size(), nk = m.angles.size();
+  SysPoint p;
+  p.id = r.integer(jp, "id", w);
+  p.position = r.vec3(jp, "position", w);
+  p.normal = r.vec3(jp, "normal", w);
+  if (std::abs(p.normal.norm() - 1.0) > 1e-3) r.fail(w + ".normal", "a unit vector");
+  p.normal.normalize();
+  if (jp.contains("creep_viscosity")) {
+    p.creep_viscosity = r.number(jp, "creep_viscosity", w);
+    p.tangential_stiffness = r.number(jp, "tangential_stiffness", w);
+    if (p.creep_viscosity < 0 || p.tangential_stiffness < 0)
+      r.fail(w, "creep_viscosity >= 0 and tangential_stiffness >= 0");
+  }
+  const json& bs = r.array(jp, "borders", w, nl * nk);
+  if (bs.size() != nl * nk)
+    r.fail(w + ".borders", fmt::format("{} borders (levels x directions)", nl * nk));
+  for (std::size_t b = 0; b < bs.size(); ++b)
+    p.borders.push_back(read_border(r, bs[b], fmt::format("{}.borders[{}]", w, b),
+                                    m.f_normal_levels[b / nk], b % nk));
+  return p;
+}
+
 SysModel read_sys_json(const std::string& path) {
   const std::string text = read_file(path);
   json j;
@@ -166,65 +226,9 @@ SysModel read_sys_json(const std::string& path) {
   for (std::size_t i = 1; i < m.f_normal_levels.size(); ++i)
     if (!(m.f_normal_levels[i] > m.f_normal_levels[i - 1]) || !(m.f_normal_levels[0] > 0))
       r.fail("$.f_normal_levels", "increasing levels > 0 N");
-  const std::size_t nl = m.f_normal_levels.size(), nk = m.angles.size();
   const json& pts = r.array(j, "points", "$", 1);
   for (std::size_t i = 0; i < pts.size(); ++i) {
-    const std::string w = fmt::format("$.points[{}]", i);
-    SysPoint p;
-    p.id = r.integer(pts[i], "id", w);
-    p.position = r.vec3(pts[i], "position", w);
-    p.normal = r.vec3(pts[i], "normal", w);
-    if (std::abs(p.normal.norm() - 1.0) > 1e-3) r.fail(w + ".normal", "a unit vector");
-    p.normal.normalize();
-    if (pts[i].contains("creep_viscosity")) {
-      p.creep_viscosity = r.number(pts[i], "creep_viscosity", w);
-      p.tangential_stiffness = r.number(pts[i], "tangential_stiffness", w);
-      if (p.creep_viscosity < 0 || p.tangential_stiffness < 0)
-        r.fail(w, "creep_viscosity >= 0 and tangential_stiffness >= 0");
-    }
-    const json& bs = r.array(pts[i], "borders", w, nl * nk);
-    if (bs.size() != nl * nk)
-      r.fail(w + ".borders", fmt::format("{} borders (levels x directions)", nl * nk));
-    for (std::size_t b = 0; b < bs.size(); ++b) {
-      const std::string wb = fmt::format("{}.borders[{}]", w, b);
-      SysBorder sb;
-      sb.f_normal = r.number(bs[b], "f_normal", wb);
-      sb.direction = r.integer(bs[b], "direction", wb);
-      if (std::abs(sb.f_normal - m.f_normal_levels[b / nk]) > 1e-6 ||
-          sb.direction != static_cast<int>(b % nk))
-        r.fail(wb, fmt::format("level {} N and direction {} (level-major order)",
-                               m.f_normal_levels[b / nk], b % nk));
-      sb.result.f_limit = r.number(bs[b], "f_limit", wb);
-      sb.result.f_limit_load =
-          bs[b].contains("f_limit_load") ? r.number(bs[b], "f_limit_load", wb) : sb.result.f_limit;
-      if (bs[b].contains("ratio_limit") && !bs[b]["ratio_limit"].is_null())
-        sb.result.ratio_limit = r.number(bs[b], "ratio_limit", wb);
-      sb.result.depth = r.number(bs[b], "depth", wb);
-      sb.result.radius = r.number(bs[b], "radius", wb);
-      if (sb.result.f_limit < 0 || sb.result.radius < 0) r.fail(wb, "f_limit >= 0 and radius >= 0");
-      sb.result.split = static_cast<std::size_t>(std::max(0, r.integer(bs[b], "split", wb)));
-      sb.result.no_sliding = r.boolean(bs[b], "no_sliding", wb, false);
-      sb.result.all_sliding = r.boolean(bs[b], "all_sliding", wb, false);
-      sb.result.extrapolated = r.boolean(bs[b], "extrapolated", wb, false);
-      if (bs[b].contains("growth_slope"))
-        sb.result.growth_slope = r.number(bs[b], "growth_slope", wb);
-      const json& steps = r.array(bs[b], "steps", wb);
-      for (std::size_t s = 0; s < steps.size(); ++s) {
-        const std::string ws = fmt::format("{}.steps[{}]", wb, s);
-        if (!steps[s].is_array() || steps[s].size() != 6)
-          r.fail(ws, "[f_tangential, u_short, u_long, depth, radius, label]");
-        BorderStep st;
-        st.f_tangential = r.number(steps[s][0], ws);
-        st.u_short = r.number(steps[s][1], ws);
-        st.u_long = r.number(steps[s][2], ws);
-        st.depth = r.number(steps[s][3], ws);
-        st.radius = r.number(steps[s][4], ws);
-        sb.result.labels.push_back(static_cast<int>(r.number(steps[s][5], ws)) != 0);
-        sb.steps.push_back(st);
-      }
-      p.borders.push_back(std::move(sb));
-    }
-    m.points.push_back(std::move(p));
+    m.points.push_back(read_point(r, pts[i], fmt::format("$.points[{}]", i), m));
   }
   std::vector<Tri> tris;
   const json& jt = r.array(j, "triangles", "$");

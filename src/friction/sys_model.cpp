@@ -155,13 +155,116 @@ void SysModel::rebuild(const std::vector<Tri>* triangles) {
                        : ReferenceMesh::build(positions, axis);
 }
 
+namespace {
+
+using StepPair = std::pair<const CycleRecord*, const CycleRecord*>;  // short, long plateau
+
+BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, const FitOptions& opt) {
+  BorderStep st;
+  st.f_tangential = ft;
+  st.u_short = s.up_tangential();
+  st.u_long = l.up_tangential();
+  st.capped = s.status == CycleStatus::slip_capped || l.status == CycleStatus::slip_capped;
+  st.f_normal = s.f_normal;
+  st.depth = -s.u_meas.dot(s.nc);
+  st.ratio = contact_ratio(s, opt.shape);
+  if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
+    const double d0 = opt.shape->depth(s.pc);
+    if (std::isfinite(d0)) st.depth += d0;
+  }
+  st.radius = (s.u_meas - s.u_meas.dot(s.nc) * s.nc).norm();
+  return st;
+}
+
+// Angles of the K directions of one point from its t_0, snapped to the nominal 2 pi k / K
+// (avoids 2 pi - epsilon for k = 0).
+std::vector<double> direction_angles(int id, const std::vector<Vec3>& tsum, const Vec3& t0,
+                                     const Vec3& t1, double tolerance) {
+  const std::size_t nk = tsum.size();
+  std::vector<double> angles(nk);
+  for (std::size_t k = 0; k < nk; ++k) {
+    if (!(tsum[k].norm() > 0))
+      throw Error(fmt::format("sys fit: reference point {} has no cycles in direction {}", id, k));
+    angles[k] = wrap_angle(std::atan2(tsum[k].dot(t1), tsum[k].dot(t0)));
+    const double nominal = kTwoPi * static_cast<double>(k) / static_cast<double>(nk);
+    double d = std::abs(angles[k] - nominal);
+    d = std::min(d, kTwoPi - d);
+    if (d <= tolerance) angles[k] = nominal;
+  }
+  return angles;
+}
+
+void check_angles(const SysModel& m, int id, const std::vector<double>& angles, double tolerance) {
+  for (std::size_t k = 0; k < angles.size(); ++k) {
+    double d = std::abs(angles[k] - m.angles[k]);
+    d = std::min(d, kTwoPi - d);
+    if (d > tolerance)
+      throw Error(fmt::format("sys fit: reference point {}: expected direction {} at {:.3f} rad "
+                              "from t_0 (as at point {}), got {:.3f} rad",
+                              id, k, m.angles[k], m.points.front().id, angles[k]));
+  }
+}
+
+// One reference point from its cycles; sets m.angles from the first point.
+SysPoint build_point(int id, const std::vector<const CycleRecord*>& list, SysModel& m,
+                     std::size_t nk, bool two_plateaus, const FitOptions& opt) {
+  const std::size_t nl = m.f_normal_levels.size();
+  SysPoint p;
+  p.id = id;
+  Vec3 nsum = Vec3::Zero(), psum = Vec3::Zero();
+  for (const CycleRecord* c : list) {
+    nsum += c->nc;
+    psum += c->reference;
+  }
+  p.normal = nsum.normalized();
+  p.position = psum / static_cast<double>(list.size());
+  Vec3 t0, t1;
+  tangent_basis(p.normal, opt.tangent_reference, t0, t1);
+  // Group by (level, direction), then f_T.
+  std::vector<std::map<double, StepPair>> groups(nl * nk);
+  std::vector<Vec3> tsum(nk, Vec3::Zero());
+  for (const CycleRecord* c : list) {
+    const std::size_t j = index_of(m.f_normal_levels, c->f_normal);
+    const std::size_t k = static_cast<std::size_t>(c->direction);
+    tsum[k] += c->tdir;
+    StepPair& slot = groups[j * nk + k][std::round(c->f_tangential * 1e6) / 1e6];
+    const bool is_short =
+        std::abs(c->t_plateau - m.plateaus[0]) <= std::abs(c->t_plateau - m.plateaus[1]);
+    (is_short ? slot.first : slot.second) = c;
+  }
+  const std::vector<double> angles = direction_angles(id, tsum, t0, t1, opt.angle_tolerance);
+  if (m.angles.empty())
+    m.angles = angles;
+  else
+    check_angles(m, id, angles, opt.angle_tolerance);
+  for (std::size_t j = 0; j < nl; ++j)
+    for (std::size_t k = 0; k < nk; ++k) {
+      SysBorder b;
+      b.f_normal = m.f_normal_levels[j];
+      b.direction = static_cast<int>(k);
+      for (const auto& [ft, pair] : groups[j * nk + k]) {
+        const CycleRecord* l = two_plateaus ? pair.second : pair.first;
+        if (pair.first && l) b.steps.push_back(make_step(ft, *pair.first, *l, opt));
+      }
+      if (b.steps.empty())
+        throw Error(
+            fmt::format("sys fit: reference point {} has no complete f_T step at f_N = {} N, "
+                        "direction {} (one cycle per plateau is needed)",
+                        id, b.f_normal, k));
+      p.borders.push_back(std::move(b));
+    }
+  fit_point(p, nl, nk, m.plateaus[1] - m.plateaus[0], opt);
+  return p;
+}
+
+}  // namespace
+
 SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
   std::vector<const CycleRecord*> use;
   for (const CycleRecord& c : cycles)
     if (usable(c)) use.push_back(&c);
   if (use.empty())
-    throw Error("sys fit: expected at least one usable cycle (status ok or unsettled)");
-
+    throw Error("sys fit: expected at least one usable cycle (status ok, unsettled or slip capped)");
   SysModel m;
   m.tangent_reference = opt.tangent_reference;
   m.border_options = opt.border;
@@ -175,97 +278,11 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
   m.f_normal_levels = distinct(fns);
   const std::vector<double> plateaus = distinct(tps);
   m.plateaus = {plateaus.front(), plateaus.back()};
-  const std::size_t nl = m.f_normal_levels.size(), nk = static_cast<std::size_t>(max_dir) + 1;
-
   std::map<int, std::vector<const CycleRecord*>> by_point;
   for (const CycleRecord* c : use) by_point[c->point].push_back(c);
-
-  for (auto& [id, list] : by_point) {
-    SysPoint p;
-    p.id = id;
-    Vec3 nsum = Vec3::Zero(), psum = Vec3::Zero();
-    for (const CycleRecord* c : list) {
-      nsum += c->nc;
-      psum += c->reference;
-    }
-    p.normal = nsum.normalized();
-    p.position = psum / static_cast<double>(list.size());
-    Vec3 t0, t1;
-    tangent_basis(p.normal, opt.tangent_reference, t0, t1);
-    // Group by (level, direction) then f_T.
-    std::vector<std::map<double, std::pair<const CycleRecord*, const CycleRecord*>>> groups(nl *
-                                                                                            nk);
-    std::vector<Vec3> tsum(nk, Vec3::Zero());
-    for (const CycleRecord* c : list) {
-      const std::size_t j = index_of(m.f_normal_levels, c->f_normal);
-      const std::size_t k = static_cast<std::size_t>(c->direction);
-      tsum[k] += c->tdir;
-      auto& slot = groups[j * nk + k][std::round(c->f_tangential * 1e6) / 1e6];
-      const bool is_short =
-          std::abs(c->t_plateau - m.plateaus[0]) <= std::abs(c->t_plateau - m.plateaus[1]);
-      (is_short ? slot.first : slot.second) = c;
-    }
-    // Direction angles must agree with the first point's.
-    std::vector<double> angles(nk);
-    for (std::size_t k = 0; k < nk; ++k) {
-      if (!(tsum[k].norm() > 0))
-        throw Error(
-            fmt::format("sys fit: reference point {} has no cycles in direction {}", id, k));
-      angles[k] = wrap_angle(std::atan2(tsum[k].dot(t1), tsum[k].dot(t0)));
-      // Snap to the protocol's nominal angle 2 pi k / K (avoids 2 pi - epsilon for k = 0).
-      const double nominal = kTwoPi * static_cast<double>(k) / static_cast<double>(nk);
-      double d = std::abs(angles[k] - nominal);
-      d = std::min(d, kTwoPi - d);
-      if (d <= opt.angle_tolerance) angles[k] = nominal;
-    }
-    if (m.angles.empty()) {
-      m.angles = angles;
-    } else {
-      for (std::size_t k = 0; k < nk; ++k) {
-        double d = std::abs(angles[k] - m.angles[k]);
-        d = std::min(d, kTwoPi - d);
-        if (d > opt.angle_tolerance)
-          throw Error(
-              fmt::format("sys fit: reference point {}: expected direction {} at {:.3f} rad "
-                          "from t_0 (as at point {}), got {:.3f} rad",
-                          id, k, m.angles[k], m.points.front().id, angles[k]));
-      }
-    }
-    for (std::size_t j = 0; j < nl; ++j)
-      for (std::size_t k = 0; k < nk; ++k) {
-        SysBorder b;
-        b.f_normal = m.f_normal_levels[j];
-        b.direction = static_cast<int>(k);
-        for (const auto& [ft, pair] : groups[j * nk + k]) {
-          const CycleRecord* s = pair.first;
-          const CycleRecord* l = plateaus.size() > 1 ? pair.second : pair.first;
-          if (!s || !l) continue;
-          BorderStep st;
-          st.f_tangential = ft;
-          st.u_short = s->up_tangential();
-          st.u_long = l->up_tangential();
-          st.capped =
-              s->status == CycleStatus::slip_capped || l->status == CycleStatus::slip_capped;
-          st.f_normal = s->f_normal;
-          st.depth = -s->u_meas.dot(s->nc);
-          st.ratio = contact_ratio(*s, opt.shape);
-          if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
-            const double d0 = opt.shape->depth(s->pc);
-            if (std::isfinite(d0)) st.depth += d0;
-          }
-          st.radius = (s->u_meas - s->u_meas.dot(s->nc) * s->nc).norm();
-          b.steps.push_back(st);
-        }
-        if (b.steps.empty())
-          throw Error(
-              fmt::format("sys fit: reference point {} has no complete f_T step at f_N = {} N, "
-                          "direction {} (one cycle per plateau is needed)",
-                          id, b.f_normal, k));
-        p.borders.push_back(std::move(b));
-      }
-    fit_point(p, nl, nk, m.plateaus[1] - m.plateaus[0], opt);
-    m.points.push_back(std::move(p));
-  }
+  for (const auto& [id, list] : by_point)
+    m.points.push_back(build_point(id, list, m, static_cast<std::size_t>(max_dir) + 1,
+                                   plateaus.size() > 1, opt));
   for (std::size_t k = 1; k < m.angles.size(); ++k)
     if (!(m.angles[k] > m.angles[k - 1]))
       throw Error("sys fit: expected direction indices in increasing angle order around n_c");

@@ -36,8 +36,9 @@ struct BorderStep {
 };
 
 struct BorderOptions {
-  // Features are divided by their largest value over the sweep (at least the floor, so a
-  // sweep of pure noise is not blown up) and then weighted.
+  // Features a = log(1 + ||u^p_100|| / floor_up), b = log(1 + max(0, Delta) / floor_growth),
+  // each divided by its largest value over the sweep (at least log 2, so a sweep of pure noise
+  // is not blown up), then weighted.
   double weight_up = 0.5;      ///< weight of ||u^p_100||
   double weight_growth = 1.0;  ///< weight of Delta u^p_plateau
   double floor_up = 0.2;       ///< mm

@@ -119,6 +119,8 @@ struct PalpationConfig {
   /// Tangential slip during the plateau (mm) that ends the loading early (keeps the probe on
   /// small objects; the cycle gets status slip_capped).
   double max_slip = 15.0;
+  /// Tangential displacement (mm) that ends the loading early at any time (status slip_capped).
+  double max_displacement = 30.0;
 
   // Equilibrium after unloading.
   double settle_speed = 0.5;    ///< mm/s
@@ -203,8 +205,18 @@ class PalpationProtocol final : public TickProtocol {
   void begin_cycle(double time, const Vec3& position);
   void begin_lift(double time, const Vec3& position);
   void begin_move(double time, const Vec3& from, const Vec3& to, double speed);
-  Vec3 pid(double time, const Vec3& position, const Vec3& target, const Vec3& target_velocity,
-           double dt);
+  struct Tick {  // readings of the current tick
+    double time, tau, dt;  // tau: time since the start of the phase
+    const Vec3& position;
+    const Vec3& sensor;
+  };
+  Vec3 move_step(const Tick& k);
+  Vec3 tare_step(const Tick& k);
+  Vec3 approach_step(const Tick& k);
+  Vec3 load_step(const Tick& k);
+  Vec3 release_step(const Tick& k);
+  void measure(const Tick& k);
+  Vec3 pid(const Vec3& position, const Vec3& target, const Vec3& target_velocity, double dt);
   Vec3 hold_zero_load() const;
   Vec3 finish_cycle(double time, const Vec3& position);
   Vec3 fail(const char* why, CycleStatus status, const Vec3& position);
