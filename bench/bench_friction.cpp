@@ -35,7 +35,7 @@ TriMesh dome_mesh() {
   return m;
 }
 
-SysModel make_sys(bool dome = false) {
+SysModel make_sys(bool dome = false, bool creep = false) {
   SysModel m;
   m.f_normal_levels = {1.0, 3.0, 5.0};
   for (int k = 0; k < 8; ++k) m.angles.push_back(k * std::numbers::pi / 4);
@@ -61,6 +61,10 @@ SysModel make_sys(bool dome = false) {
           b.result.radius = mu * fn / (0.6 + 0.02 * k);
           p.borders.push_back(b);
         }
+      if (creep) {  // as palpated on the virtual lab: c_v 0.02 N s/mm, k_t 0.5 N/mm
+        p.creep_viscosity = 0.02;
+        p.tangential_stiffness = 0.5;
+      }
       m.points.push_back(p);
     }
   m.rebuild();
@@ -91,8 +95,8 @@ void report(benchmark::State& state, std::vector<double>& ns) {
   state.counters["max_us"] = pct(1.0);
 }
 
-void run(benchmark::State& state, double speed, bool dome = false) {
-  const SysModel sys = make_sys(dome);
+void run(benchmark::State& state, double speed, bool dome = false, bool creep = false) {
+  const SysModel sys = make_sys(dome, creep);
   const PlaneShape plane(Vec3::Zero(), Vec3::UnitZ());
   const MeshSurface mesh(dome_mesh());
   const ProxyModel model{&sys, dome ? static_cast<const ShapeQuery*>(&mesh) : &plane};
@@ -128,10 +132,15 @@ void BM_ProxyStepSliding(benchmark::State& state) {
 void BM_ProxyStepSlidingDomeMesh(benchmark::State& state) {
   run(state, 60.0, true);
 }
+// The same with the creep-aware (Duvaut-Lions) return, one pass per tick.
+void BM_ProxyStepSlidingDomeMeshCreep(benchmark::State& state) {
+  run(state, 60.0, true, true);
+}
 
 BENCHMARK(BM_ProxyStepElastic);
 BENCHMARK(BM_ProxyStepSliding);
 BENCHMARK(BM_ProxyStepSlidingDomeMesh);
+BENCHMARK(BM_ProxyStepSlidingDomeMeshCreep);
 
 }  // namespace
 
