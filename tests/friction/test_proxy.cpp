@@ -8,8 +8,10 @@
 
 #include "friction/fake_device.hpp"
 #include "friction/sys_helpers.hpp"
+#include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/palpation.hpp"
 #include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/geometry/heightmap.hpp"
 
 // Counting global operator new: the servo step must not allocate.
 namespace {
@@ -147,6 +149,33 @@ TEST(ProxyEstimator, StepDoesNotAllocate) {
     proxy_step(f.model, f.state, p);
   }
   EXPECT_EQ(g_allocs.load() - before, 0);
+  // The same on a curved triangle mesh with the creep-aware return.
+  Grid g(81, 81);
+  for (int i = 0; i <= 80; ++i)
+    for (int j = 0; j <= 80; ++j)
+      g.at(j, i) = 3.0 * std::cos(0.05 * (i - 40)) * std::cos(0.05 * (j - 40));
+  TriMesh mesh = grid_to_mesh(g, 1.0);
+  mesh.transform(1.0, Vec3(40, 40, 0));
+  const MeshSurface surface(mesh);
+  for (auto& p : f.sys.points) {
+    p.creep_viscosity = 0.02;
+    p.tangential_stiffness = 0.5;
+  }
+  ProxyModel mm{&f.sys, &surface};
+  ProxyState ms;
+  proxy_step(mm, ms, Vec3(0, 0, 5), 1e-3);
+  const long before_mesh = g_allocs.load();
+  int contact = 0, sliding = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double t = i * 1e-3;
+    const Vec3 p(25.0 * std::sin(0.7 * t), 25.0 * std::sin(1.1 * t), 1.0 + 2.0 * std::sin(3.0 * t));
+    const ProxyOutput o = proxy_step(mm, ms, p, 1e-3);
+    contact += o.contact;
+    sliding += o.sliding;
+  }
+  EXPECT_EQ(g_allocs.load() - before_mesh, 0);
+  EXPECT_GT(contact, 1000);  // the path really touched and slid
+  EXPECT_GT(sliding, 100);
 }
 
 // End to end against ground truth: drive the fake device (ideal Coulomb, mu known) by force,
