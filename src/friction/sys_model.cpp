@@ -199,9 +199,10 @@ void check_angles(const SysModel& m, int id, const std::vector<double>& angles, 
     double d = std::abs(angles[k] - m.angles[k]);
     d = std::min(d, kTwoPi - d);
     if (d > tolerance)
-      throw Error(fmt::format("sys fit: reference point {}: expected direction {} at {:.3f} rad "
-                              "from t_0 (as at point {}), got {:.3f} rad",
-                              id, k, m.angles[k], m.points.front().id, angles[k]));
+      throw Error(
+          fmt::format("sys fit: reference point {}: expected direction {} at {:.3f} rad "
+                      "from t_0 (as at point {}), got {:.3f} rad",
+                      id, k, m.angles[k], m.points.front().id, angles[k]));
   }
 }
 
@@ -264,7 +265,8 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
   for (const CycleRecord& c : cycles)
     if (usable(c)) use.push_back(&c);
   if (use.empty())
-    throw Error("sys fit: expected at least one usable cycle (status ok, unsettled or slip capped)");
+    throw Error(
+        "sys fit: expected at least one usable cycle (status ok, unsettled or slip capped)");
   SysModel m;
   m.tangent_reference = opt.tangent_reference;
   m.border_options = opt.border;
@@ -281,8 +283,8 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
   std::map<int, std::vector<const CycleRecord*>> by_point;
   for (const CycleRecord* c : use) by_point[c->point].push_back(c);
   for (const auto& [id, list] : by_point)
-    m.points.push_back(build_point(id, list, m, static_cast<std::size_t>(max_dir) + 1,
-                                   plateaus.size() > 1, opt));
+    m.points.push_back(
+        build_point(id, list, m, static_cast<std::size_t>(max_dir) + 1, plateaus.size() > 1, opt));
   for (std::size_t k = 1; k < m.angles.size(); ++k)
     if (!(m.angles[k] > m.angles[k - 1]))
       throw Error("sys fit: expected direction indices in increasing angle order around n_c");

@@ -205,7 +205,7 @@ class PalpationProtocol final : public TickProtocol {
   void begin_cycle(double time, const Vec3& position);
   void begin_lift(double time, const Vec3& position);
   void begin_move(double time, const Vec3& from, const Vec3& to, double speed);
-  struct Tick {  // readings of the current tick
+  struct Tick {            // readings of the current tick
     double time, tau, dt;  // tau: time since the start of the phase
     const Vec3& position;
     const Vec3& sensor;
