@@ -1,0 +1,97 @@
+// `inhap demo`: the whole thesis on the virtual lab. The demo is a sequence of steps; each step
+// measures something, writes its data to OUT/*.csv / OUT/*.json, adds rows to the summary table
+// (measured figure beside the thesis figure it answers) and figures to the HTML report.
+// A step whose module is not in this build reports itself as "not available in this build".
+// Units: mm, N, s, N/mm.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace inhap::demo {
+
+struct Options {
+  std::string out = "out";
+  std::string data;               ///< folder with bunny/, headsq/, afm-topography/ (optional)
+  std::string web_dir;            ///< folder holding node_modules/ and the report template
+  std::vector<std::string> only;  ///< run only these steps (empty: all)
+  bool quick = false;
+  std::uint64_t seed = 1;
+};
+
+/// One line of the summary table.
+struct Row {
+  std::string quantity;  ///< what was measured, with unit
+  std::string measured;  ///< this run's value ("not available in this build" when pending)
+  std::string thesis;    ///< the thesis figure it answers ("-" when the thesis has none)
+};
+
+/// One figure of the report. kind "plotly": spec = {data, layout}; kind "three": spec =
+/// {meshes: [{positions, indices, colors}], lines: [{points, color}], points: [...]};
+/// kind "pending": no drawing, the caption says what is missing.
+struct Figure {
+  std::string id, title, caption, kind;
+  nlohmann::json spec;
+};
+
+struct StepResult {
+  bool available = true;
+  std::string note;  ///< why not available, or a remark
+  std::vector<Row> rows;
+  std::vector<Figure> figures;
+  std::vector<std::string> files;  ///< data files written (relative to OUT)
+  double seconds = 0;
+};
+
+/// What a step gets: the options and a progress reporter ("what", fraction done).
+struct Context {
+  const Options& options;
+  std::string step;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  void progress(double fraction, const std::string& what = {}) const;
+  /// OUT/name, and records name as written by the step.
+  std::string file(StepResult& r, const std::string& name) const;
+};
+
+struct Step {
+  std::string name, chapter, title;
+  std::function<StepResult(const Context&)> run;
+};
+
+// Steps (demo_steps_*.cpp).
+StepResult step_tap(const Context& c);
+/// Fig. 3.4; "not available" unless inhap/contact/knee.hpp is in the build.
+StepResult step_contacts(const Context& c);
+StepResult step_explore(const Context& c);
+StepResult step_study(const Context& c);
+StepResult step_strokes(const Context& c);
+StepResult step_data_strokes(const Context& c);
+/// A step whose module has not landed: the summary rows and pending figures it would produce.
+StepResult pending_step(const std::string& module, const std::vector<Row>& rows,
+                        const std::vector<std::pair<std::string, std::string>>& figures);
+
+// Helpers shared by the steps.
+/// Rounds to `digits` decimals (keeps the report's JSON small).
+double rnd(double v, int digits = 3);
+/// Every `stride`-th element of v, rounded.
+nlohmann::json series(const std::vector<double>& v, std::size_t stride = 1, int digits = 3);
+std::string fmt_num(double v, int digits = 2);
+
+// Report (demo_report.cpp).
+struct StepRecord {
+  Step step;
+  StepResult result;
+};
+/// Folder with node_modules/plotly.js-dist-min etc.: --web-dir, INHAP_WEB_DIR, or web/ found
+/// beside or above the executable / the working directory. Throws Error telling to run
+/// ./run setup when the libraries are missing.
+std::string find_web_dir(const std::string& given);
+/// Writes OUT/report.html (self-contained) and OUT/summary.{csv,json}.
+void write_report(const Options& o, const std::string& web_dir,
+                  const std::vector<StepRecord>& steps, double total_seconds);
+
+}  // namespace inhap::demo

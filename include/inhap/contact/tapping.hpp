@@ -1,0 +1,30 @@
+// Contact points of a whole tapping recording (CSV, see core/csv.hpp): chooses the contact
+// force, then runs the detector (detector.hpp). Units: time s, positions mm, forces N.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "inhap/contact/detector.hpp"
+#include "inhap/contact/offline_compensation.hpp"
+#include "inhap/core/csv.hpp"
+
+namespace inhap {
+
+enum class ForceSource {
+  Auto,      ///< Raw when the recording has rfx,rfy,rfz columns, else Recorded
+  Recorded,  ///< the fx,fy,fz columns as the contact force (already compensated)
+  Raw,       ///< rfx,rfy,rfz compensated offline (offline_compensation.hpp); Error if absent
+};
+
+struct TappingResult {
+  std::vector<Contact> contacts;
+  std::vector<std::string> notes;              ///< skipped taps, fallbacks, "no contact found"
+  ForceSource source = ForceSource::Recorded;  ///< what was used
+  OfflineCompensation compensation;            ///< when source == Raw
+};
+
+TappingResult contacts_from_recording(const Recording& rec, const ContactOptions& options,
+                                      ForceSource source = ForceSource::Auto);
+
+}  // namespace inhap

@@ -1,0 +1,89 @@
+// Comparison of two surfaces (thesis sec. 3.3.2, as the Metro tool does): optional rigid ICP
+// alignment (point-to-plane), cropping to a common region, one-sided and symmetric Hausdorff,
+// mean and RMS distances from dense surface samples, and per-vertex error for colouring.
+// Units: mm.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "inhap/core/types.hpp"
+#include "inhap/geometry/trimesh.hpp"
+
+namespace inhap {
+
+/// Points on a mesh: every vertex plus area-uniform random points on the faces (seeded).
+struct SurfaceSamples {
+  std::vector<Vec3> points;
+  std::vector<double> weights;  ///< area represented by each sample, mm^2 (vertices: 0)
+};
+/// About `density` face samples per mm^2 (at least one per face) plus the vertices.
+SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t seed);
+
+/// Rigid transform x -> R x + t.
+struct RigidTransform {
+  Mat3 R = Mat3::Identity();
+  Vec3 t = Vec3::Zero();
+  Vec3 apply(const Vec3& x) const { return R * x + t; }
+};
+
+struct IcpOptions {
+  std::size_t max_iterations = 60;
+  std::size_t max_samples = 6000;  ///< points of the moving mesh used (evenly strided)
+  double reject_factor = 3.0;      ///< pairs farther than this times the median are ignored
+  double tolerance = 1e-6;         ///< stop when the update moves points less than this, mm
+};
+struct IcpResult {
+  RigidTransform transform;  ///< maps the moving mesh onto the fixed one
+  std::size_t iterations = 0;
+  double rms_before = 0, rms_after = 0;  ///< point-to-surface RMS of the used pairs, mm
+};
+/// Point-to-plane ICP (Chen & Medioni): moves `moving` onto `fixed`; each iteration solves the
+/// linearised 6x6 least-squares problem over the closest-point pairs.
+IcpResult icp_point_to_plane(const TriMesh& moving, const TriMesh& fixed,
+                             const IcpOptions& options = {});
+
+struct CompareOptions {
+  bool icp = false;  ///< align a onto b first (a is moved)
+  IcpOptions icp_options;
+  double density = 4.0;  ///< face samples per mm^2 on each surface
+  std::uint64_t seed = 1;
+  /// Common region: when `region` is non-empty, only samples within `region_radius` of one of
+  /// its points count (e.g. the tapped contact points: the surface that was sampled).
+  std::vector<Vec3> region;
+  double region_radius = 0;
+  /// Also drop samples farther than this from the other surface (0: keep all), mm.
+  double crop_distance = 0;
+  /// Overlap only: drop samples whose closest point on the other surface lies on that
+  /// surface's boundary (its open rim), i.e. where the other surface does not continue. This
+  /// is the common region of a partial reconstruction and a complete reference without any
+  /// radius to tune (used with `region` to leave out far parts such as an unsampled bottom).
+  bool exclude_boundary = false;
+  /// With exclude_boundary: also drop samples whose closest point lies within this distance of
+  /// the rim (mm): near a rim that curls, the closest point of an unsampled far part can fall
+  /// just inside the surface instead of exactly on its edge.
+  double rim_margin = 0;
+};
+
+struct OneSided {
+  double max = 0, mean = 0, rms = 0;  ///< over the kept samples, area-weighted mean/RMS, mm
+  std::size_t samples = 0;            ///< kept samples
+};
+
+struct CompareResult {
+  OneSided a_to_b, b_to_a;
+  double hausdorff = 0;                ///< max of the two one-sided maxima, mm
+  double mean = 0;                     ///< mean of the two one-sided means, mm
+  double rms = 0;                      ///< sqrt of the mean of the two one-sided mean squares, mm
+  RigidTransform transform;            ///< applied to a (identity without ICP)
+  std::vector<double> a_vertex_error;  ///< distance of each vertex of (aligned) a to b, mm
+  std::vector<double> b_vertex_error;  ///< distance of each vertex of b to (aligned) a, mm
+};
+
+/// Throws Error when a mesh has no triangles or no sample survives the cropping.
+CompareResult compare_surfaces(const TriMesh& a, const TriMesh& b,
+                               const CompareOptions& options = {});
+
+}  // namespace inhap

@@ -1,0 +1,124 @@
+// Outlier removal, jet smoothing and jitter; see include/inhap/surface/points.hpp.
+#include "inhap/surface/points.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "inhap/core/random.hpp"
+
+namespace inhap {
+
+namespace {
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// Projection of q onto the quadric fitted to q and its neighbours; q itself when singular.
+Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
+  const std::size_t m = nb.size() + 1;
+  if (m < 6) return q;
+  Vec3 centroid = q;
+  for (auto j : nb) centroid += pts[static_cast<std::size_t>(j)];
+  centroid /= static_cast<double>(m);
+  Mat3 cov = (q - centroid) * (q - centroid).transpose();
+  for (auto j : nb) {
+    const Vec3 d = pts[static_cast<std::size_t>(j)] - centroid;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+  const Vec3 e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1),
+             nrm = eig.eigenvectors().col(0);
+  const double scale = std::sqrt(std::max(eig.eigenvalues()[2], 1e-300) / static_cast<double>(m));
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  auto add = [&](const Vec3& p) {
+    const Vec3 d = (p - q) / scale;
+    const double x = d.dot(e1), y = d.dot(e2), z = d.dot(nrm);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, x, y, x * x, x * y, y * y;
+    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    atb += z * row;
+  };
+  add(q);
+  for (auto j : nb) add(pts[static_cast<std::size_t>(j)]);
+  ata = ata.selfadjointView<Eigen::Lower>();
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return q;
+  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(atb);
+  if (!c.allFinite()) return q;
+  return q + c[0] * scale * nrm;
+}
+
+}  // namespace
+
+std::vector<double> knn_mean_distances(std::span<const Vec3> points, std::size_t k) {
+  const KnnTable t = knn_table(points, k);
+  std::vector<double> out(points.size(), 0.0);
+  if (t.k == 0) return out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double s = 0;
+    for (std::size_t j = 0; j < t.k; ++j) s += t.distance[i * t.k + j];
+    out[i] = s / static_cast<double>(t.k);
+  }
+  return out;
+}
+
+std::vector<std::size_t> remove_knn_outliers(std::span<const Vec3> points, std::size_t k,
+                                             double sigmas) {
+  std::vector<std::size_t> kept;
+  const std::vector<double> d = knn_mean_distances(points, k);
+  const double med = median_of(d);
+  std::vector<double> dev(d.size());
+  for (std::size_t i = 0; i < d.size(); ++i) dev[i] = std::abs(d[i] - med);
+  const double mad = median_of(dev);
+  // A floor on the spread so that a perfectly regular sampling (MAD = 0) keeps its points.
+  const double limit = med + sigmas * std::max(1.4826 * mad, 0.05 * med);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    if (d[i] <= limit) kept.push_back(i);
+  return kept;
+}
+
+std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
+  std::vector<Vec3> out(points.begin(), points.end());
+  const KnnTable t = knn_table(points, k);
+  if (t.k < 5) return out;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = project_on_jet(points[i], std::span<const std::int32_t>(t.index).subspan(i * t.k, t.k),
+                            points);
+  return out;
+}
+
+std::vector<Vec3> pca_normals(std::span<const Vec3> points, std::size_t k) {
+  std::vector<Vec3> out(points.size(), Vec3::UnitZ());
+  const KnnTable t = knn_table(points, k);
+  if (t.k < 2) return out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    Vec3 c = points[i];
+    for (std::size_t j = 0; j < t.k; ++j)
+      c += points[static_cast<std::size_t>(t.index[i * t.k + j])];
+    c /= static_cast<double>(t.k + 1);
+    Mat3 cov = (points[i] - c) * (points[i] - c).transpose();
+    for (std::size_t j = 0; j < t.k; ++j) {
+      const Vec3 d = points[static_cast<std::size_t>(t.index[i * t.k + j])] - c;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+    out[i] = eig.eigenvectors().col(0).normalized();
+  }
+  return out;
+}
+
+std::vector<Vec3> jitter(std::span<const Vec3> points, double amplitude, std::uint64_t seed) {
+  Rng rng(seed);
+  std::vector<Vec3> out(points.begin(), points.end());
+  for (Vec3& p : out)
+    for (int c = 0; c < 3; ++c) p[c] += amplitude * (2.0 * rng.uniform() - 1.0);
+  return out;
+}
+
+}  // namespace inhap

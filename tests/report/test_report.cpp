@@ -1,0 +1,123 @@
+// `inhap demo` report in headless Chromium: the demo (quick, a subset of steps) writes
+// out/report.html; Chromium opens it offline, the report's glue checks that every figure drew an
+// svg/canvas and collects console errors into document.title, which the test reads back with
+// --dump-dom. A screenshot goes to out/report-test/report.png for people to look at.
+// Skips when chromium is not installed (./run setup installs it).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "support/run_cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool have_chromium() {
+  return std::system("command -v chromium >/dev/null 2>&1") == 0;
+}
+
+// Source root from this file's path (tests/report/test_report.cpp).
+fs::path source_root() {
+  return fs::path(__FILE__).parent_path().parent_path().parent_path();
+}
+
+std::string chromium(const std::string& profile, const std::string& extra) {
+  return "chromium --headless --no-sandbox --disable-gpu --enable-unsafe-swiftshader "
+         "--use-angle=swiftshader --disable-quic --no-first-run --disable-background-networking "
+         "--disable-component-update --disable-sync --disable-default-apps "
+         "--disable-extensions --user-data-dir=" +
+         profile + " --virtual-time-budget=60000 " + extra;
+}
+
+// The page's DOM after its scripts ran (stdout of --dump-dom).
+std::string dump_dom(const std::string& profile, const std::string& html) {
+  const std::string cmd = chromium(profile, "--dump-dom file://" + html) + " 2>/dev/null";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  std::string out;
+  if (!pipe) return out;
+  char buf[65536];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  ::pclose(pipe);
+  return out;
+}
+
+std::string title_of(const std::string& dom) {
+  std::smatch m;
+  static const std::regex re("<title>([^<]*)</title>");
+  return std::regex_search(dom, m, re) ? m[1].str() : std::string("(no title)");
+}
+
+// One test (one demo run): ctest runs each test in its own process.
+TEST(Report, EveryFigureDrawsWithoutConsoleErrorsAndTheCheckCanFail) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium not installed (./run setup installs it)";
+  const fs::path out = source_root() / "out" / "report-test";
+  fs::remove_all(out);
+  const auto run = inhap::test::run_cli(
+      "demo --quick --only tap,contacts,shape,explore,strokes --out " + out.string());
+  ASSERT_EQ(run.status, 0) << run.out;
+  inhap::test::TempDir profile;
+  const fs::path html = out / "report.html";
+  ASSERT_TRUE(fs::exists(html));
+  const std::string dom = dump_dom(profile.path("p"), html.string());
+  const std::string title = title_of(dom);
+  // The demo wrote these figures (pending ones excluded); the page must have drawn all of them.
+  const auto figures = nlohmann::json::parse(slurp(out / "figures.json"));
+  ASSERT_GE(figures.size(), 4u);
+  EXPECT_EQ(title, "REPORT_OK n_figures=" + std::to_string(figures.size())) << title;
+  bool has_three = false;
+  for (const auto& [id, f] : figures.items()) {
+    EXPECT_NE(dom.find("id=\"fig-" + id + "\""), std::string::npos) << id;
+    has_three |= f["kind"] == "three";
+  }
+  EXPECT_TRUE(has_three);
+  // The step whose module has not landed is marked, never faked.
+  EXPECT_NE(dom.find("not available in this build"), std::string::npos);
+
+  // A screenshot for people.
+  const fs::path png = out / "report.png";
+  const std::string shot =
+      chromium(profile.path("s"), "--screenshot=" + png.string() +
+                                      " --window-size=1400,3000 file://" + html.string()) +
+      " >/dev/null 2>&1";
+  EXPECT_EQ(std::system(shot.c_str()), 0);
+  EXPECT_TRUE(fs::exists(png) && fs::file_size(png) > 10000);
+
+  // The check must be able to fail: the same report with one console error added.
+  std::string page = slurp(html);
+  const auto body = page.rfind("</body>");
+  ASSERT_NE(body, std::string::npos);
+  page.insert(body, "<script>console.error('injected failure');</script>");
+  const std::string broken = profile.path("broken.html");
+  std::ofstream(broken) << page;
+  const std::string bad = title_of(dump_dom(profile.path("q"), broken));
+  EXPECT_EQ(bad.rfind("REPORT_FAIL", 0), 0u) << bad;
+  EXPECT_NE(bad.find("injected failure"), std::string::npos) << bad;
+}
+
+TEST(ReportLibraries, MissingLibrariesSayRunSetup) {
+  inhap::test::TempDir dir;
+  fs::create_directories(dir.path("web"));
+  std::ofstream(dir.path("web/report_template.html")) << "<html></html>";
+  const auto r = inhap::test::run_cli("demo --quick --only tap --web-dir " + dir.path("web") +
+                                      " --out " + dir.path("out"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("./run setup"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir.path("out/report.html")));
+}
+
+}  // namespace

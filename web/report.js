@@ -1,0 +1,128 @@
+// Glue of the inhap demo report: reads the figures' data (JSON written by `inhap demo`) and
+// hands it to plotly.js (2-D charts) and three.js (rotatable 3-D meshes). No drawing of our own.
+// When done it writes "REPORT_OK n_figures=K" or "REPORT_FAIL ..." into document.title and
+// #report-status (read back by tests/report).
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+
+const report = JSON.parse(document.getElementById("inhap-data").textContent);
+
+function el(tag, attrs = {}, text = "") {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  if (text) e.textContent = text;
+  return e;
+}
+
+function summaryTable() {
+  const t = el("table");
+  const head = el("tr");
+  for (const h of ["step", "thesis sec.", "quantity", "measured", "thesis"]) head.appendChild(el("th", {}, h));
+  t.appendChild(head);
+  for (const s of report.steps) {
+    for (const r of s.rows) {
+      const tr = el("tr");
+      tr.appendChild(el("td", {}, s.name));
+      tr.appendChild(el("td", {}, s.chapter));
+      tr.appendChild(el("td", {}, r.quantity));
+      tr.appendChild(el("td", r.measured.startsWith("not available") || r.measured.startsWith("skipped") ? { class: "na" } : {}, r.measured));
+      tr.appendChild(el("td", {}, r.thesis));
+      t.appendChild(tr);
+    }
+  }
+  return t;
+}
+
+async function plotly(div, spec) {
+  const layout = Object.assign({ margin: { l: 60, r: 20, t: 20, b: 50 }, legend: { orientation: "h", y: -0.2 },
+                                 height: 380, paper_bgcolor: "#fff" }, spec.layout || {});
+  await Plotly.newPlot(div, spec.data, layout, { displaylogo: false, responsive: true });
+}
+
+function three(div, spec) {
+  const width = div.clientWidth || 600, height = div.clientHeight || 420;
+  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  renderer.setSize(width, height);
+  div.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0xffffff);
+  const group = new THREE.Group();
+  for (const m of spec.meshes || []) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute("position", new THREE.Float32BufferAttribute(m.positions, 3));
+    g.setAttribute("color", new THREE.Float32BufferAttribute(m.colors, 3));
+    g.setIndex(m.indices);
+    g.computeVertexNormals();
+    group.add(new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide })));
+  }
+  for (const l of spec.lines || []) {
+    const pts = [];
+    for (let i = 0; i + 2 < l.points.length; i += 3) pts.push(new THREE.Vector3(l.points[i], l.points[i + 1], l.points[i + 2]));
+    if (pts.length < 2) continue;
+    const tube = new THREE.TubeGeometry(new THREE.CatmullRomCurve3(pts), Math.min(600, 4 * pts.length), spec.line_radius || 0.5, 6, false);
+    group.add(new THREE.Mesh(tube, new THREE.MeshLambertMaterial({ color: l.color })));
+  }
+  scene.add(group);
+  scene.add(new THREE.AmbientLight(0xffffff, 1.2));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+  sun.position.set(1, -1, 2);
+  scene.add(sun);
+  // z is up in inhap data.
+  const box = new THREE.Box3().setFromObject(group);
+  const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
+  const camera = new THREE.PerspectiveCamera(40, width / height, size / 100, size * 10);
+  camera.up.set(0, 0, 1);
+  camera.position.copy(centre).add(new THREE.Vector3(0.2 * size, -0.9 * size, 0.7 * size));
+  const controls = new OrbitControls(camera, renderer.domElement);
+  controls.target.copy(centre);
+  controls.update();
+  const draw = () => renderer.render(scene, camera);
+  controls.addEventListener("change", draw);
+  draw();
+}
+
+function figureCard(f) {
+  const card = el("div", { class: "card" + (f.kind === "pending" ? " pending" : "") });
+  card.appendChild(el("h3", {}, f.title));
+  card.appendChild(el("p", { class: "caption" }, f.caption));
+  const div = el("div", { class: "figure" + (f.kind === "three" ? " three" : ""), id: "fig-" + f.id, "data-kind": f.kind });
+  if (f.kind === "pending") div.textContent = "not available in this build";
+  card.appendChild(div);
+  return [card, div];
+}
+
+async function main() {
+  document.getElementById("subtitle").textContent =
+    `${report.quick ? "quick run" : "full run"}, seed ${report.seed}, ${report.total_s} s. ` +
+    "Units: mm, N, s, N/mm. Each figure's data is also in figures.json and the CSV files beside this report.";
+  document.getElementById("summary").appendChild(summaryTable());
+  const jobs = [], drawn = [];
+  for (const s of report.steps) {
+    const sec = el("section", { id: "step-" + s.name });
+    sec.appendChild(el("h2", {}, `${s.title} (thesis ${s.chapter})`));
+    const meta = [s.available ? `${s.seconds} s` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
+    sec.appendChild(el("p", { class: "note" }, meta.join(" | ")));
+    const grid = el("div", { class: "grid" });
+    sec.appendChild(grid);
+    document.getElementById("steps").appendChild(sec);
+    for (const f of s.figures) {
+      const [card, div] = figureCard(f);
+      grid.appendChild(card);
+      if (f.kind === "plotly") jobs.push(plotly(div, f.spec).then(() => drawn.push(div)));
+      else if (f.kind === "three") { three(div, f.spec); drawn.push(div); }
+    }
+  }
+  await Promise.all(jobs);
+  const empty = drawn.filter(d => !d.querySelector("svg, canvas")).map(d => d.id);
+  const problems = [...empty.map(id => "figure drew nothing: " + id), ...window.INHAP_ERRORS];
+  const status = problems.length ? "REPORT_FAIL " + problems.join("; ") : `REPORT_OK n_figures=${drawn.length}`;
+  document.title = status;
+  document.getElementById("report-status").textContent = status;
+}
+
+main().catch(e => {
+  console.error(e);
+  document.title = "REPORT_FAIL " + (e && e.message || e);
+  document.getElementById("report-status").textContent = document.title + " " + window.INHAP_ERRORS.join("; ");
+});
