@@ -1,0 +1,434 @@
+// `inhap sys ...`: sliding yield surfaces (thesis 4.2-4.3): fit from palpation cycles, print
+// Table 4.1, estimate the proxy of a recording. Units: mm, N, s, rad.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <numbers>
+
+#include "command.hpp"
+#include "inhap/core/csv.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/friction/cycles_io.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/friction/sys_model.hpp"
+#include "inhap/geometry/heightmap.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+#include "inhap/lab/sim_device.hpp"
+#include "sys_lab.hpp"
+
+namespace inhap::cli {
+
+std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec_in) {
+  const std::string spec =
+      !spec_in.empty() ? spec_in : (scene.name == "dome" ? "rings:1,6,11" : "grid:3x3");
+  const Vec2 c = scene.region.center;
+  auto bad = [&] {
+    return Error(
+        fmt::format("--points: expected grid:RxC[:half_extent_mm], "
+                    "rings:N0,N1,...[:radius_mm] or file:xy.csv, got '{}'",
+                    spec));
+  };
+  std::vector<Vec2> out;
+  if (spec.rfind("grid:", 0) == 0) {
+    int rows = 0, cols = 0;
+    double half = scene.region.radius;
+    const int n = std::sscanf(spec.c_str() + 5, "%dx%d:%lf", &rows, &cols, &half);
+    if (n < 2 || rows < 1 || cols < 1 || rows * cols > 400 || !(half > 0)) throw bad();
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j)
+        out.emplace_back(c.x() + (cols > 1 ? -half + 2 * half * j / (cols - 1) : 0.0),
+                         c.y() + (rows > 1 ? -half + 2 * half * i / (rows - 1) : 0.0));
+  } else if (spec.rfind("rings:", 0) == 0) {
+    std::string body = spec.substr(6);
+    double radius = scene.region.radius;
+    if (const auto colon = body.find(':'); colon != std::string::npos) {
+      if (std::sscanf(body.c_str() + colon + 1, "%lf", &radius) != 1 || !(radius > 0)) throw bad();
+      body.resize(colon);
+    }
+    std::vector<int> counts;
+    for (std::size_t pos = 0; pos <= body.size();) {
+      const std::size_t comma = std::min(body.find(',', pos), body.size());
+      int k = 0;
+      if (std::sscanf(body.substr(pos, comma - pos).c_str(), "%d", &k) != 1 || k < 1) throw bad();
+      counts.push_back(k);
+      pos = comma + 1;
+    }
+    if (counts.empty()) throw bad();
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      const double rr = counts.size() > 1 ? radius * r / (counts.size() - 1) : 0.0;
+      for (int k = 0; k < counts[r]; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / counts[r];
+        out.emplace_back(c.x() + rr * std::cos(a), c.y() + rr * std::sin(a));
+      }
+    }
+  } else if (spec.rfind("file:", 0) == 0) {
+    const std::string_view req[] = {"x", "y"};
+    const CsvTable t = read_csv(spec.substr(5), req);
+    for (std::size_t i = 0; i < t.rows(); ++i) out.emplace_back(t.column("x")[i], t.column("y")[i]);
+    if (out.empty()) throw Error(fmt::format("{}: expected at least one point", spec.substr(5)));
+  } else {
+    throw bad();
+  }
+  return out;
+}
+
+namespace {
+
+// Probe-centre height field of the scene on a 1 mm grid around its region (the shape model a
+// real lab gets from chapter 3); the table (z = 0) where the probe misses the object.
+TriMesh shape_height_field(const lab::Scene& sc, double probe_radius, double half) {
+  const double sp = 1.0;
+  const int w = static_cast<int>(std::ceil(2 * half / sp)) + 1;
+  Grid g(w, w);
+  const Vec2 c = sc.region.center;
+  for (int i = 0; i < w; ++i)
+    for (int j = 0; j < w; ++j) {
+      const auto d =
+          sc.object.shape().drop(c.x() - half + j * sp, c.y() - half + i * sp, probe_radius);
+      g.at(j, i) = d ? d->z() : probe_radius;
+    }
+  TriMesh m = grid_to_mesh(g, sp);
+  m.transform(1.0, Vec3(half - c.x(), half - c.y(), 0.0));
+  m.compute_normals();
+  return m;
+}
+
+}  // namespace
+
+ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
+  using namespace inhap::friction;
+  ScenePalpation r;
+  if (!o.scene.empty() && !o.scene_file.empty())
+    throw Error("give either --scene or --scene-file, not both");
+  r.scene = !o.scene_file.empty() ? lab::load_scene(o.scene_file)
+                                  : lab::builtin_scene(o.scene.empty() ? "planar" : o.scene);
+  lab::DeviceParams dp;
+  dp.seed = o.seed;
+  lab::SimDevice dev(r.scene.object, dp);
+  dev.detach_hand();
+  const double radius = dev.probe_radius();
+  const std::vector<Vec2> xy = reference_xy(r.scene, o.points);
+  double half = r.scene.region.radius + 15.0;
+  for (const Vec2& p : xy)
+    half = std::max(half, (p - r.scene.region.center).cwiseAbs().maxCoeff() + 15.0);
+  r.shape_mesh = shape_height_field(r.scene, radius, half);
+  r.shape = std::make_unique<MeshSurface>(r.shape_mesh, 0.0);
+  for (const Vec2& p : xy) {
+    const auto d = r.scene.object.shape().drop(p.x(), p.y(), radius);
+    if (!d)
+      throw Error(fmt::format("reference point ({:g}, {:g}) misses the object", p.x(), p.y()));
+    Vec3 c, n;
+    if (!r.shape->closest(*d, c, n)) throw Error("shape mesh: no closest point");
+    r.points.push_back(c);
+    r.normals.push_back(n);
+  }
+  PalpationConfig cfg;
+  if (o.quick) {
+    cfg.normal_forces = {1.0, 3.0};
+    cfg.directions = 4;
+  }
+  dev.place(r.points.front() + (cfg.hover + 3.0) * r.normals.front());
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    PalpationProtocol proto(cfg, dev.info(), static_cast<int>(i), r.points[i], r.normals[i],
+                            r.shape.get());
+    for (long n = 0; !proto.done() && n < 36'000'000; ++n, ++r.ticks) {  // 10 simulated hours
+      dev.command_force(proto.step(dev.time(), dev.position(), dev.force_sensor()));
+      dev.tick();
+      if (!o.progress_label.empty() && n % 5000 == 0) {
+        const double f = (i + proto.progress()) / r.points.size();
+        const double el =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        progress(o.progress_label, f, f > 0 ? el * (1 - f) / f : 0);
+      }
+    }
+    if (proto.failed() || !proto.done())
+      throw Error(
+          fmt::format("palpation of reference point {} at ({:.2f}, {:.2f}, {:.2f}) mm failed: {}",
+                      i, r.points[i].x(), r.points[i].y(), r.points[i].z(),
+                      proto.failed() ? proto.error() : "did not finish"));
+    r.cycles.insert(r.cycles.end(), proto.cycles().begin(), proto.cycles().end());
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  if (!o.progress_label.empty()) progress(o.progress_label, 1.0, 0);
+  FitOptions fo;
+  fo.shape = r.shape.get();
+  fo.load_damping = cfg.load_damping;
+  fo.tangent_reference = cfg.tangent_reference;
+  r.sys = fit_sys(r.cycles, fo);
+  return r;
+}
+
+}  // namespace inhap::cli
+
+namespace {
+
+using namespace inhap;
+using namespace inhap::friction;
+
+Vec3 parse_vec3(const std::string& s, const char* flag) {
+  Vec3 v;
+  if (std::sscanf(s.c_str(), "%lf,%lf,%lf", &v.x(), &v.y(), &v.z()) != 3 || !v.allFinite())
+    throw Error(fmt::format("{}: expected x,y,z, got '{}'", flag, s));
+  return v;
+}
+
+struct FitArgs {
+  std::string cycles, mesh, out, tangent_reference = "1,0,0";
+  BorderOptions border;
+  double probe_radius = 0.0, load_damping = 0.004;
+};
+
+void print_summary(const SysModel& m) {
+  fmt::print("{} reference points, f_N levels", m.points.size());
+  for (double f : m.f_normal_levels) fmt::print(" {:g}", f);
+  fmt::print(" N, {} directions\n", m.angles.size());
+  fmt::print("{:>5} {:>9}  {}\n", "point", "f_N (N)",
+             "f_T elastic limit per direction (N), e = extrapolated beyond the force range, * = no "
+             "sliding seen");
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    for (std::size_t j = 0; j < m.f_normal_levels.size(); ++j) {
+      fmt::print("{:>5} {:>9g} ", m.points[i].id, m.f_normal_levels[j]);
+      for (std::size_t k = 0; k < m.angles.size(); ++k) {
+        const BorderResult& r = m.border(i, j, k).result;
+        fmt::print(" {:6.3f}{}", r.f_limit, r.extrapolated ? "e" : (r.no_sliding ? "*" : " "));
+      }
+      fmt::print("\n");
+    }
+}
+
+void run_fit(const FitArgs& a) {
+  const std::vector<CycleRecord> cycles = read_cycles_csv(a.cycles);
+  FitOptions opt;
+  opt.border = a.border;
+  opt.tangent_reference = parse_vec3(a.tangent_reference, "--tangent-reference");
+  opt.load_damping = a.load_damping;
+  std::unique_ptr<MeshSurface> shape;
+  if (!a.mesh.empty()) {
+    shape = std::make_unique<MeshSurface>(read_mesh(a.mesh), a.probe_radius);
+    opt.shape = shape.get();
+  }
+  SysModel m = fit_sys(cycles, opt);
+  write_sys_json(a.out, m);
+  print_summary(m);
+  fmt::print(stderr, "fitted {} cycles -> {}\n", cycles.size(), a.out);
+}
+
+struct TableArgs {
+  std::string sys;
+  int point = 0, dir = 0;
+  double fn = 1.0;
+  std::string gs_mesh, fs_mesh;
+};
+
+void run_table(const TableArgs& a) {
+  const SysModel m = read_sys_json(a.sys);
+  const std::size_t i = m.point_index(a.point);
+  const auto rows = table_4_1(m, a.point, a.fn, a.dir);
+  std::size_t level = 0;
+  for (std::size_t j = 1; j < m.f_normal_levels.size(); ++j)
+    if (std::abs(m.f_normal_levels[j] - a.fn) < std::abs(m.f_normal_levels[level] - a.fn))
+      level = j;
+  const BorderResult& r = m.border(i, level, static_cast<std::size_t>(a.dir)).result;
+  fmt::print(
+      "Table 4.1: reference point {} at ({:.2f}, {:.2f}, {:.2f}) mm, f_N = {:g} N, "
+      "direction {} ({:.1f} deg)\n",
+      a.point, m.points[i].position.x(), m.points[i].position.y(), m.points[i].position.z(),
+      m.f_normal_levels[level], a.dir, m.angles[a.dir] * 180.0 / 3.14159265358979);
+  fmt::print("{:>8} {:>15} {:>15} {:>20}  {}\n", "f_T (N)", "||u^p_100|| mm", "||u^p_600|| mm",
+             "||Du^p_plateau|| mm", "class");
+  for (const TableRow& row : rows)
+    fmt::print("{:>8.3f} {:>15.3f} {:>15.3f} {:>20.3f}  {}\n", row.f_tangential, row.u_short,
+               row.u_long, row.growth, row.label ? "sliding" : "elastic");
+  const char* note = r.extrapolated ? " (beyond the force range: extrapolated from a lower f_N)"
+                     : r.no_sliding ? " (no sliding seen: lower bound)"
+                                    : "";
+  fmt::print("elastic limit: f_T = {:.3f} N{} (commanded load at the border {:.3f} N)\n", r.f_limit,
+             note, r.f_limit_load);
+  fmt::print("u_elastic_limit: depth {:.3f} mm, tangential {:.3f} mm\n", r.depth, r.radius);
+  if (!a.gs_mesh.empty()) write_mesh(a.gs_mesh, m.points[i].gs.to_mesh(4));
+  if (!a.fs_mesh.empty()) write_mesh(a.fs_mesh, m.points[i].fs.to_mesh(4));
+}
+
+std::string stem_of(const std::string& out) {
+  return out.size() > 5 && out.substr(out.size() - 5) == ".json" ? out.substr(0, out.size() - 5)
+                                                                 : out;
+}
+
+struct PalpateArgs {
+  cli::ScenePalpationOptions opt;
+  std::string out;
+};
+
+void run_palpate(PalpateArgs a) {
+  a.opt.progress_label = "sys palpate";
+  const cli::ScenePalpation r = cli::palpate_scene(a.opt);
+  const std::string stem = stem_of(a.out);
+  write_cycles_csv(stem + ".cycles.csv", r.cycles);
+  write_mesh(stem + ".shape.ply", r.shape_mesh);
+  write_sys_json(a.out, r.sys);
+  print_summary(r.sys);
+  fmt::print(
+      stderr,
+      "{} cycles, {:.2f} simulated hours, {:.1f} s wall ({:.1f} s per point, {:.1f} s CPU)\n",
+      r.cycles.size(), r.ticks / 3.6e6, r.wall_s, r.wall_s / r.points.size(), r.cpu_s);
+  fmt::print(stderr, "wrote {}, {}.cycles.csv, {}.shape.ply\n", a.out, stem, stem);
+}
+
+struct ProxyArgs {
+  std::string sys, mesh, rec, out;
+  double probe_radius = 0.0;
+  bool no_creep = false;
+};
+
+void run_proxy(const ProxyArgs& a) {
+  const SysModel sys = read_sys_json(a.sys);
+  const MeshSurface shape(read_mesh(a.mesh), a.probe_radius);
+  Recording rec = read_recording(a.rec);
+  ProxyModel model{&sys, &shape};
+  model.creep = !a.no_creep;
+  ProxyState state;
+  std::vector<double> qx(rec.size()), qy(rec.size()), qz(rec.size());
+  std::size_t contact = 0, sliding = 0;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const double dt = i ? rec.t[i] - rec.t[i - 1] : 0.0;
+    const ProxyOutput o = proxy_step(model, state, rec.p[i], dt);
+    qx[i] = o.q.x();
+    qy[i] = o.q.y();
+    qz[i] = o.q.z();
+    contact += o.contact;
+    sliding += o.sliding;
+  }
+  rec.set_extra("qx", std::move(qx));
+  rec.set_extra("qy", std::move(qy));
+  rec.set_extra("qz", std::move(qz));
+  write_recording(a.out, rec);
+  fmt::print(stderr, "{} rows: {} in contact, {} with the proxy sliding -> {}\n", rec.size(),
+             contact, sliding, a.out);
+}
+
+void register_fit(CLI::App* sys) {
+  auto fa = std::make_shared<FitArgs>();
+  auto* fit = sys->add_subcommand("fit",
+                                  "Fit sliding yield surfaces from palpation cycles (CSV; one "
+                                  "loading-unloading cycle per row,\n"
+                                  "columns in docs/sliding-yield-surface.md) and write sys.json. "
+                                  "Works on cycles recorded on a\n"
+                                  "real device with your own code.");
+  fit->add_option("cycles", fa->cycles, "palpation cycles CSV")
+      ->required()
+      ->check(CLI::ExistingFile);
+  fit->add_option("--mesh", fa->mesh,
+                  "shape mesh (PLY/OBJ), optional: depths of g_s are then measured from the "
+                  "undeformed surface and forces decomposed at the surface under the probe")
+      ->check(CLI::ExistingFile);
+  fit->add_option("--probe-radius", fa->probe_radius,
+                  "mm; 0 when the mesh is the probe-centre surface, else the probe radius")
+      ->capture_default_str();
+  fit->add_option("--load-damping", fa->load_damping,
+                  "damping the palpation commanded while loading, N s/mm (subtracted from the "
+                  "measured slip viscosity)")
+      ->capture_default_str();
+  fit->add_option("--out,-o", fa->out, "sys.json to write")->required();
+  fit->add_option("--tangent-reference", fa->tangent_reference,
+                  "world direction whose projection onto the tangent plane is t_0 (x,y,z)")
+      ->capture_default_str();
+  fit->add_option("--weight-up", fa->border.weight_up,
+                  "k-means weight of the normalised ||u^p_100|| feature")
+      ->capture_default_str();
+  fit->add_option("--weight-growth", fa->border.weight_growth,
+                  "k-means weight of the normalised plateau growth ||u^p_600||-||u^p_100||")
+      ->capture_default_str();
+  fit->add_option("--noise-floor", fa->border.min_sliding_growth,
+                  "plateau growth (mm) below which a step is not sliding")
+      ->capture_default_str();
+  fit->callback([fa] { run_fit(*fa); });
+}
+
+void register_table(CLI::App* sys) {
+  auto ta = std::make_shared<TableArgs>();
+  auto* table = sys->add_subcommand(
+      "table",
+      "Print Table 4.1 of a reference point: f_T, ||u^p_100||, ||u^p_600||, plateau growth (mm).");
+  table->add_option("sys", ta->sys, "sys.json")->required()->check(CLI::ExistingFile);
+  table->add_option("--point,-p", ta->point, "reference point id")->capture_default_str();
+  table->add_option("--fn", ta->fn, "normal force level f_N (N; nearest level)")
+      ->capture_default_str();
+  table->add_option("--dir", ta->dir, "tangential direction index")->capture_default_str();
+  table->add_option("--gs-mesh", ta->gs_mesh,
+                    "also write the point's elastic displacement limit surface g_s (fig. 4.8) as a "
+                    "mesh: local mm, x along t_0, y along t_1, z = depth");
+  table->add_option("--fs-mesh", ta->fs_mesh,
+                    "also write the point's sliding yield surface f_s as a mesh: local N, z = f_N");
+  table->callback([ta] { run_table(*ta); });
+}
+
+void register_palpate(CLI::App* sys) {
+  auto pa = std::make_shared<PalpateArgs>();
+  auto* palpate = sys->add_subcommand(
+      "palpate",
+      "Automatic palpation (thesis 4.3.2) of a virtual-lab scene: at each reference point the\n"
+      "device (hand detached) runs loading-unloading cycles at f_N 1, 3, 5 N, 8 tangential\n"
+      "directions, rising f_T and plateaus 100/600 ms; the sliding yield surfaces are fitted and\n"
+      "written to sys.json, with the cycles (<out>.cycles.csv) and the probe-centre shape mesh\n"
+      "(<out>.shape.ply) beside it.");
+  palpate->add_option("--scene", pa->opt.scene, "built-in scene (see `inhap lab scenes`)");
+  palpate->add_option("--scene-file", pa->opt.scene_file, "scene JSON file")
+      ->check(CLI::ExistingFile);
+  palpate->add_option("--points", pa->opt.points,
+                      "reference points: grid:RxC[:half_extent_mm], rings:1,6,11[:radius_mm] or "
+                      "file:xy.csv (columns x,y; mm); default grid:3x3 (dome: rings:1,6,11) over "
+                      "the scene's region");
+  palpate->add_option("--seed", pa->opt.seed, "device noise seed")->capture_default_str();
+  palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
+  palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
+  palpate->callback([pa] { run_palpate(*pa); });
+}
+
+void register_proxy(CLI::App* sys) {
+  auto xa = std::make_shared<ProxyArgs>();
+  auto* proxy = sys->add_subcommand(
+      "proxy",
+      "Estimate the proxy q of a recording (thesis 4.3.1) with the sliding yield surfaces and the\n"
+      "shape mesh; writes the recording with columns qx,qy,qz added (mm; q = p out of contact).");
+  proxy->add_option("recording", xa->rec, "recording CSV (t,px,py,pz,fx,fy,fz,...)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  proxy->add_option("--sys", xa->sys, "sys.json")->required()->check(CLI::ExistingFile);
+  proxy->add_option("--mesh", xa->mesh, "shape mesh (PLY/OBJ)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  proxy
+      ->add_option("--probe-radius", xa->probe_radius,
+                   "mm; 0 when the mesh is the probe-centre surface (as written by sys palpate), "
+                   "else the probe radius to offset the object's surface by")
+      ->capture_default_str();
+  proxy->add_flag("--no-creep", xa->no_creep,
+                  "rate-independent return mapping (ignore the slip viscosity)");
+  proxy->add_option("--out,-o", xa->out, "recording CSV to write")->required();
+  proxy->callback([xa] { run_proxy(*xa); });
+}
+
+void register_sys(CLI::App& app) {
+  auto* sys = app.add_subcommand(
+      "sys",
+      "Sliding yield surfaces (thesis 4.2-4.3): automatic palpation, elastic limits, proxy.\n"
+      "Units: positions/displacements mm, forces N, times s, angles rad.");
+  sys->require_subcommand(1);
+
+  register_fit(sys);
+  register_table(sys);
+  register_palpate(sys);
+  register_proxy(sys);
+}
+
+}  // namespace
+
+INHAP_COMMAND(60, "sys", register_sys);

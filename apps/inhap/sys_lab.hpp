@@ -1,0 +1,46 @@
+// Palpation of a virtual-lab scene for `inhap sys palpate` and `inhap eval sys` (implemented in
+// cmd_sys.cpp). Units: mm, N, s.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/palpation.hpp"
+#include "inhap/friction/sys_model.hpp"
+#include "inhap/geometry/trimesh.hpp"
+#include "inhap/lab/scene.hpp"
+
+namespace inhap::cli {
+
+struct ScenePalpationOptions {
+  std::string scene;           ///< built-in scene name
+  std::string scene_file;      ///< or a scene JSON file
+  std::string points;          ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
+  std::uint64_t seed = 1;      ///< device noise
+  bool quick = false;          ///< f_N {1, 3} N, 4 directions (tests)
+  std::string progress_label;  ///< progress line on stderr ("": none)
+};
+
+struct ScenePalpation {
+  lab::Scene scene;
+  TriMesh shape_mesh;  ///< probe-centre height field (1 mm grid) of the object and its table
+  std::unique_ptr<friction::MeshSurface> shape;
+  std::vector<Vec3> points, normals;  ///< reference points (probe centre) and n_c
+  std::vector<friction::CycleRecord> cycles;
+  friction::SysModel sys;
+  long ticks = 0;     ///< simulated servo ticks (1 ms)
+  double wall_s = 0;  ///< wall time of the palpation
+  double cpu_s = 0;   ///< CPU time of the palpation (wall time without other processes' load)
+};
+
+/// Builds the shape mesh, chooses the reference points, palpates each one through the device
+/// interface (hand detached) and fits the sliding yield surfaces. Throws inhap::Error.
+ScenePalpation palpate_scene(const ScenePalpationOptions& options);
+
+/// Reference point positions (x, y) on the scene's region from a --points spec.
+std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec);
+
+}  // namespace inhap::cli
