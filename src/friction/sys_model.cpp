@@ -110,7 +110,8 @@ std::size_t SysModel::point_index(int id) const {
   std::string ids;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].id == id) return i;
-    ids += (i ? "," : "") + std::to_string(points[i].id);
+    if (i) ids += ',';
+    ids += std::to_string(points[i].id);
   }
   throw Error(fmt::format("expected a reference point id in {{{}}}, got {}", ids, id));
 }
