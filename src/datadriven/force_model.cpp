@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <numeric>
 #include <thread>
@@ -50,6 +51,7 @@ void TrainParams::validate() const {
     if (!(w > 0) || !std::isfinite(w))
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
+  if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
 }
 
 int ForceModel::bin_of(double key) const {
@@ -175,7 +177,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
       b.rightCols(t) = pb.p;
       x0.tail(t) = tail_coef.col(c);
     }
-    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance);
+    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance, 0, prm.ridge);
     RbfExpansion& e = bm.axes[uc];
     e.centres.resize(k, kFeatureDim);
     for (Eigen::Index j = 0; j < k; ++j)
@@ -281,11 +283,82 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     model.stats.selected_rows.push_back(r.selected);
     model.bins.push_back(std::move(r.model));
   }
+  finalize_model(model);
   model.stats.samples = n;
   model.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;
 }
+
+void finalize_model(ForceModel& model) {
+  for (BinModel& bm : model.bins) {
+    std::map<std::vector<double>, Eigen::Index> index;  // exact centre -> union row
+    std::vector<std::vector<double>> rows;
+    std::vector<std::array<double, 3>> w;
+    for (int a = 0; a < 3; ++a) {
+      const RbfExpansion& e = bm.axes[static_cast<std::size_t>(a)];
+      for (Eigen::Index j = 0; j < e.centres.rows(); ++j) {
+        std::vector<double> c(static_cast<std::size_t>(e.centres.cols()));
+        for (Eigen::Index d = 0; d < e.centres.cols(); ++d)
+          c[static_cast<std::size_t>(d)] = e.centres(j, d);
+        auto [it, added] = index.emplace(c, static_cast<Eigen::Index>(rows.size()));
+        if (added) {
+          rows.push_back(c);
+          w.push_back({0.0, 0.0, 0.0});
+        }
+        w[static_cast<std::size_t>(it->second)][static_cast<std::size_t>(a)] += e.weights[j];
+      }
+    }
+    const Eigen::Index k = static_cast<Eigen::Index>(rows.size());
+    bm.union_centres.resize(k, kFeatureDim);
+    bm.union_weights.resize(k, 3);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      for (int d = 0; d < kFeatureDim; ++d)
+        bm.union_centres(j, d) = rows[static_cast<std::size_t>(j)][static_cast<std::size_t>(d)];
+      for (int a = 0; a < 3; ++a)
+        bm.union_weights(j, a) = w[static_cast<std::size_t>(j)][static_cast<std::size_t>(a)];
+    }
+  }
+}
+
+namespace {
+
+// sum_j W(j, :) psi(||z - c_j||) over the union table, plus the tails. No allocation.
+Vec3 eval_union(const BinModel& bm, const double* z) {
+  constexpr Eigen::Index kChunk = 64;
+  const Eigen::Index k = bm.union_centres.rows();
+  double r3[kChunk];
+  Vec3 f = Vec3::Zero();
+  for (Eigen::Index j0 = 0; j0 < k; j0 += kChunk) {
+    const Eigen::Index nb = std::min(kChunk, k - j0);
+    for (Eigen::Index j = 0; j < nb; ++j) r3[j] = 0;
+    for (int d = 0; d < kFeatureDim; ++d) {
+      const double* col = bm.union_centres.data() + d * k + j0;
+      const double zd = z[d];
+      for (Eigen::Index j = 0; j < nb; ++j) {
+        const double t = zd - col[j];
+        r3[j] += t * t;
+      }
+    }
+    for (Eigen::Index j = 0; j < nb; ++j) r3[j] *= std::sqrt(r3[j]);
+    for (int a = 0; a < 3; ++a) {
+      const double* w = bm.union_weights.data() + a * k + j0;
+      double acc = 0;
+      for (Eigen::Index j = 0; j < nb; ++j) acc += w[j] * r3[j];
+      f[a] += acc;
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::VectorXd& t = bm.axes[static_cast<std::size_t>(a)].tail;
+    if (t.size() != kFeatureDim + 1) continue;
+    double acc = t[0];
+    for (int d = 0; d < kFeatureDim; ++d) acc += t[d + 1] * z[d];
+    f[a] += acc;
+  }
+  return f;
+}
+
+}  // namespace
 
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
   if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
@@ -296,7 +369,12 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     const auto ud = static_cast<std::size_t>(d);
     z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
   }
-  Vec3 f(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  Vec3 f;
+  if (bm.union_weights.cols() == 3) {
+    f = eval_union(bm, z);
+  } else {  // not finalized: per-axis evaluation
+    f = Vec3(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  }
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;
