@@ -155,10 +155,96 @@ json mean_median(double mean, double median) {
   return {{"mean", mean}, {"median", median}};
 }
 
+/// One model variant (with proxy, without, onset anchor): trained, replayed, scored.
+struct Variant {
+  ForceModel model;
+  Replay replay;
+  std::size_t train_contact = 0;
+  ForceErrors all, sliding;
+};
+
+struct ObjectData {
+  std::string name;
+  lab::LabRecording train, test;
+  ProxyTrack train_track, test_track;
+  double t_slide = 0;  // start of the sliding-only last third of the test run, s
+};
+
+Variant run_variant(const ObjectData& d, const ProxyTrack& tr, const ProxyTrack& te, TrainParams p,
+                    const char* what) {
+  FoawParams foaw;
+  foaw.dt = median_dt(d.train.rec);
+  const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
+  p.progress = [&](double f, const std::string&) {
+    progress(fmt::format("{} {}", d.name, what), f, 0);
+  };
+  Variant v;
+  v.model = train_force_model(set, p, foaw);
+  v.model.proxy_source = tr.proxy_source;
+  v.train_contact = set.size();
+  v.replay = timed_replay(v.model, d.test.rec, te);
+  // Scored against the measured force on the contact samples of the (true) contact flag.
+  v.all = errors_from(d.test.rec, d.test_track, v.replay.forces, -1e300);
+  v.sliding = errors_from(d.test.rec, d.test_track, v.replay.forces, d.t_slide);
+  return v;
+}
+
+json object_json(const ObjectData& d, const Variant& v, const Variant& v0, const Variant& v1,
+                 const ForceErrors& cov) {
+  const TrainParams& p = v.model.params;
+  const std::vector<double>& us = v.replay.step_us;
+  json j;
+  j["name"] = d.name;
+  j["train_samples"] = d.train.rec.size();
+  j["test_samples"] = d.test.rec.size();
+  j["rmse_n"] = xyz(v.all.rmse);
+  j["median_ae_n"] = xyz(v.all.ae_axis_median);
+  j["re"] = mean_median(v.all.re_mean, v.all.re_median);
+  j["no_proxy_re"] = mean_median(v0.all.re_mean, v0.all.re_median);
+  j["train_s"] = v.model.stats.seconds;
+  j["step_us"] = {
+      {"p50", quantile(us, 0.5)}, {"p99", quantile(us, 0.99)}, {"max", quantile(us, 1.0)}};
+  j["proxy_source"] = d.train_track.proxy_source;
+  j["contact_source"] = d.train_track.contact_source;
+  j["train_contact_samples"] = v.train_contact;
+  j["test_contact_samples"] = v.all.n;
+  j["sliding_only"] = {{"t_from_s", d.t_slide},
+                       {"samples", v.sliding.n},
+                       {"re", mean_median(v.sliding.re_mean, v.sliding.re_median)},
+                       {"no_proxy_re", mean_median(v0.sliding.re_mean, v0.sliding.re_median)},
+                       {"onset_proxy_re", mean_median(v1.sliding.re_mean, v1.sliding.re_median)},
+                       {"rmse_n", xyz(v.sliding.rmse)},
+                       {"no_proxy_rmse_n", xyz(v0.sliding.rmse)}};
+  j["covered"] = {{"definition", "a training contact sample within 3 mm in (q, ||q - p||)"},
+                  {"samples", cov.n},
+                  {"rmse_n", xyz(cov.rmse)},
+                  {"re", mean_median(cov.re_mean, cov.re_median)}};
+  j["no_proxy_rmse_n"] = xyz(v0.all.rmse);
+  j["onset_proxy_re"] = mean_median(v1.all.re_mean, v1.all.re_median);
+  j["onset_proxy_rmse_n"] = xyz(v1.all.rmse);
+  j["no_proxy_train_s"] = v0.model.stats.seconds;
+  j["model"] = {{"design", to_string(p.design)},
+                {"features", to_string(p.features)},
+                {"bins", p.bins},
+                {"centers", p.centers},
+                {"nonzeros", p.nonzeros},
+                {"lambda_ratio", p.lambda_ratio},
+                {"linear_tail", p.linear_tail},
+                {"feature_weights", p.feature_weights},
+                {"ridge", p.ridge},
+                {"box_margin", p.box_margin},
+                {"seed", p.seed},
+                {"edges_mm", v.model.edges},
+                {"support", v.model.stats.support}};
+  j["errors"] = json::parse(force_errors_json(v.all));
+  j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
+  return j;
+}
+
 json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   const lab::Scene scene = lab::builtin_scene(name);
-  Durations d = durations_for(name);
-  if (o.quick) d = {d.train_s / 2, d.test_s / 2};
+  Durations dur = durations_for(name);
+  if (o.quick) dur = {dur.train_s / 2, dur.test_s / 2};
   auto record = [&](double seconds, std::uint64_t seed, const char* what) {
     lab::RecordSpec spec;
     spec.operator_name = "explore";
@@ -167,115 +253,52 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
     return lab::record_scene(scene, spec,
                              [&](double f) { progress(fmt::format("{} {}", name, what), f, 0); });
   };
-  const lab::LabRecording train = record(d.train_s, o.train_seed, "train recording");
-  const lab::LabRecording test = record(d.test_s, o.test_seed, "test recording");
+  ObjectData d;
+  d.name = name;
+  d.train = record(dur.train_s, o.train_seed, "train recording");
+  d.test = record(dur.test_s, o.test_seed, "test recording");
   if (!o.keep.empty()) {
     std::filesystem::create_directories(o.keep);
-    lab::write_lab_recording(o.keep + "/" + name + "-train.csv", train);
-    lab::write_lab_recording(o.keep + "/" + name + "-test.csv", test);
+    lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);
+    lab::write_lab_recording(o.keep + "/" + name + "-test.csv", d.test);
   }
-  const ProxyTrack train_track = make_tracks(train), test_track = make_tracks(test);
-  FoawParams foaw;
-  foaw.dt = median_dt(train.rec);
+  d.train_track = make_tracks(d.train);
+  d.test_track = make_tracks(d.test);
+  const std::vector<double>& tt = d.test.rec.t;
+  d.t_slide = tt.front() + (tt.back() - tt.front()) * 2.0 / 3.0;
   TrainParams p = o.params;
   p.design = design_from_string(o.design);
 
-  auto train_eval = [&](const ProxyTrack& tr, const ProxyTrack& te, const char* what) {
-    const TrainingSet set = make_training_set(train.rec, tr, foaw);
-    p.progress = [&](double f, const std::string&) {
-      progress(fmt::format("{} {}", name, what), f, 0);
-    };
-    ForceModel m = train_force_model(set, p, foaw);
-    m.proxy_source = tr.proxy_source;
-    Replay r = timed_replay(m, test.rec, te);
-    return std::make_tuple(std::move(m), std::move(r), set.size());
-  };
-  auto [model, rep, train_contact] = train_eval(train_track, test_track, "train (proxy)");
-  // Pre-thesis baselines on the same recordings: (p, pdot) only (q = p), and q held at the
-  // contact-onset point (u = p - p_c of earlier data-driven methods).
-  const ProxyTrack train_none =
-      position_only_track(train.rec, train_track.contact, train_track.contact_source);
-  const ProxyTrack test_none =
-      position_only_track(test.rec, test_track.contact, test_track.contact_source);
-  auto [model0, rep0, train_contact0] = train_eval(train_none, test_none, "train (no proxy)");
-  const ProxyTrack train_entry =
-      entry_proxy_track(train.rec, train_track.contact, train_track.contact_source);
-  const ProxyTrack test_entry =
-      entry_proxy_track(test.rec, test_track.contact, test_track.contact_source);
-  auto [model1, rep1, train_contact1] = train_eval(train_entry, test_entry, "train (onset proxy)");
-  (void)train_contact0;
-  (void)train_contact1;
-  if (!o.keep.empty()) {
-    save_force_model(o.keep + "/" + name + "-model.json", model);
-    save_force_model(o.keep + "/" + name + "-model-noproxy.json", model0);
-    save_force_model(o.keep + "/" + name + "-model-onset.json", model1);
-  }
-
-  const double t_slide = test.rec.t.front() + (test.rec.t.back() - test.rec.t.front()) * 2.0 / 3.0;
-  const ForceErrors all = errors_from(test.rec, test_track, rep.forces, -1e300);
-  if (all.n == 0)
+  const Variant v = run_variant(d, d.train_track, d.test_track, p, "train (proxy)");
+  if (v.all.n == 0)
     throw Error(fmt::format(
         "eval forces: {}: expected samples in contact in the test recording, got none", name));
-  const ForceErrors all0 = errors_from(test.rec, test_track, rep0.forces, -1e300);
-  const ForceErrors slide = errors_from(test.rec, test_track, rep.forces, t_slide);
-  const ForceErrors slide0 = errors_from(test.rec, test_track, rep0.forces, t_slide);
-  const ForceErrors all1 = errors_from(test.rec, test_track, rep1.forces, -1e300);
-  const ForceErrors slide1 = errors_from(test.rec, test_track, rep1.forces, t_slide);
-  const std::vector<char> covered = coverage(train.rec, train_track, test.rec, test_track, 3.0);
-  const ForceErrors cov = errors_from(test.rec, test_track, rep.forces, -1e300, &covered);
-  std::vector<double> us = rep.step_us;
-
-  json j;
-  j["name"] = name;
-  j["train_samples"] = train.rec.size();
-  j["test_samples"] = test.rec.size();
-  j["rmse_n"] = xyz(all.rmse);
-  j["median_ae_n"] = xyz(all.ae_axis_median);
-  j["re"] = mean_median(all.re_mean, all.re_median);
-  j["no_proxy_re"] = mean_median(all0.re_mean, all0.re_median);
-  j["train_s"] = model.stats.seconds;
-  j["step_us"] = {
-      {"p50", quantile(us, 0.5)}, {"p99", quantile(us, 0.99)}, {"max", quantile(us, 1.0)}};
-  j["proxy_source"] = train_track.proxy_source;
-  j["contact_source"] = train_track.contact_source;
-  j["train_contact_samples"] = train_contact;
-  j["test_contact_samples"] = all.n;
-  j["sliding_only"] = {{"t_from_s", t_slide},
-                       {"samples", slide.n},
-                       {"re", mean_median(slide.re_mean, slide.re_median)},
-                       {"no_proxy_re", mean_median(slide0.re_mean, slide0.re_median)},
-                       {"onset_proxy_re", mean_median(slide1.re_mean, slide1.re_median)},
-                       {"rmse_n", xyz(slide.rmse)},
-                       {"no_proxy_rmse_n", xyz(slide0.rmse)}};
-  j["covered"] = {{"definition", "a training contact sample within 3 mm in (q, ||q - p||)"},
-                  {"samples", cov.n},
-                  {"rmse_n", xyz(cov.rmse)},
-                  {"re", mean_median(cov.re_mean, cov.re_median)}};
-  j["no_proxy_rmse_n"] = xyz(all0.rmse);
-  j["onset_proxy_re"] = mean_median(all1.re_mean, all1.re_median);
-  j["onset_proxy_rmse_n"] = xyz(all1.rmse);
-  j["no_proxy_train_s"] = model0.stats.seconds;
-  j["model"] = {{"design", to_string(p.design)},
-                {"features", to_string(p.features)},
-                {"bins", p.bins},
-                {"centers", p.centers},
-                {"nonzeros", p.nonzeros},
-                {"lambda_ratio", p.lambda_ratio},
-                {"linear_tail", p.linear_tail},
-                {"seed", p.seed},
-                {"edges_mm", model.edges},
-                {"support", model.stats.support}};
-  j["errors"] = json::parse(force_errors_json(all));
-  j["no_proxy_errors"] = json::parse(force_errors_json(all0));
+  // Pre-thesis baselines on the same recordings: (p, pdot) only (q = p), and q held at the
+  // contact-onset point (u = p - p_c of earlier data-driven methods).
+  const std::string& cs = d.train_track.contact_source;
+  const Variant v0 =
+      run_variant(d, position_only_track(d.train.rec, d.train_track.contact, cs),
+                  position_only_track(d.test.rec, d.test_track.contact, cs), p, "train (no proxy)");
+  const Variant v1 = run_variant(d, entry_proxy_track(d.train.rec, d.train_track.contact, cs),
+                                 entry_proxy_track(d.test.rec, d.test_track.contact, cs), p,
+                                 "train (onset proxy)");
+  if (!o.keep.empty()) {
+    save_force_model(o.keep + "/" + name + "-model.json", v.model);
+    save_force_model(o.keep + "/" + name + "-model-noproxy.json", v0.model);
+    save_force_model(o.keep + "/" + name + "-model-onset.json", v1.model);
+  }
+  const std::vector<char> covered =
+      coverage(d.train.rec, d.train_track, d.test.rec, d.test_track, 3.0);
+  const ForceErrors cov = errors_from(d.test.rec, d.test_track, v.replay.forces, -1e300, &covered);
+  json j = object_json(d, v, v0, v1, cov);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
-      "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); train "
-      "{:.1f} s; step "
-      "p50 {:.2f} us p99 {:.2f} us\n",
-      name, all.rmse[0], all.rmse[1], all.rmse[2], all.ae_axis_median[0], all.ae_axis_median[1],
-      all.ae_axis_median[2], all.re_mean, all.re_median, slide.re_median, slide0.re_median,
-      slide1.re_median, model.stats.seconds, j["step_us"]["p50"].get<double>(),
-      j["step_us"]["p99"].get<double>());
+      "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
+      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us\n",
+      name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
+      v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
+      v.sliding.re_median, v0.sliding.re_median, v1.sliding.re_median, v.model.stats.seconds,
+      j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>());
   return j;
 }
 

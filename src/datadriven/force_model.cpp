@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -194,11 +195,9 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
 
 }  // namespace
 
-ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  params.validate();
-  foaw.validate();
+namespace {
+
+void check_training_set(const TrainingSet& data, const TrainParams& params) {
   const std::size_t n = data.size();
   if (data.v.size() != n || data.q.size() != n || data.f.size() != n)
     throw Error("force model training: expected p, v, q and f of equal length");
@@ -209,7 +208,40 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     if (!data.p[i].allFinite() || !data.v[i].allFinite() || !data.q[i].allFinite() ||
         !data.f[i].allFinite())
       throw Error(fmt::format("force model training: sample {} is not finite", i));
+}
 
+// Runs task(0..n-1) on `threads` threads (each task writes only its own outputs, so results do
+// not depend on the thread count); the first exception is rethrown after all have finished.
+void parallel_for(int n, int threads, const std::function<void(int)>& task) {
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        task(i);
+      } catch (...) {
+        std::lock_guard lock(mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < std::clamp(threads, 1, n); ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw) {
+  const auto t0 = std::chrono::steady_clock::now();
+  params.validate();
+  foaw.validate();
+  check_training_set(data, params);
+  const std::size_t n = data.size();
   ForceModel model;
   model.features = params.features;
   model.foaw = foaw;
@@ -223,57 +255,37 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
-  const int nb = params.bins;
-  std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1);
-  for (int b = 0; b <= nb; ++b)
-    start[static_cast<std::size_t>(b)] =
-        n * static_cast<std::size_t>(b) / static_cast<std::size_t>(nb);
-  for (int b = 1; b < nb; ++b) {
-    const std::size_t s = start[static_cast<std::size_t>(b)];
-    model.edges.push_back(0.5 * (key[order[s - 1]] + key[order[s]]));
-  }
+  const auto nb = static_cast<std::size_t>(params.bins);
+  std::vector<std::size_t> start(nb + 1);
+  for (std::size_t b = 0; b <= nb; ++b) start[b] = n * b / nb;
+  for (std::size_t b = 1; b < nb; ++b)
+    model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
-  std::vector<BinResult> results(static_cast<std::size_t>(nb));
-  std::atomic<int> next{0};
+  std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
   int finished = 0;
-  std::exception_ptr error;
-  auto worker = [&] {
-    for (int b = next++; b < nb; b = next++) {
-      try {
-        const std::size_t s0 = start[static_cast<std::size_t>(b)],
-                          s1 = start[static_cast<std::size_t>(b) + 1];
-        const Eigen::Index m = static_cast<Eigen::Index>(s1 - s0);
-        Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
-        double row[kFeatureDim];
-        for (Eigen::Index i = 0; i < m; ++i) {
-          const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
-          make_features(params.features, data.p[k], data.v[k], data.q[k], row);
-          for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-          f.row(i) = data.f[k].transpose();
-        }
-        results[static_cast<std::size_t>(b)] = train_bin(std::move(x), f, params, b);
-        BinModel& bm = results[static_cast<std::size_t>(b)].model;
-        bm.key_min = key[order[s0]];
-        bm.key_max = key[order[s1 - 1]];
-      } catch (...) {
-        std::lock_guard lock(progress_mutex);
-        if (!error) error = std::current_exception();
-      }
-      std::lock_guard lock(progress_mutex);
-      ++finished;
-      if (params.progress)
-        params.progress(static_cast<double>(finished) / nb, fmt::format("bin {} done", b));
-    }
-  };
-  int threads =
+  const int threads =
       params.threads > 0 ? params.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, nb);
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallel_for(params.bins, threads, [&](int bi) {
+    const auto b = static_cast<std::size_t>(bi);
+    const std::size_t s0 = start[b], s1 = start[b + 1];
+    const auto m = static_cast<Eigen::Index>(s1 - s0);
+    Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
+    double row[kFeatureDim];
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
+      make_features(params.features, data.p[k], data.v[k], data.q[k], row);
+      for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
+      f.row(i) = data.f[k].transpose();
+    }
+    results[b] = train_bin(std::move(x), f, params, bi);
+    results[b].model.key_min = key[order[s0]];
+    results[b].model.key_max = key[order[s1 - 1]];
+    std::lock_guard lock(progress_mutex);
+    ++finished;
+    if (params.progress)
+      params.progress(static_cast<double>(finished) / params.bins, fmt::format("bin {} done", bi));
+  });
 
   for (auto& r : results) {
     model.stats.support.push_back(r.support);
