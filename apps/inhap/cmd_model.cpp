@@ -44,7 +44,8 @@ ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyOp
 
 // ----------------------------------------------------------------------------------- train
 struct TrainOptions {
-  std::string recording, sys, mesh, out, design = "regression", features = "ue_q_v";
+  std::string recording, sys, mesh, out, design = to_string(TrainParams{}.design),
+                                         features = "ue_q_v";
   TrainParams params;
   FoawParams foaw;
   double force_limit = 6.2;
@@ -184,10 +185,10 @@ void register_model(CLI::App& app) {
   ct->add_option("--features", tr->features, "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q)")
       ->capture_default_str()
       ->check(CLI::IsMember({"ue_q_v", "p_v_q"}));
-  ct->add_flag("--tail", tr->params.linear_tail, "Add a linear polynomial tail to every expansion");
+  ct->add_flag("--tail,!--no-tail", tr->params.linear_tail,
+               "Linear polynomial tail on every expansion (default on; the thesis has none)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
-                 "Weights of the three feature groups after standardisation")
-      ->expected(3);
+                 "Weights of the three feature groups after standardisation");
   ct->add_option("--threads", tr->params.threads, "Worker threads (0 = all cores)")
       ->capture_default_str();
   ct->add_option("--foaw-window", tr->foaw.max_window, "FOAW window cap, samples")

@@ -38,6 +38,18 @@ ProxyTrack proxy_from_columns(const Recording& rec, const std::string& path,
   return t;
 }
 
+ProxyTrack position_only_track(const Recording& rec, const std::vector<char>& contact,
+                               const std::string& contact_source) {
+  if (contact.size() != rec.size())
+    throw Error("position-only track: expected one contact flag per sample");
+  ProxyTrack t;
+  t.proxy_source = "none";
+  t.contact_source = contact_source;
+  t.contact = contact;
+  t.q = rec.p;
+  return t;
+}
+
 ProxyTrack entry_proxy_track(const Recording& rec, const std::vector<char>& contact,
                              const std::string& contact_source) {
   if (contact.size() != rec.size())

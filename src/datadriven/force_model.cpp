@@ -7,6 +7,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <mutex>
 #include <numeric>
 #include <thread>
@@ -50,6 +52,7 @@ void TrainParams::validate() const {
     if (!(w > 0) || !std::isfinite(w))
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
+  if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
 }
 
 int ForceModel::bin_of(double key) const {
@@ -175,7 +178,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
       b.rightCols(t) = pb.p;
       x0.tail(t) = tail_coef.col(c);
     }
-    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance);
+    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance, 0, prm.ridge);
     RbfExpansion& e = bm.axes[uc];
     e.centres.resize(k, kFeatureDim);
     for (Eigen::Index j = 0; j < k; ++j)
@@ -192,11 +195,9 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
 
 }  // namespace
 
-ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  params.validate();
-  foaw.validate();
+namespace {
+
+void check_training_set(const TrainingSet& data, const TrainParams& params) {
   const std::size_t n = data.size();
   if (data.v.size() != n || data.q.size() != n || data.f.size() != n)
     throw Error("force model training: expected p, v, q and f of equal length");
@@ -207,7 +208,40 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     if (!data.p[i].allFinite() || !data.v[i].allFinite() || !data.q[i].allFinite() ||
         !data.f[i].allFinite())
       throw Error(fmt::format("force model training: sample {} is not finite", i));
+}
 
+// Runs task(0..n-1) on `threads` threads (each task writes only its own outputs, so results do
+// not depend on the thread count); the first exception is rethrown after all have finished.
+void parallel_for(int n, int threads, const std::function<void(int)>& task) {
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        task(i);
+      } catch (...) {
+        std::lock_guard lock(mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < std::clamp(threads, 1, n); ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw) {
+  const auto t0 = std::chrono::steady_clock::now();
+  params.validate();
+  foaw.validate();
+  check_training_set(data, params);
+  const std::size_t n = data.size();
   ForceModel model;
   model.features = params.features;
   model.foaw = foaw;
@@ -221,57 +255,37 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
-  const int nb = params.bins;
-  std::vector<std::size_t> start(static_cast<std::size_t>(nb) + 1);
-  for (int b = 0; b <= nb; ++b)
-    start[static_cast<std::size_t>(b)] =
-        n * static_cast<std::size_t>(b) / static_cast<std::size_t>(nb);
-  for (int b = 1; b < nb; ++b) {
-    const std::size_t s = start[static_cast<std::size_t>(b)];
-    model.edges.push_back(0.5 * (key[order[s - 1]] + key[order[s]]));
-  }
+  const auto nb = static_cast<std::size_t>(params.bins);
+  std::vector<std::size_t> start(nb + 1);
+  for (std::size_t b = 0; b <= nb; ++b) start[b] = n * b / nb;
+  for (std::size_t b = 1; b < nb; ++b)
+    model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
-  std::vector<BinResult> results(static_cast<std::size_t>(nb));
-  std::atomic<int> next{0};
+  std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
   int finished = 0;
-  std::exception_ptr error;
-  auto worker = [&] {
-    for (int b = next++; b < nb; b = next++) {
-      try {
-        const std::size_t s0 = start[static_cast<std::size_t>(b)],
-                          s1 = start[static_cast<std::size_t>(b) + 1];
-        const Eigen::Index m = static_cast<Eigen::Index>(s1 - s0);
-        Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
-        double row[kFeatureDim];
-        for (Eigen::Index i = 0; i < m; ++i) {
-          const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
-          make_features(params.features, data.p[k], data.v[k], data.q[k], row);
-          for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-          f.row(i) = data.f[k].transpose();
-        }
-        results[static_cast<std::size_t>(b)] = train_bin(std::move(x), f, params, b);
-        BinModel& bm = results[static_cast<std::size_t>(b)].model;
-        bm.key_min = key[order[s0]];
-        bm.key_max = key[order[s1 - 1]];
-      } catch (...) {
-        std::lock_guard lock(progress_mutex);
-        if (!error) error = std::current_exception();
-      }
-      std::lock_guard lock(progress_mutex);
-      ++finished;
-      if (params.progress)
-        params.progress(static_cast<double>(finished) / nb, fmt::format("bin {} done", b));
-    }
-  };
-  int threads =
+  const int threads =
       params.threads > 0 ? params.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, nb);
-  std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallel_for(params.bins, threads, [&](int bi) {
+    const auto b = static_cast<std::size_t>(bi);
+    const std::size_t s0 = start[b], s1 = start[b + 1];
+    const auto m = static_cast<Eigen::Index>(s1 - s0);
+    Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
+    double row[kFeatureDim];
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
+      make_features(params.features, data.p[k], data.v[k], data.q[k], row);
+      for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
+      f.row(i) = data.f[k].transpose();
+    }
+    results[b] = train_bin(std::move(x), f, params, bi);
+    results[b].model.key_min = key[order[s0]];
+    results[b].model.key_max = key[order[s1 - 1]];
+    std::lock_guard lock(progress_mutex);
+    ++finished;
+    if (params.progress)
+      params.progress(static_cast<double>(finished) / params.bins, fmt::format("bin {} done", bi));
+  });
 
   for (auto& r : results) {
     model.stats.support.push_back(r.support);
@@ -281,11 +295,82 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     model.stats.selected_rows.push_back(r.selected);
     model.bins.push_back(std::move(r.model));
   }
+  finalize_model(model);
   model.stats.samples = n;
   model.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;
 }
+
+void finalize_model(ForceModel& model) {
+  for (BinModel& bm : model.bins) {
+    std::map<std::vector<double>, Eigen::Index> index;  // exact centre -> union row
+    std::vector<std::vector<double>> rows;
+    std::vector<std::array<double, 3>> w;
+    for (int a = 0; a < 3; ++a) {
+      const RbfExpansion& e = bm.axes[static_cast<std::size_t>(a)];
+      for (Eigen::Index j = 0; j < e.centres.rows(); ++j) {
+        std::vector<double> c(static_cast<std::size_t>(e.centres.cols()));
+        for (Eigen::Index d = 0; d < e.centres.cols(); ++d)
+          c[static_cast<std::size_t>(d)] = e.centres(j, d);
+        auto [it, added] = index.emplace(c, static_cast<Eigen::Index>(rows.size()));
+        if (added) {
+          rows.push_back(c);
+          w.push_back({0.0, 0.0, 0.0});
+        }
+        w[static_cast<std::size_t>(it->second)][static_cast<std::size_t>(a)] += e.weights[j];
+      }
+    }
+    const Eigen::Index k = static_cast<Eigen::Index>(rows.size());
+    bm.union_centres.resize(k, kFeatureDim);
+    bm.union_weights.resize(k, 3);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      for (int d = 0; d < kFeatureDim; ++d)
+        bm.union_centres(j, d) = rows[static_cast<std::size_t>(j)][static_cast<std::size_t>(d)];
+      for (int a = 0; a < 3; ++a)
+        bm.union_weights(j, a) = w[static_cast<std::size_t>(j)][static_cast<std::size_t>(a)];
+    }
+  }
+}
+
+namespace {
+
+// sum_j W(j, :) psi(||z - c_j||) over the union table, plus the tails. No allocation.
+Vec3 eval_union(const BinModel& bm, const double* z) {
+  constexpr Eigen::Index kChunk = 64;
+  const Eigen::Index k = bm.union_centres.rows();
+  double r3[kChunk];
+  Vec3 f = Vec3::Zero();
+  for (Eigen::Index j0 = 0; j0 < k; j0 += kChunk) {
+    const Eigen::Index nb = std::min(kChunk, k - j0);
+    for (Eigen::Index j = 0; j < nb; ++j) r3[j] = 0;
+    for (int d = 0; d < kFeatureDim; ++d) {
+      const double* col = bm.union_centres.data() + d * k + j0;
+      const double zd = z[d];
+      for (Eigen::Index j = 0; j < nb; ++j) {
+        const double t = zd - col[j];
+        r3[j] += t * t;
+      }
+    }
+    for (Eigen::Index j = 0; j < nb; ++j) r3[j] *= std::sqrt(r3[j]);
+    for (int a = 0; a < 3; ++a) {
+      const double* w = bm.union_weights.data() + a * k + j0;
+      double acc = 0;
+      for (Eigen::Index j = 0; j < nb; ++j) acc += w[j] * r3[j];
+      f[a] += acc;
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::VectorXd& t = bm.axes[static_cast<std::size_t>(a)].tail;
+    if (t.size() != kFeatureDim + 1) continue;
+    double acc = t[0];
+    for (int d = 0; d < kFeatureDim; ++d) acc += t[d + 1] * z[d];
+    f[a] += acc;
+  }
+  return f;
+}
+
+}  // namespace
 
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
   if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
@@ -296,7 +381,12 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     const auto ud = static_cast<std::size_t>(d);
     z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
   }
-  Vec3 f(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  Vec3 f;
+  if (bm.union_weights.cols() == 3) {
+    f = eval_union(bm, z);
+  } else {  // not finalized: per-axis evaluation
+    f = Vec3(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  }
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;

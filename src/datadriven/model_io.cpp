@@ -178,6 +178,12 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"linear_tail", p.linear_tail},
                 {"sparsa_tolerance", p.sparsa_tolerance},
                 {"cg_tolerance", p.cg_tolerance},
+                {"ridge", p.ridge},
+                {"design", to_string(p.design)},
+                {"feature_weights", p.feature_weights},
+                {"normalize_columns", p.normalize_columns},
+                {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
+                {"sparsa_max_iterations", p.sparsa_iterations},
                 {"kmeans_iterations", p.kmeans_iterations},
                 {"box_margin", p.box_margin},
                 {"samples", m.stats.samples},
@@ -256,6 +262,15 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("linear_tail", m.params.linear_tail);
       get("sparsa_tolerance", m.params.sparsa_tolerance);
       get("cg_tolerance", m.params.cg_tolerance);
+      get("ridge", m.params.ridge);
+      get("feature_weights", m.params.feature_weights);
+      get("normalize_columns", m.params.normalize_columns);
+      get("sparsa_max_iterations", m.params.sparsa_iterations);
+      if (t.contains("design"))
+        m.params.design = design_from_string(t["design"].get<std::string>());
+      if (t.contains("sparsa_stop"))
+        m.params.sparsa_stop =
+            t["sparsa_stop"] == "step" ? SparsaStop::kStep : SparsaStop::kObjective;
       get("kmeans_iterations", m.params.kmeans_iterations);
       get("box_margin", m.params.box_margin);
       get("samples", m.stats.samples);
@@ -267,6 +282,8 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("selected_rows", m.stats.selected_rows);
     } catch (const json::exception& e) {
       r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
+    } catch (const Error& e) {
+      r.fail("train", e.what());
     }
     m.params.features = m.features;
   }
@@ -277,6 +294,7 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     m.bins.push_back(read_bin(r, bins[b], fmt::format("bins/{}", b)));
   try {
     validate_model(m, "");
+    finalize_model(m);
   } catch (const ParseError&) {
     throw;
   } catch (const Error& e) {

@@ -190,7 +190,8 @@ SparsaResult sparsa(const Eigen::MatrixXd& a, const Eigen::VectorXd& f, const Sp
 }
 
 CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
-                          const Eigen::VectorXd& x0, double tolerance, int max_iterations) {
+                          const Eigen::VectorXd& x0, double tolerance, int max_iterations,
+                          double ridge) {
   if (f.size() != b.rows()) throw Error("CG least squares: expected one right-hand side per row");
   if (x0.size() != 0 && x0.size() != b.cols())
     throw Error("CG least squares: expected a start vector with one entry per column");
@@ -199,7 +200,8 @@ CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
   res.x = x0.size() ? x0 : Eigen::VectorXd::Zero(b.cols());
   // Normal equations G x = c with G = B^T B formed once (B has at most a few hundred columns,
   // so each CG iteration costs a small dense product instead of two passes over B).
-  const Eigen::MatrixXd g = b.transpose() * b;
+  Eigen::MatrixXd g = b.transpose() * b;
+  if (ridge > 0) g.diagonal() *= 1.0 + ridge;
   const Eigen::VectorXd c = b.transpose() * f;
   const double cnorm = c.norm();
   if (cnorm == 0) {

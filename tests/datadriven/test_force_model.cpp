@@ -142,6 +142,32 @@ TEST(ForceModel, SameModelWithOneOrTwoThreads) {
   EXPECT_EQ(force_model_to_json(a), force_model_to_json(b));
 }
 
+TEST(ForceModel, UnionEvaluationMatchesPerAxisExpansions) {
+  for (Design d : {Design::kThesis, Design::kRegression}) {
+    TrainParams p = test::small_params();
+    p.design = d;
+    const ForceModel m = train_force_model(held_out().train, p);
+    ForceModel per_axis = m;
+    std::size_t sum = 0, uni = 0;
+    for (BinModel& b : per_axis.bins) {
+      for (const auto& e : b.axes) sum += static_cast<std::size_t>(e.size());
+      uni += static_cast<std::size_t>(b.union_centres.rows());
+      b.union_centres.resize(0, 0);
+      b.union_weights.resize(0, 0);
+    }
+    EXPECT_LE(uni, sum);
+    if (d == Design::kRegression) {
+      EXPECT_EQ(uni * 3, sum);  // the axes share their centres
+    }
+    const HeldOut& h = held_out();
+    for (std::size_t i = 0; i < h.test.size(); i += 7) {
+      const Vec3 a = model_force(m, h.test.p[i], h.test.v[i], h.test.q[i]);
+      const Vec3 b = model_force(per_axis, h.test.p[i], h.test.v[i], h.test.q[i]);
+      ASSERT_LT((a - b).norm(), 1e-9 * (1 + b.norm())) << to_string(d) << " " << i;
+    }
+  }
+}
+
 TEST(ForceModel, GuardsNonFiniteAndLargeInputs) {
   const ForceModel m = train_force_model(held_out().train, test::small_params());
   const double nan = std::nan("");

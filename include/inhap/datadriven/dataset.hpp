@@ -33,6 +33,11 @@ ProxyTrack proxy_from_columns(const Recording& rec, const std::string& path,
                               const std::string& contact_column = "contact",
                               double force_threshold = 0.05);
 
+/// Pre-thesis baseline "(p, pdot) only": q = p for every sample, so the features carry no
+/// elastic displacement and no proxy (one bin; the model sees (0, p, pdot)).
+ProxyTrack position_only_track(const Recording& rec, const std::vector<char>& contact,
+                               const std::string& contact_source);
+
 /// Pre-thesis baseline: q = probe centre at the onset of each contact, held during it.
 ProxyTrack entry_proxy_track(const Recording& rec, const std::vector<char>& contact,
                              const std::string& contact_source);

@@ -73,24 +73,27 @@ const char* to_string(Design d);
 Design design_from_string(const std::string& s);
 
 struct TrainParams {
-  int bins = 5;                 ///< bins by ||q - p||, equal counts
+  int bins = 2;                 ///< bins by ||q - p||, equal counts (thesis: 5; 2 measured best)
   int centers = 300;            ///< M: k-means clusters = selected rows per bin
   int nonzeros = 0;             ///< wanted non-zeros per axis (0 = M)
   double lambda_ratio = 0.001;  ///< lambda = ratio * ||A~^T f~||_inf
   std::uint64_t seed = 1;
-  bool linear_tail = false;  ///< add a linear polynomial tail to every expansion
+  bool linear_tail = true;  ///< linear polynomial tail on every expansion (thesis: none)
   FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
-  Design design = Design::kThesis;
-  bool normalize_columns = true;  ///< solve the l1 problem on unit-norm columns of A~
+  Design design = Design::kRegression;  ///< measured better than kThesis (docs/force-model.md)
+  bool normalize_columns = true;        ///< solve the l1 problem on unit-norm columns of A~
   SparsaStop sparsa_stop = SparsaStop::kObjective;
   double sparsa_tolerance = 1e-4;  ///< of sparsa_stop (relative objective change)
   int sparsa_iterations = 5000;    ///< SpaRSA iterations at most (all stages)
   double cg_tolerance = 1e-9;      ///< CG debiasing tolerance (thesis)
+  /// Relative Tikhonov term of the debiasing (0 = plain least squares, which CG cannot bring
+  /// to 1e-9 on the numerically singular r^3 supports).
+  double ridge = 1e-8;
   int kmeans_iterations = 100;
   /// Weights of the three 3-D feature groups after standardisation (in FeatureSet order):
   /// distances see (x_d - mean_d) / sd_d * weight_group(d).
-  std::array<double, 3> feature_weights{1.0, 1.0, 1.0};
-  double box_margin = 0.1;  ///< clamping box = training range +- margin * range (per dim)
+  std::array<double, 3> feature_weights{1.0, 3.0, 0.5};
+  double box_margin = 0.5;  ///< clamping box = training range +- margin * range (per dim)
   int threads = 0;          ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
@@ -106,6 +109,11 @@ struct BinModel {
   std::array<double, kFeatureDim> box_min{}, box_max{};  ///< clamping box of z
   std::array<RbfExpansion, 3> axes;                      ///< centres in z, weights in N
   std::size_t samples = 0;                               ///< training samples in the bin
+
+  /// Derived (not saved; built by finalize_model): the union of the three axes' centres with a
+  /// weight column per axis (zero where an axis does not use a centre), so that each distance
+  /// is computed once per step. K_union x D column-major and K_union x 3.
+  Eigen::MatrixXd union_centres, union_weights;
 };
 
 /// Training diagnostics (not needed to render; saved for provenance).
@@ -139,6 +147,10 @@ struct ForceModel {
 /// bin), non-finite values or bad parameters.
 ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
                              const FoawParams& foaw = {});
+
+/// Builds the derived evaluation tables of every bin (called by training and loading; call it
+/// after editing a model's expansions by hand).
+void finalize_model(ForceModel& model);
 
 /// Model force for one input, N: bin by ||q - p||, normalise, clamp to the bin's box, evaluate
 /// the three expansions, clamp the magnitude to force_limit. Non-finite input gives zero.

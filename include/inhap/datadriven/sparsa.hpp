@@ -67,15 +67,17 @@ std::vector<SparsaResult> sparsa_multi(const Eigen::MatrixXd& a, const Eigen::Ma
 struct CgResult {
   Eigen::VectorXd x;
   int iterations = 0;
-  double relative_residual = 0;  ///< ||B^T (f - B x)|| / ||B^T f||
+  double relative_residual = 0;  ///< ||B^T f - G x|| / ||B^T f||, G the (ridged) B^T B
   bool converged = false;
 };
 
 /// Least squares min ||B x - f|| by CG on the normal equations B^T B x = B^T f (B^T B formed
 /// once, Jacobi preconditioner), starting from x0 (empty = zero), until ||B^T (f - B x)|| <=
 /// tolerance ||B^T f||.
+/// With ridge > 0 the normal equations become (B^T B + ridge diag(B^T B)) x = B^T f (a
+/// relative Tikhonov term for numerically singular supports; 0 = plain least squares).
 CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
                           const Eigen::VectorXd& x0, double tolerance = 1e-9,
-                          int max_iterations = 0 /* 0 = 50 * columns + 100 */);
+                          int max_iterations = 0 /* 0 = 50 * columns + 100 */, double ridge = 0);
 
 }  // namespace inhap::dd
