@@ -319,15 +319,6 @@ void run_eval_forces(const EvalForcesOptions& o) {
   fmt::print("report -> {}\n", o.json_path);
 }
 
-CLI::App* eval_group(CLI::App& app) {
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "eval"; });
-  if (!found.empty()) return found.front();
-  auto* eval = app.add_subcommand(
-      "eval", "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
-  eval->require_subcommand(1);
-  return eval;
-}
-
 void register_eval_forces(CLI::App& app) {
   auto o = std::make_shared<EvalForcesOptions>();
   auto* cmd = eval_group(app)->add_subcommand(

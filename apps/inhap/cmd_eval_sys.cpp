@@ -136,15 +136,6 @@ void run_eval_sys(const EvalSysOptions& o) {
   if (!o.json.empty()) write_file_atomic(o.json, json{{"objects", objects}}.dump(2) + "\n");
 }
 
-CLI::App* eval_group(CLI::App& app) {
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "eval"; });
-  if (!found.empty()) return found.front();
-  auto* eval = app.add_subcommand(
-      "eval", "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
-  eval->require_subcommand(1);
-  return eval;
-}
-
 void register_eval_sys(CLI::App& app) {
   auto o = std::make_shared<EvalSysOptions>();
   auto* cmd = eval_group(app)->add_subcommand(

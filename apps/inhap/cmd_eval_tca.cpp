@@ -252,15 +252,6 @@ void run_eval_tca(EvalTcaOptions o) {
   if (!o.json.empty()) write_file_atomic(o.json, report_json(o, r).dump(2) + "\n");
 }
 
-CLI::App* eval_group(CLI::App& app) {
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "eval"; });
-  if (!found.empty()) return found.front();
-  auto* eval = app.add_subcommand(
-      "eval", "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
-  eval->require_subcommand(1);
-  return eval;
-}
-
 void register_eval_tca(CLI::App& app) {
   auto opt = std::make_shared<EvalTcaOptions>();
   auto* cmd = eval_group(app)->add_subcommand(

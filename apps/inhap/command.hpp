@@ -15,6 +15,23 @@ struct CommandRegistrar {
   CommandRegistrar(int order, std::string name, Register fn);
 };
 
+/// The subcommand group `name` (e.g. "eval", "mesh", "tca"), created with `description` by the
+/// first command file that registers into it; later files reuse it (registration order varies).
+inline CLI::App* subcommand_group(CLI::App& app, const std::string& name,
+                                  const std::string& description) {
+  auto found = app.get_subcommands([&](const CLI::App* s) { return s->get_name() == name; });
+  if (!found.empty()) return found.front();
+  auto* group = app.add_subcommand(name, description);
+  group->require_subcommand(1);
+  return group;
+}
+
+/// The "eval" group: evaluations that reproduce the thesis' figures.
+inline CLI::App* eval_group(CLI::App& app) {
+  return subcommand_group(app, "eval",
+                          "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
+}
+
 /// Progress line on stderr for long work: "[what] 42% (eta 3 s)"; quiet when stderr is not a
 /// terminal unless `force`.
 void progress(const std::string& what, double fraction, double eta_s);
