@@ -6,8 +6,8 @@
 // the pre-thesis approach) shows what the proxy buys on sliding.
 // Units: mm, N, s; step times in microseconds.
 //
-// Proxy and contact: until the friction module's proxy estimator lands, q is the lab's TRUE
-// proxy (truth sidecar ax,ay,az) and contact the truth flag; the JSON says so
+// Proxy and contact (see forces_lab.cpp): until the friction module's proxy estimator lands, q is
+// the lab's TRUE proxy (truth sidecar ax,ay,az) and contact the truth flag; the JSON says so
 // ("proxy_source": "truth", "contact_source": "truth"). make_tracks() is the one place to
 // switch to the estimated proxy.
 #include <fmt/format.h>
@@ -22,6 +22,7 @@
 #include <unordered_map>
 
 #include "command.hpp"
+#include "forces_lab.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/dataset.hpp"
@@ -47,107 +48,6 @@ struct EvalForcesOptions {
   bool quick = false;
 };
 
-struct Durations {
-  double train_s, test_s;
-};
-
-Durations durations_for(const std::string& scene) {
-  if (scene == "planar") return {65.0, 37.0};  // thesis 4.5.1: ~65,000 / ~37,000 samples
-  if (scene == "dome") return {52.0, 24.0};    // thesis 4.5.2: ~52,000 / ~24,000 samples
-  return {60.0, 30.0};
-}
-
-/// Proxy q and contact of every sample: here the lab's ground truth (anchor = true proxy).
-ProxyTrack make_tracks(const lab::LabRecording& lr) {
-  const Recording& rec = lr.rec;
-  ProxyTrack t;
-  t.proxy_source = "truth";
-  t.contact_source = "truth";
-  t.q.resize(rec.size());
-  t.contact.resize(rec.size());
-  for (std::size_t i = 0; i < rec.size(); ++i) {
-    t.contact[i] = lr.truth.contact[i] != 0 && lr.truth.anchor[i].allFinite();
-    t.q[i] = t.contact[i] ? lr.truth.anchor[i] : rec.p[i];
-  }
-  return t;
-}
-
-struct Replay {
-  std::vector<Vec3> forces;
-  std::vector<double> step_us;  // in-contact steps
-};
-
-Replay timed_replay(const ForceModel& m, const Recording& rec, const ProxyTrack& track) {
-  Replay r;
-  r.forces.resize(rec.size());
-  r.step_us.reserve(rec.size());
-  ServoState st;
-  for (std::size_t i = 0; i < rec.size(); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    r.forces[i] = servo_step(m, st, rec.p[i], track.q[i], track.contact[i] != 0);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (track.contact[i])
-      r.step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-  }
-  return r;
-}
-
-/// Errors over in-contact samples with t >= t_from (and mask[i] when a mask is given); an
-/// empty subset gives n = 0 and NaN statistics (written as null).
-ForceErrors errors_from(const Recording& rec, const ProxyTrack& track, const std::vector<Vec3>& f,
-                        double t_from, const std::vector<char>* mask = nullptr) {
-  std::vector<Vec3> r, m;
-  for (std::size_t i = 0; i < rec.size(); ++i)
-    if (track.contact[i] && rec.t[i] >= t_from && (!mask || (*mask)[i])) {
-      r.push_back(f[i]);
-      m.push_back(rec.f[i]);
-    }
-  if (r.empty()) {
-    ForceErrors e;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    e.ae_mean = e.ae_median = e.re_mean = e.re_median = nan;
-    e.rmse.fill(nan);
-    e.ae_axis_median.fill(nan);
-    return e;
-  }
-  return force_errors(r, m);
-}
-
-/// Test samples "covered" by the training run: some training contact sample lies within
-/// `radius` mm in (q, ||q - p||) space (same spot, same elastic displacement magnitude).
-std::vector<char> coverage(const Recording& train, const ProxyTrack& tr, const Recording& test,
-                           const ProxyTrack& te, double radius) {
-  auto cell = [radius](double v) { return static_cast<long>(std::floor(v / radius)); };
-  auto key = [](long a, long b, long c) {
-    return (a * 73856093L) ^ (b * 19349663L) ^ (c * 83492791L);
-  };
-  std::unordered_multimap<long, Eigen::Vector4d> grid;
-  for (std::size_t i = 0; i < train.size(); ++i)
-    if (tr.contact[i]) {
-      const Vec3& q = tr.q[i];
-      grid.emplace(key(cell(q.x()), cell(q.y()), cell(q.z())),
-                   Eigen::Vector4d(q.x(), q.y(), q.z(), (q - train.p[i]).norm()));
-    }
-  std::vector<char> out(test.size(), 0);
-  for (std::size_t i = 0; i < test.size(); ++i) {
-    if (!te.contact[i]) continue;
-    const Vec3& q = te.q[i];
-    const Eigen::Vector4d x(q.x(), q.y(), q.z(), (q - test.p[i]).norm());
-    for (long a = -1; a <= 1 && !out[i]; ++a)
-      for (long b = -1; b <= 1 && !out[i]; ++b)
-        for (long c = -1; c <= 1 && !out[i]; ++c) {
-          const auto range =
-              grid.equal_range(key(cell(q.x()) + a, cell(q.y()) + b, cell(q.z()) + c));
-          for (auto it = range.first; it != range.second; ++it)
-            if ((it->second - x).norm() <= radius) {
-              out[i] = 1;
-              break;
-            }
-        }
-  }
-  return out;
-}
-
 json xyz(const std::array<double, 3>& v) {
   return {{"x", v[0]}, {"y", v[1]}, {"z", v[2]}};
 }
@@ -155,42 +55,11 @@ json mean_median(double mean, double median) {
   return {{"mean", mean}, {"median", median}};
 }
 
-/// One model variant (with proxy, without, onset anchor): trained, replayed, scored.
-struct Variant {
-  ForceModel model;
-  Replay replay;
-  std::size_t train_contact = 0;
-  ForceErrors all, sliding;
-};
-
-struct ObjectData {
-  std::string name;
-  lab::LabRecording train, test;
-  ProxyTrack train_track, test_track;
-  double t_slide = 0;  // start of the sliding-only last third of the test run, s
-};
-
-Variant run_variant(const ObjectData& d, const ProxyTrack& tr, const ProxyTrack& te, TrainParams p,
-                    const char* what) {
-  FoawParams foaw;
-  foaw.dt = median_dt(d.train.rec);
-  const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
-  p.progress = [&](double f, const std::string&) {
-    progress(fmt::format("{} {}", d.name, what), f, 0);
-  };
-  Variant v;
-  v.model = train_force_model(set, p, foaw);
-  v.model.proxy_source = tr.proxy_source;
-  v.train_contact = set.size();
-  v.replay = timed_replay(v.model, d.test.rec, te);
-  // Scored against the measured force on the contact samples of the (true) contact flag.
-  v.all = errors_from(d.test.rec, d.test_track, v.replay.forces, -1e300);
-  v.sliding = errors_from(d.test.rec, d.test_track, v.replay.forces, d.t_slide);
-  return v;
-}
-
-json object_json(const ObjectData& d, const Variant& v, const Variant& v0, const Variant& v1,
-                 const ForceErrors& cov) {
+json object_json(const ForceLabResult& d) {
+  const ForceVariant& v = d.proxy;
+  const ForceVariant& v0 = d.no_proxy;
+  const ForceVariant& v1 = d.onset;
+  const ForceErrors& cov = d.covered;
   const TrainParams& p = v.model.params;
   const std::vector<double>& us = v.replay.step_us;
   json j;
@@ -242,63 +111,25 @@ json object_json(const ObjectData& d, const Variant& v, const Variant& v0, const
 }
 
 json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
-  const lab::Scene scene = lab::builtin_scene(name);
-  Durations dur = durations_for(name);
-  if (o.quick) dur = {dur.train_s / 2, dur.test_s / 2};
-  auto record = [&](double seconds, std::uint64_t seed, const char* what) {
-    lab::RecordSpec spec;
-    spec.operator_name = "explore";
-    spec.seconds = seconds;
-    spec.seed = seed;
-    return lab::record_scene(scene, spec,
-                             [&](double f) { progress(fmt::format("{} {}", name, what), f, 0); });
-  };
-  ObjectData d;
-  d.name = name;
-  d.train = record(dur.train_s, o.train_seed, "train recording");
-  d.test = record(dur.test_s, o.test_seed, "test recording");
-  if (!o.keep.empty()) {
-    std::filesystem::create_directories(o.keep);
-    lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);
-    lab::write_lab_recording(o.keep + "/" + name + "-test.csv", d.test);
-  }
-  d.train_track = make_tracks(d.train);
-  d.test_track = make_tracks(d.test);
-  const std::vector<double>& tt = d.test.rec.t;
-  d.t_slide = tt.front() + (tt.back() - tt.front()) * 2.0 / 3.0;
-  TrainParams p = o.params;
-  p.design = design_from_string(o.design);
-
-  const Variant v = run_variant(d, d.train_track, d.test_track, p, "train (proxy)");
-  if (v.all.n == 0)
-    throw Error(fmt::format(
-        "eval forces: {}: expected samples in contact in the test recording, got none", name));
-  // Pre-thesis baselines on the same recordings: (p, pdot) only (q = p), and q held at the
-  // contact-onset point (u = p - p_c of earlier data-driven methods).
-  const std::string& cs = d.train_track.contact_source;
-  const Variant v0 =
-      run_variant(d, position_only_track(d.train.rec, d.train_track.contact, cs),
-                  position_only_track(d.test.rec, d.test_track.contact, cs), p, "train (no proxy)");
-  const Variant v1 = run_variant(d, entry_proxy_track(d.train.rec, d.train_track.contact, cs),
-                                 entry_proxy_track(d.test.rec, d.test_track.contact, cs), p,
-                                 "train (onset proxy)");
-  if (!o.keep.empty()) {
-    save_force_model(o.keep + "/" + name + "-model.json", v.model);
-    save_force_model(o.keep + "/" + name + "-model-noproxy.json", v0.model);
-    save_force_model(o.keep + "/" + name + "-model-onset.json", v1.model);
-  }
-  const std::vector<char> covered =
-      coverage(d.train.rec, d.train_track, d.test.rec, d.test_track, 3.0);
-  const ForceErrors cov = errors_from(d.test.rec, d.test_track, v.replay.forces, -1e300, &covered);
-  json j = object_json(d, v, v0, v1, cov);
+  ForceLabOptions fo;
+  fo.scene = name;
+  fo.train_seed = o.train_seed;
+  fo.test_seed = o.test_seed;
+  fo.params = o.params;
+  fo.params.design = design_from_string(o.design);
+  fo.quick = o.quick;
+  fo.keep = o.keep;
+  const ForceLabResult d = evaluate_forces_on_lab(fo);
+  const ForceVariant& v = d.proxy;
+  json j = object_json(d);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
       "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
       "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us\n",
       name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
       v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
-      v.sliding.re_median, v0.sliding.re_median, v1.sliding.re_median, v.model.stats.seconds,
-      j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>());
+      v.sliding.re_median, d.no_proxy.sliding.re_median, d.onset.sliding.re_median,
+      v.model.stats.seconds, j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>());
   return j;
 }
 

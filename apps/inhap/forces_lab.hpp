@@ -1,0 +1,57 @@
+// Force-model evaluation on the virtual lab (thesis 4.5), shared by `inhap eval forces` and
+// `inhap demo`: record a free-exploration training run and a held-out test run with another seed
+// (deep pushes, then a sliding-only last third, fig. 4.10), train the data-driven force model,
+// replay the test run through the servo renderer and score it (eq. 4.27-4.31); optionally the
+// same pipeline without the proxy (q = p) and with q held at the contact-onset point.
+// Units: mm, N, s; step times in microseconds.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/force_model.hpp"
+#include "inhap/datadriven/metrics.hpp"
+#include "inhap/lab/recorder.hpp"
+
+namespace inhap::cli {
+
+struct ForceLabOptions {
+  std::string scene;  ///< built-in lab scene (planar, dome, ...)
+  std::uint64_t train_seed = 1, test_seed = 2;
+  dd::TrainParams params;      ///< training settings (design included)
+  bool quick = false;          ///< recordings 2x shorter (smoke test)
+  bool baselines = true;       ///< also train the no-proxy and onset-proxy models
+  std::string keep;            ///< folder for recordings and models ("": none)
+  std::string progress_label;  ///< prefix of progress lines ("": the scene name)
+};
+
+/// Servo replay of a test recording: forces per sample, step latency of in-contact steps.
+struct ForceReplay {
+  std::vector<Vec3> forces;
+  std::vector<double> step_us;
+};
+
+/// One model variant (with proxy, without, onset anchor): trained, replayed, scored.
+struct ForceVariant {
+  dd::ForceModel model;
+  ForceReplay replay;
+  std::size_t train_contact = 0;
+  dd::ForceErrors all, sliding;
+};
+
+struct ForceLabResult {
+  std::string name;
+  lab::LabRecording train, test;
+  dd::ProxyTrack train_track, test_track;
+  double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
+  ForceVariant proxy;
+  ForceVariant no_proxy, onset;  ///< empty models when !baselines
+  dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
+};
+
+/// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).
+ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
+
+}  // namespace inhap::cli
