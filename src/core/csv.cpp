@@ -10,16 +10,14 @@
 #include <cstring>
 
 #include "inhap/core/error.hpp"
+#include "inhap/core/text.hpp"
 
 namespace inhap {
 
 namespace {
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
+  return text::trim_view(s);
 }
 
 bool blank(std::string_view s) {

@@ -16,6 +16,7 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/text.hpp"
 #include "inhap/geometry/volume.hpp"
 
 namespace inhap {
@@ -29,17 +30,8 @@ struct Field {
   std::size_t line = 0;
 };
 
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return std::string(s.substr(b, e - b + 1));
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
+using text::lower;
+using text::trim;
 
 std::size_t type_size(SampleType t) {
   switch (t) {

@@ -22,6 +22,7 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/text.hpp"
 #include "inhap/geometry/heightmap.hpp"
 
 namespace inhap {
@@ -33,17 +34,8 @@ struct HeaderValue {
   std::size_t line = 0;
 };
 
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return std::string(s.substr(b, e - b + 1));
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
+using text::lower;
+using text::trim;
 
 // "key: value" lines of the header, keys lower-cased; [sections] and blank lines skipped.
 std::map<std::string, HeaderValue> parse_header(std::string_view header) {

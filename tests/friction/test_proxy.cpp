@@ -1,10 +1,7 @@
 // Proxy estimation (thesis 4.3.1) against analytic answers and the fake device's true anchor.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 
 #include "friction/fake_device.hpp"
 #include "friction/sys_helpers.hpp"
@@ -12,33 +9,7 @@
 #include "inhap/friction/palpation.hpp"
 #include "inhap/friction/proxy_estimator.hpp"
 #include "inhap/geometry/heightmap.hpp"
-
-// Counting global operator new: the servo step must not allocate.
-namespace {
-std::atomic<long> g_allocs{0};
-}
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_counter.hpp"
 
 namespace inhap::friction {
 namespace {
@@ -141,14 +112,17 @@ TEST(ProxyEstimator, NanOrAbsurdInputResets) {
 TEST(ProxyEstimator, StepDoesNotAllocate) {
   Fixture f;
   proxy_step(f.model, f.state, Vec3(0, 0, 1));  // warm up
-  const long before = g_allocs.load();
+  const long probe = test::heap_allocations();
+  ::operator delete(::operator new(16));  // the counter sees allocations
+  ASSERT_EQ(test::heap_allocations() - probe, 1);
+  const long before = test::heap_allocations();
   for (int i = 0; i < 20000; ++i) {
     const double t = i * 1e-3;
     const Vec3 p(25.0 * std::sin(0.7 * t), 25.0 * std::sin(1.1 * t),
                  -1.5 + 2.0 * std::sin(3.0 * t));
     proxy_step(f.model, f.state, p);
   }
-  EXPECT_EQ(g_allocs.load() - before, 0);
+  EXPECT_EQ(test::heap_allocations() - before, 0);
   // The same on a curved triangle mesh with the creep-aware return.
   Grid g(81, 81);
   for (int i = 0; i <= 80; ++i)
@@ -164,7 +138,7 @@ TEST(ProxyEstimator, StepDoesNotAllocate) {
   ProxyModel mm{&f.sys, &surface};
   ProxyState ms;
   proxy_step(mm, ms, Vec3(0, 0, 5), 1e-3);
-  const long before_mesh = g_allocs.load();
+  const long before_mesh = test::heap_allocations();
   int contact = 0, sliding = 0;
   for (int i = 0; i < 20000; ++i) {
     const double t = i * 1e-3;
@@ -173,7 +147,7 @@ TEST(ProxyEstimator, StepDoesNotAllocate) {
     contact += o.contact;
     sliding += o.sliding;
   }
-  EXPECT_EQ(g_allocs.load() - before_mesh, 0);
+  EXPECT_EQ(test::heap_allocations() - before_mesh, 0);
   EXPECT_GT(contact, 1000);  // the path really touched and slid
   EXPECT_GT(sliding, 100);
 }

@@ -2,29 +2,10 @@
 // compensator and the controllers' steps run under a counting global operator new.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "inhap/contact/compensation.hpp"
 #include "inhap/lab/control.hpp"
 #include "inhap/lab/sim_device.hpp"
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_counter.hpp"
 
 namespace inhap::lab {
 namespace {
@@ -44,10 +25,10 @@ TEST(ServoAlloc, DeviceTickContactCompensationAndControllersDoNotAllocate) {
       dev.info(), [](double t) { return Vec3(-3 + 5 * t, 0, 30); }, 10.0);
   ForceProfileControl fpc(
       dev.info(), [](double) { return Vec3(0, 0, -2); }, 10.0, 20.0);
-  const long probe = g_allocs.load();
-  ::operator delete(::operator new(16));  // (a new-expression could be elided)
-  ASSERT_EQ(g_allocs.load() - probe, 1);  // the counter sees allocations
-  const long before = g_allocs.load();
+  const long probe = test::heap_allocations();
+  ::operator delete(::operator new(16));           // (a new-expression could be elided)
+  ASSERT_EQ(test::heap_allocations() - probe, 1);  // the counter sees allocations
+  const long before = test::heap_allocations();
   for (int i = 0; i < 3000; ++i) {
     const Vec3 f = compensate_step(cfg, cs, dev.position(), dev.force_sensor());
     const Vec3 a = pid.step(dev.time(), dev.position(), dev.force_sensor());
@@ -56,7 +37,7 @@ TEST(ServoAlloc, DeviceTickContactCompensationAndControllersDoNotAllocate) {
     dev.command_force(0.5 * (a + b) + 0 * f);
     dev.tick();
   }
-  EXPECT_EQ(g_allocs.load() - before, 0);
+  EXPECT_EQ(test::heap_allocations() - before, 0);
   EXPECT_TRUE(dev.contact().in_contact);  // the loop really exercised the contact law
 }
 

@@ -1,6 +1,6 @@
 // The servo step never allocates: global operator new is counted while step() runs.
-// (This file replaces the global allocation functions for the whole test_rendering program;
-// counting is off except inside the measured region.) Units: mm, N.
+// (This file includes support/alloc_counter.hpp for the whole test_rendering program.)
+// Units: mm, N.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,37 +10,7 @@
 
 #include "inhap/rendering/renderer.hpp"
 #include "rendering/render_fixtures.hpp"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-
-void* counted_alloc(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed))
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-  return counted_alloc(n);
-}
-void* operator new[](std::size_t n) {
-  return counted_alloc(n);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_counter.hpp"
 
 using namespace inhap;
 using render::Algorithm;
@@ -57,8 +27,7 @@ TEST(RendererAlloc, StepNeverAllocates) {
     render::State st;
     long ticks = 0, contact = 0, touches = 0, clamped = 0;
     bool was = false;
-    g_allocations = 0;
-    g_counting = true;
+    const long before = test::heap_allocations();
     for (int i = 0; i < 4000; ++i) {
       const double ph = i * 0.003;
       // Stroke in and out of the surface (depth oscillates around 0), with occasional glitches.
@@ -74,8 +43,7 @@ TEST(RendererAlloc, StepNeverAllocates) {
       clamped += f.norm() > 6.2 - 1e-9;
       was = st.collision;
     }
-    g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << (a == Algorithm::kTCA ? "TCA" : "CBA");
+    EXPECT_EQ(test::heap_allocations() - before, 0) << (a == Algorithm::kTCA ? "TCA" : "CBA");
     EXPECT_EQ(ticks, 4000);
     EXPECT_GT(contact, 500);
     EXPECT_GT(touches, 5);
@@ -83,10 +51,7 @@ TEST(RendererAlloc, StepNeverAllocates) {
     EXPECT_GE(st.resets, 2u);
   }
   // The counter itself works (a test that cannot fail is a defect).
-  g_allocations = 0;
-  g_counting = true;
-  auto* v = new std::vector<int>(100);
-  g_counting = false;
-  delete v;
-  EXPECT_GE(g_allocations.load(), 1);
+  const long probe = test::heap_allocations();
+  ::operator delete(::operator new(16));  // (a new-expression could be elided)
+  EXPECT_EQ(test::heap_allocations() - probe, 1);
 }
