@@ -14,6 +14,7 @@
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/stats.hpp"
 #include "inhap/friction/proxy_estimator.hpp"
 #include "inhap/lab/operators.hpp"
 #include "sys_lab.hpp"
@@ -30,14 +31,6 @@ struct EvalSysOptions {
   std::uint64_t seed = 1;
   bool quick = false;
 };
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const double x = p * static_cast<double>(v.size() - 1);
-  const std::size_t i = static_cast<std::size_t>(x);
-  return i + 1 < v.size() ? v[i] + (x - i) * (v[i + 1] - v[i]) : v[i];
-}
 
 struct ProxyErrors {
   std::vector<double> err;
@@ -94,8 +87,8 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   json j;
   j["name"] = name;
   j["reference_points"] = m.points.size();
-  j["limit_rel_error"] = {{"median", percentile(rel, 0.5)}, {"max", percentile(rel, 1.0)}};
-  j["proxy_error_mm"] = {{"median", percentile(pe.err, 0.5)}, {"p95", percentile(pe.err, 0.95)}};
+  j["limit_rel_error"] = {{"median", quantile(rel, 0.5)}, {"max", quantile(rel, 1.0)}};
+  j["proxy_error_mm"] = {{"median", quantile(pe.err, 0.5)}, {"p95", quantile(pe.err, 0.95)}};
   j["palpation_sim_hours"] = static_cast<double>(r.ticks) / 3.6e6;
   j["palpation_wall_s"] = r.wall_s;
   // Extras (documented in docs/sliding-yield-surface.md).
@@ -104,11 +97,11 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   j["palpation_cpu_s_per_point"] = r.cpu_s / static_cast<double>(m.points.size());
   j["cycles"] = r.cycles.size();
   j["limits"] = rel.size();
-  j["limit_rel_error_measured"] = {{"median", percentile(rel_measured, 0.5)},
-                                   {"max", percentile(rel_measured, 1.0)},
+  j["limit_rel_error_measured"] = {{"median", quantile(rel_measured, 0.5)},
+                                   {"max", quantile(rel_measured, 1.0)},
                                    {"count", rel_measured.size()}};
-  j["proxy_error_mm_rate_independent"] = {{"median", percentile(pr.err, 0.5)},
-                                          {"p95", percentile(pr.err, 0.95)}};
+  j["proxy_error_mm_rate_independent"] = {{"median", quantile(pr.err, 0.5)},
+                                          {"p95", quantile(pr.err, 0.95)}};
   j["proxy_contact_samples"] = pe.err.size();
   j["proxy_missed_contact_samples"] = pe.missed;
   j["exploration_s"] = spec.seconds;

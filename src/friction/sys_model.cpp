@@ -1,4 +1,5 @@
 #include "inhap/friction/sys_model.hpp"
+#include "inhap/core/stats.hpp"
 
 #include <fmt/format.h>
 
@@ -57,13 +58,6 @@ double contact_ratio(const CycleRecord& c, const ShapeQuery* shape) {
   return (c.f_meas - fn * n).norm() / fn;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
-
 // Borders of one reference point from its steps (see fit_sys).
 void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
                const FitOptions& opt) {
@@ -72,7 +66,7 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
     b.result = find_elastic_border(b.steps, opt.border);
     if (b.result.growth_slope > 0) slopes.push_back(b.result.growth_slope);
   }
-  const double slope = median(slopes);
+  const double slope = median(slopes, 0.0);
   for (SysBorder& b : p.borders)
     if (b.result.growth_slope == 0 && slope > 0)
       b.result = find_elastic_border(b.steps, opt.border, slope);
@@ -100,7 +94,7 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
   for (const SysBorder& b : p.borders)
     if (b.result.radius > 0 && !b.result.no_sliding)
       stiff.push_back(b.result.f_limit_load / b.result.radius);
-  p.tangential_stiffness = median(stiff);
+  p.tangential_stiffness = median(stiff, 0.0);
   p.creep_viscosity = slope > 0 ? std::max(0.0, plateau_gap / slope - opt.load_damping) : 0.0;
 }
 

@@ -50,92 +50,83 @@ constexpr double kEcoflex0010 = 0.055, kEcoflex0030 = 0.069, kDragonSkin10 = 0.1
 constexpr double kSiliconeMu = 1.2, kSiliconeDamping = 0.004;
 constexpr double kFoamExponent = 1.2, kFoamDamping = 0.01;  // chosen: foams stiffen less
 
-Scene planar() {
+/// A scene from its parts; `region_radius` (mm) bounds where operators explore, around the origin.
+Scene make_scene(const char* name, std::string description, SoftObject object,
+                 double region_radius) {
   Scene s;
-  s.name = "planar";
-  s.description =
-      "thesis 4.5.1: Ecoflex 00-30 cylinder, 100 mm diameter x 25 mm, three softer "
-      "thinner-rich inclusions below the top (not protruding)";
+  s.name = name;
+  s.description = std::move(description);
+  s.object = std::move(object);
+  s.region = {Vec2::Zero(), region_radius};
+  return s;
+}
+
+Scene planar() {
   const ContactLaw law = make_law(hertz_k(kEcoflex0030), 1.5, kSiliconeDamping, kSiliconeMu);
   // Thinner-rich pieces: 0.35-0.5 x the stiffness (chosen), 6-8 mm below the top; the
   // tackier thinner-rich silicone gets up to 15 % more friction (chosen).
   std::vector<Inclusion> inc = {{Vec3(-20, 10, 18), 9.0, 0.35, 1.15},
                                 {Vec3(18, 14, 17), 8.0, 0.5, 1.1},
                                 {Vec3(4, -20, 18), 10.0, 0.4, 1.0}};
-  s.object = SoftObject(CylinderShape{Vec3::Zero(), 50.0, 25.0}, law, std::move(inc));
-  s.region = {Vec2::Zero(), 30.0};
-  return s;
+  return make_scene("planar",
+                    "thesis 4.5.1: Ecoflex 00-30 cylinder, 100 mm diameter x 25 mm, three softer "
+                    "thinner-rich inclusions below the top (not protruding)",
+                    SoftObject(CylinderShape{Vec3::Zero(), 50.0, 25.0}, law, std::move(inc)), 30.0);
 }
 
 Scene dome() {
-  Scene s;
-  s.name = "dome";
-  s.description =
-      "thesis 4.5.2: Ecoflex 00-30 dome, 100 mm diameter x 30 mm high, stiff rubber ball "
-      "inside under the top";
   const ContactLaw law = make_law(hertz_k(kEcoflex0030), 1.5, kSiliconeDamping, kSiliconeMu);
   // Ball of radius 12 mm centred 14 mm below the apex, 4x stiffer: the apex gets
   // 1 + 3 exp(-(14/12)^2) = 1.77x the shell's stiffness (chosen).
   std::vector<Inclusion> inc = {{Vec3(0, 0, 16), 12.0, 4.0, 1.0}};
-  s.object = SoftObject(DomeShape{Vec3::Zero(), 50.0, 30.0}, law, std::move(inc));
-  s.region = {Vec2::Zero(), 25.0};
-  return s;
+  return make_scene(
+      "dome",
+      "thesis 4.5.2: Ecoflex 00-30 dome, 100 mm diameter x 30 mm high, stiff rubber ball "
+      "inside under the top",
+      SoftObject(DomeShape{Vec3::Zero(), 50.0, 30.0}, law, std::move(inc)), 25.0);
 }
 
 Scene sponge() {
-  Scene s;
-  s.name = "sponge";
-  s.description = "thesis fig. 3.3a: soft sponge block 100 x 70 x 40 mm, 0.3 N/mm at 5 N";
-  s.object =
+  return make_scene(
+      "sponge", "thesis fig. 3.3a: soft sponge block 100 x 70 x 40 mm, 0.3 N/mm at 5 N",
       SoftObject(BoxShape{Vec3(0, 0, 20), Vec3(50, 35, 20)},
-                 make_law(k_for_effective(0.3, kFoamExponent), kFoamExponent, kFoamDamping, 0.8));
-  s.region = {Vec2::Zero(), 25.0};
-  return s;
+                 make_law(k_for_effective(0.3, kFoamExponent), kFoamExponent, kFoamDamping, 0.8)),
+      25.0);
 }
 
 Scene silicone_hemisphere() {
-  Scene s;
-  s.name = "silicone-hemisphere";
-  s.description = "thesis fig. 3.3b: Ecoflex 00-10 hemisphere, radius 40 mm";
-  s.object = SoftObject(HemisphereShape{Vec3::Zero(), 40.0},
-                        make_law(hertz_k(kEcoflex0010), 1.5, kSiliconeDamping, kSiliconeMu));
-  s.region = {Vec2::Zero(), 25.0};
-  return s;
+  return make_scene("silicone-hemisphere",
+                    "thesis fig. 3.3b: Ecoflex 00-10 hemisphere, radius 40 mm",
+                    SoftObject(HemisphereShape{Vec3::Zero(), 40.0},
+                               make_law(hertz_k(kEcoflex0010), 1.5, kSiliconeDamping, kSiliconeMu)),
+                    25.0);
 }
 
 Scene foam_ball() {
-  Scene s;
-  s.name = "foam-ball";
-  s.description = "thesis fig. 3.3c: firm foam ball, 70 mm diameter, 1.8 N/mm at 5 N";
-  s.object =
+  return make_scene(
+      "foam-ball", "thesis fig. 3.3c: firm foam ball, 70 mm diameter, 1.8 N/mm at 5 N",
       SoftObject(SphereShape{Vec3(0, 0, 35), 35.0},
-                 make_law(k_for_effective(1.8, kFoamExponent), kFoamExponent, kFoamDamping, 0.9));
-  s.region = {Vec2::Zero(), 20.0};
-  return s;
+                 make_law(k_for_effective(1.8, kFoamExponent), kFoamExponent, kFoamDamping, 0.9)),
+      20.0);
 }
 
 Scene ridged_silicone() {
-  Scene s;
-  s.name = "ridged-silicone";
-  s.description =
-      "thesis fig. 3.3d: Dragon Skin 10 slab 100 x 60 x 20 mm with six 6 mm triangular ridges";
   RidgedSlabShape r;
   r.size_x = 100, r.size_y = 60, r.thickness = 20, r.ridges = 6, r.ridge_height = 6,
   r.ridge_width = 14;
-  s.object = SoftObject(r, make_law(hertz_k(kDragonSkin10), 1.5, kSiliconeDamping, 1.0));
-  s.region = {Vec2::Zero(), 30.0};
-  return s;
+  return make_scene(
+      "ridged-silicone",
+      "thesis fig. 3.3d: Dragon Skin 10 slab 100 x 60 x 20 mm with six 6 mm triangular ridges",
+      SoftObject(r, make_law(hertz_k(kDragonSkin10), 1.5, kSiliconeDamping, 1.0)), 30.0);
 }
 
 Scene silicone_block() {
-  Scene s;
-  s.name = "silicone-block";
-  s.description = "thesis fig. 3.3e: stiff silicone block 80 x 60 x 30 mm, 3 N/mm at 5 N";
   // 3 N/mm at 5 N needs E ~ 0.46 MPa (between Dragon Skin 20 and 30; chosen).
-  s.object = SoftObject(BoxShape{Vec3(0, 0, 15), Vec3(40, 30, 15)},
-                        make_law(k_for_effective(3.0, 1.5), 1.5, kSiliconeDamping, 1.0));
-  s.region = {Vec2::Zero(), 20.0};
-  return s;
+  return make_scene("silicone-block",
+                    "thesis fig. 3.3e: stiff silicone block 80 x 60 x 30 mm, 3 N/mm at 5 N",
+                    SoftObject(BoxShape{Vec3(0, 0, 15), Vec3(40, 30, 15)},
+                               make_law(k_for_effective(3.0, 1.5), 1.5, kSiliconeDamping, 1.0)),
+                    20.0);
 }
 
 struct Entry {

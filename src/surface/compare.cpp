@@ -1,5 +1,6 @@
 // Surface comparison: sampling, point-to-plane ICP, cropped Hausdorff/mean/RMS distances.
 #include "inhap/surface/compare.hpp"
+#include "inhap/core/stats.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -35,13 +36,6 @@ SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
 Mat3 rotation(const Vec3& w) {
   const double angle = w.norm();
   return angle > 0 ? Mat3(Eigen::AngleAxisd(angle, w / angle)) : Mat3::Identity();
@@ -76,7 +70,7 @@ IcpResult icp_point_to_plane(const TriMesh& moving, const TriMesh& fixed, const 
       n[i] = cp.valid() ? fixed.face_normal(static_cast<std::size_t>(cp.triangle)) : Vec3::Zero();
       dist[i] = cp.valid() ? std::sqrt(cp.distance2) : std::numeric_limits<double>::infinity();
     }
-    const double limit = o.reject_factor * std::max(median(dist), 1e-9);
+    const double limit = o.reject_factor * std::max(median(dist, 0.0), 1e-9);
     Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
     double sse = 0;

@@ -1,5 +1,6 @@
 // Outlier removal, jet smoothing and jitter; see include/inhap/surface/points.hpp.
 #include "inhap/surface/points.hpp"
+#include "inhap/core/stats.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -10,13 +11,6 @@
 namespace inhap {
 
 namespace {
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 /// Projection of q onto the quadric fitted to q and its neighbours; q itself when singular.
 Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
@@ -72,10 +66,10 @@ std::vector<std::size_t> remove_knn_outliers(std::span<const Vec3> points, std::
                                              double sigmas) {
   std::vector<std::size_t> kept;
   const std::vector<double> d = knn_mean_distances(points, k);
-  const double med = median_of(d);
+  const double med = median(d, 0.0);
   std::vector<double> dev(d.size());
   for (std::size_t i = 0; i < d.size(); ++i) dev[i] = std::abs(d[i] - med);
-  const double mad = median_of(dev);
+  const double mad = median(dev, 0.0);
   // A floor on the spread so that a perfectly regular sampling (MAD = 0) keeps its points.
   const double limit = med + sigmas * std::max(1.4826 * mad, 0.05 * med);
   for (std::size_t i = 0; i < d.size(); ++i)

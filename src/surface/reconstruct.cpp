@@ -1,5 +1,6 @@
 // The reconstruction pipeline; see include/inhap/surface/reconstruct.hpp.
 #include "inhap/surface/reconstruct.hpp"
+#include "inhap/core/stats.hpp"
 
 #include <algorithm>
 #include <string>
@@ -13,13 +14,6 @@
 namespace inhap {
 
 namespace {
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 /// Orients PCA normals: by the measured directions when given (the sum over the point and
 /// its 12 nearest neighbours: a single contact force can point off at a sharp crest or when
@@ -54,7 +48,7 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   std::vector<Vec3> normals = pca_normals(pts, 12);
   orient_normals(normals, pts, dirs, o.alpha);
   double depth = o.shell_depth;
-  if (!(depth > 0)) depth = median_of(knn_mean_distances(pts, 6));
+  if (!(depth > 0)) depth = median(knn_mean_distances(pts, 6), 0.0);
   rep.shell_depth = depth;
   const std::size_t n = pts.size();
   std::vector<Vec3> both(pts);
