@@ -1,7 +1,9 @@
-// `inhap demo` report in headless Chromium: the demo (quick, a subset of steps) writes
-// out/report.html; Chromium opens it offline, the report's glue checks that every figure drew an
-// svg/canvas and collects console errors into document.title, which the test reads back with
-// --dump-dom. A screenshot goes to out/report-test/report.png for people to look at.
+// `inhap demo` report in headless Chromium: the demo (quick, every step but the long user study)
+// writes out/report.html; Chromium opens it offline, the report's glue checks that every figure
+// drew something (plotly: trace paths or table cells in its svg; three.js: vertices and
+// non-background pixels in its canvas, counted into data-marks) and collects console errors into
+// document.title, which the test reads back with --dump-dom. A screenshot goes to
+// out/report-test/report.png for people to look at.
 // Skips when chromium is not installed (./run setup installs it).
 #include <gtest/gtest.h>
 
@@ -68,25 +70,35 @@ TEST(Report, EveryFigureDrawsWithoutConsoleErrorsAndTheCheckCanFail) {
   const fs::path out = source_root() / "out" / "report-test";
   fs::remove_all(out);
   const auto run = inhap::test::run_cli(
-      "demo --quick --only tap,contacts,shape,explore,strokes --out " + out.string());
+      "demo --quick --only tap,contacts,shape,palpation,force-model,strokes --out " + out.string());
   ASSERT_EQ(run.status, 0) << run.out;
   inhap::test::TempDir profile;
   const fs::path html = out / "report.html";
   ASSERT_TRUE(fs::exists(html));
   const std::string dom = dump_dom(profile.path("p"), html.string());
   const std::string title = title_of(dom);
-  // The demo wrote these figures (pending ones excluded); the page must have drawn all of them.
+  // The demo wrote these figures; the page must have drawn all of them.
   const auto figures = nlohmann::json::parse(slurp(out / "figures.json"));
-  ASSERT_GE(figures.size(), 4u);
   EXPECT_EQ(title, "REPORT_OK n_figures=" + std::to_string(figures.size())) << title;
+  // The thesis figures of every step run, each with something drawn in its div.
+  for (const char* id : {"fig3_2", "fig3_4", "fig3_6", "table3_1", "fig4_7", "fig4_8", "fig4_12",
+                         "fig4_13", "fig4_14", "fig5_7_3d"})
+    EXPECT_TRUE(figures.contains(id)) << id;
   bool has_three = false;
   for (const auto& [id, f] : figures.items()) {
-    EXPECT_NE(dom.find("id=\"fig-" + id + "\""), std::string::npos) << id;
+    const std::regex re("id=\"fig-" + id + "\"[^>]*data-marks=\"([0-9]+)\"");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(dom, m, re)) << id << " has no data-marks";
+    EXPECT_GT(std::stol(m[1].str()), 0) << id << " drew nothing";
     has_three |= f["kind"] == "three";
   }
   EXPECT_TRUE(has_three);
-  // The step whose module has not landed is marked, never faked.
-  EXPECT_NE(dom.find("not available in this build"), std::string::npos);
+  // Every step's module is in the build: nothing is marked missing.
+  EXPECT_EQ(dom.find("not available"), std::string::npos);
+  // The summary answers the thesis figures of the new steps.
+  const std::string summary = slurp(out / "summary.csv");
+  for (const char* q : {"Hausdorff", "elastic limit", "proxy q", "force RMSE", "relative error RE"})
+    EXPECT_NE(summary.find(q), std::string::npos) << q;
 
   // A screenshot for people.
   const fs::path png = out / "report.png";
