@@ -80,7 +80,8 @@ function three(div, spec) {
   const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
   const camera = new THREE.PerspectiveCamera(40, width / height, size / 100, size * 10);
   camera.up.set(0, 0, 1);
-  camera.position.copy(centre).add(new THREE.Vector3(0.2 * size, -0.9 * size, 0.7 * size));
+  const [cx, cy, cz] = spec.camera || [0.2, -0.9, 0.7];  // view direction, in scene sizes
+  camera.position.copy(centre).add(new THREE.Vector3(cx * size, cy * size, cz * size));
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.copy(centre);
   controls.update();
@@ -119,7 +120,7 @@ async function main() {
   for (const s of report.steps) {
     const sec = el("section", { id: "step-" + s.name });
     sec.appendChild(el("h2", {}, `${s.title} (thesis ${s.chapter})`));
-    const meta = [s.available ? `${s.seconds} s` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
+    const meta = [s.available ? `${s.seconds} s (${s.cpu_seconds} s CPU)` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
     sec.appendChild(el("p", { class: "note" }, meta.join(" | ")));
     const grid = el("div", { class: "grid" });
     sec.appendChild(grid);

@@ -115,7 +115,8 @@ void print_summary(const std::vector<StepRecord>& steps, double total, double cp
                  r.thesis);
   fmt::print("\n");
   for (const auto& s : steps)
-    fmt::print("{:<12} {:>6.1f} s  {}\n", s.step.name, s.result.seconds, s.result.note);
+    fmt::print("{:<12} {:>6.1f} s wall {:>6.1f} s CPU  {}\n", s.step.name, s.result.seconds,
+               s.result.cpu_seconds, s.result.note);
   fmt::print("total {:.1f} s wall, {:.1f} s CPU\n", total, cpu);
 }
 
@@ -141,11 +142,13 @@ void run_demo(const Options& o) {
     fmt::print(stderr, "[demo] step {}/{}: {} (thesis {}): {}\n", i + 1, steps.size(), s.name,
                s.chapter, s.title);
     Context c{o, s.name};
+    const std::clock_t step_c0 = std::clock();
     StepResult r = s.run(c);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
+    r.cpu_seconds = static_cast<double>(std::clock() - step_c0) / CLOCKS_PER_SEC;
     if (r.available) cli::progress(s.name, 1.0, 0);
-    fmt::print(stderr, "[demo] {} {} in {:.1f} s\n", s.name,
-               r.available ? "done" : "skipped (" + r.note + ")", r.seconds);
+    fmt::print(stderr, "[demo] {} {} in {:.1f} s ({:.1f} s CPU)\n", s.name,
+               r.available ? "done" : "skipped (" + r.note + ")", r.seconds, r.cpu_seconds);
     done.push_back({s, std::move(r)});
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -30,7 +30,8 @@ struct Row {
 };
 
 /// One figure of the report. kind "plotly": spec = {data, layout}; kind "three": spec =
-/// {meshes: [{positions, indices, colors}], lines: [{points, color}], line_radius}.
+/// {meshes: [{positions, indices, colors}], lines: [{points, color}], line_radius (mm), camera
+/// ([x, y, z] view direction in scene sizes, optional)}.
 struct Figure {
   std::string id, title, caption, kind;
   nlohmann::json spec;
@@ -42,7 +43,8 @@ struct StepResult {
   std::vector<Row> rows;
   std::vector<Figure> figures;
   std::vector<std::string> files;  ///< data files written (relative to OUT)
-  double seconds = 0;
+  double seconds = 0;              ///< wall time of the step
+  double cpu_seconds = 0;          ///< CPU time of the step (all threads)
 };
 
 /// What a step gets: the options and a progress reporter ("what", fraction done).

@@ -100,9 +100,13 @@ nlohmann::json report_json(const Options& o, const std::vector<StepRecord>& step
   j["cpu_s"] = rnd(cpu, 1);
   j["steps"] = nlohmann::json::array();
   for (const auto& s : steps) {
-    nlohmann::json js = {{"name", s.step.name},    {"chapter", s.step.chapter},
-                         {"title", s.step.title},  {"available", s.result.available},
-                         {"note", s.result.note},  {"seconds", rnd(s.result.seconds, 1)},
+    nlohmann::json js = {{"name", s.step.name},
+                         {"chapter", s.step.chapter},
+                         {"title", s.step.title},
+                         {"available", s.result.available},
+                         {"note", s.result.note},
+                         {"seconds", rnd(s.result.seconds, 1)},
+                         {"cpu_seconds", rnd(s.result.cpu_seconds, 1)},
                          {"files", s.result.files}};
     js["rows"] = nlohmann::json::array();
     for (const auto& r : s.result.rows)

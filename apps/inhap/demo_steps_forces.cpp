@@ -50,7 +50,8 @@ Figure time_figure(const cli::ForceLabResult& d, const std::string& id) {
                        "training run): measured force (grey) and the force the model renders "
                        "from the probe position and the proxy (colour), per axis. The shaded "
                        "last third is the sliding-only passage. Proxy: {}.",
-                       d.name, t.back(), d.test_track.proxy_source),
+                       d.name == "planar" ? "planar object" : d.name, t.back(),
+                       d.test_track.proxy_source),
            "plotly",
            {}};
   f.spec["data"] = nlohmann::json::array();

@@ -61,7 +61,9 @@ Figure border_figure(const cli::ScenePalpation& p, double mu, std::string& csv) 
                        "tangential plastic displacement ||u^p|| after the 100 ms (dotted) and "
                        "600 ms (solid) plateau for each f_T step, one colour per normal force "
                        "f_N. Dashed: the elastic border found (k-means on the two features, "
-                       "refined); dotted grey: the lab's true limit mu f_N (mu = {:.2f}).",
+                       "refined; a border beyond the device's force range, where no step slid, is "
+                       "extrapolated from "
+                       "the lower levels); dotted grey: the lab's true limit mu f_N (mu = {:.2f}).",
                        mu),
            "plotly",
            {}};
@@ -131,6 +133,7 @@ Figure yield_figure(const cli::ScenePalpation& p, double mu) {
     f.spec["lines"].push_back({{"points", pts}, {"color", "#000000"}});
   }
   f.spec["line_radius"] = rnd(0.01 * top, 3);
+  f.spec["camera"] = {0.35, -1.0, 0.3};  // from the side: the cone opening upwards
   return f;
 }
 

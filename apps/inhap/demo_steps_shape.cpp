@@ -86,6 +86,7 @@ Figure table_figure(const std::vector<ShapeOutcome>& all) {
                          "mean P", "mean S", "thesis Hausdorff P / S", "vertices / faces (S)"}},
                        {"fill", {{"color", "#e8ecf1"}}},
                        {"align", "left"}}},
+                     {"columnwidth", {1.7, 0.9, 1.3, 1.1, 1.1, 0.9, 0.9, 1.4, 1.3}},
                      {"cells", {{"values", values}, {"align", "left"}, {"height", 26}}}}};
   f.spec["layout"] = {{"height", 90 + 30 * static_cast<int>(all.size())},
                       {"margin", {{"l", 10}, {"r", 10}, {"t", 10}, {"b", 10}}}};
