@@ -207,6 +207,9 @@ StepResult step_force_model(const Context& c) {
     fo.quick = quick;
     fo.baselines = baselines;
     fo.params.seed = c.options.seed;
+    // Quick: M = 100 centres per bin instead of 300 (training ~15x faster, the errors about the
+    // same on the lab: RE median 0.129 vs 0.131 on the dome).
+    if (quick) fo.params.centers = 100;
     fo.progress_label = t.name;
     const double share = 1.0 / static_cast<double>(targets.size());
     {
