@@ -168,8 +168,8 @@ void register_demo(CLI::App& app) {
       "held-out recording (ch. 4); strokes the 25-model surface with TCA-MESH and CBA and runs\n"
       "a virtual user study (ch. 5); with --data also strokes the bunny, CT head and AFM data.\n"
       "Prints a summary table (measured vs thesis) and writes OUT/report.html (self-contained,\n"
-      "opens offline) plus each figure's data as OUT/*.csv / *.json. About 5 min on 2 cores,\n"
-      "--quick about 1 min. Units: mm, N, s, N/mm.");
+      "opens offline) plus each figure's data as OUT/*.csv / *.json. About 2-4 min on 2 cores,\n"
+      "--quick under 20 s. Units: mm, N, s, N/mm.");
   cmd->add_option("--out,-o", o->out, "output folder")->capture_default_str();
   cmd->add_flag("--quick", o->quick,
                 "shorter recordings, the dome only, fewer palpation points and a smaller study "
