@@ -1,6 +1,8 @@
 // Glue of the inhap demo report: reads the figures' data (JSON written by `inhap demo`) and
 // hands it to plotly.js (2-D charts) and three.js (rotatable 3-D meshes). No drawing of our own.
-// When done it writes "REPORT_OK n_figures=K" or "REPORT_FAIL ..." into document.title and
+// When done it checks that every figure drew something (a plotly figure: at least one trace or
+// table rendered into its svg; a three.js figure: mesh vertices and non-background pixels in its
+// canvas) and writes "REPORT_OK n_figures=K" or "REPORT_FAIL ..." into document.title and
 // #report-status (read back by tests/report).
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
@@ -25,7 +27,7 @@ function summaryTable() {
       tr.appendChild(el("td", {}, s.name));
       tr.appendChild(el("td", {}, s.chapter));
       tr.appendChild(el("td", {}, r.quantity));
-      tr.appendChild(el("td", r.measured.startsWith("not available") || r.measured.startsWith("skipped") ? { class: "na" } : {}, r.measured));
+      tr.appendChild(el("td", r.measured.startsWith("skipped") ? { class: "na" } : {}, r.measured));
       tr.appendChild(el("td", {}, r.thesis));
       t.appendChild(tr);
     }
@@ -37,6 +39,11 @@ async function plotly(div, spec) {
   const layout = Object.assign({ margin: { l: 60, r: 20, t: 20, b: 50 }, legend: { orientation: "h", y: -0.2 },
                                  height: 380, paper_bgcolor: "#fff" }, spec.layout || {});
   await Plotly.newPlot(div, spec.data, layout, { displaylogo: false, responsive: true });
+  // Something drawn: a trace path with a real outline (line, marker, box) or a table cell's text.
+  const marks = [...div.querySelectorAll("g.trace path, .cell-text")]
+    .filter(e => e.tagName.toLowerCase() !== "path" || /[LACHV].*\d/.test(e.getAttribute("d") || "")).length;
+  div.dataset.marks = marks;
+  return marks > 0 ? null : "plotly figure without traces";
 }
 
 function three(div, spec) {
@@ -73,35 +80,47 @@ function three(div, spec) {
   const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
   const camera = new THREE.PerspectiveCamera(40, width / height, size / 100, size * 10);
   camera.up.set(0, 0, 1);
-  camera.position.copy(centre).add(new THREE.Vector3(0.2 * size, -0.9 * size, 0.7 * size));
+  const [cx, cy, cz] = spec.camera || [0.2, -0.9, 0.7];  // view direction, in scene sizes
+  camera.position.copy(centre).add(new THREE.Vector3(cx * size, cy * size, cz * size));
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.copy(centre);
   controls.update();
   const draw = () => renderer.render(scene, camera);
   controls.addEventListener("change", draw);
   draw();
+  // Something drawn: vertices in the scene and pixels that are not the white background.
+  let vertices = 0;
+  group.traverse(o => { if (o.geometry) vertices += o.geometry.getAttribute("position").count; });
+  const gl = renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const px = new Uint8Array(w * h * 4);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  let coloured = 0;
+  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) ++coloured;
+  div.dataset.marks = coloured;
+  if (!vertices) return "three.js figure without vertices";
+  return coloured > 0.005 * w * h ? null : `three.js figure drew ${coloured} of ${w * h} pixels`;
 }
 
 function figureCard(f) {
-  const card = el("div", { class: "card" + (f.kind === "pending" ? " pending" : "") });
+  const card = el("div", { class: "card" });
   card.appendChild(el("h3", {}, f.title));
   card.appendChild(el("p", { class: "caption" }, f.caption));
   const div = el("div", { class: "figure" + (f.kind === "three" ? " three" : ""), id: "fig-" + f.id, "data-kind": f.kind });
-  if (f.kind === "pending") div.textContent = "not available in this build";
   card.appendChild(div);
   return [card, div];
 }
 
 async function main() {
   document.getElementById("subtitle").textContent =
-    `${report.quick ? "quick run" : "full run"}, seed ${report.seed}, ${report.total_s} s. ` +
+    `${report.quick ? "quick run" : "full run"}, seed ${report.seed}, ${report.total_s} s wall, ${report.cpu_s} s CPU. ` +
     "Units: mm, N, s, N/mm. Each figure's data is also in figures.json and the CSV files beside this report.";
   document.getElementById("summary").appendChild(summaryTable());
-  const jobs = [], drawn = [];
+  const jobs = [], drawn = [], problems = [];
+  const check = (div, problem) => { drawn.push(div); if (problem) problems.push(`${div.id}: ${problem}`); };
   for (const s of report.steps) {
     const sec = el("section", { id: "step-" + s.name });
     sec.appendChild(el("h2", {}, `${s.title} (thesis ${s.chapter})`));
-    const meta = [s.available ? `${s.seconds} s` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
+    const meta = [s.available ? `${s.seconds} s (${s.cpu_seconds} s CPU)` : "", s.note, s.files.length ? "data: " + s.files.join(", ") : ""].filter(Boolean);
     sec.appendChild(el("p", { class: "note" }, meta.join(" | ")));
     const grid = el("div", { class: "grid" });
     sec.appendChild(grid);
@@ -109,13 +128,14 @@ async function main() {
     for (const f of s.figures) {
       const [card, div] = figureCard(f);
       grid.appendChild(card);
-      if (f.kind === "plotly") jobs.push(plotly(div, f.spec).then(() => drawn.push(div)));
-      else if (f.kind === "three") { three(div, f.spec); drawn.push(div); }
+      if (f.kind === "plotly") jobs.push(plotly(div, f.spec).then(p => check(div, p)));
+      else if (f.kind === "three") check(div, three(div, f.spec));
+      else problems.push(`${div.id}: unknown figure kind ${f.kind}`);
     }
   }
   await Promise.all(jobs);
   const empty = drawn.filter(d => !d.querySelector("svg, canvas")).map(d => d.id);
-  const problems = [...empty.map(id => "figure drew nothing: " + id), ...window.INHAP_ERRORS];
+  problems.push(...empty.map(id => "figure drew nothing: " + id), ...window.INHAP_ERRORS);
   const status = problems.length ? "REPORT_FAIL " + problems.join("; ") : `REPORT_OK n_figures=${drawn.length}`;
   document.title = status;
   document.getElementById("report-status").textContent = status;

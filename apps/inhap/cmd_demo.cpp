@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 
@@ -53,17 +54,33 @@ std::string fmt_num(double v, int digits) {
   return fmt::format("{:.{}f}", v, digits);
 }
 
-StepResult pending_step(const std::string& module, const std::vector<Row>& rows,
-                        const std::vector<std::pair<std::string, std::string>>& figures) {
-  StepResult r;
-  r.available = false;
-  r.note = fmt::format("not available in this build: needs {}", module);
-  for (Row row : rows) {
-    row.measured = "not available in this build";
-    r.rows.push_back(row);
+ForwardProgress::ForwardProgress(const Context& c,
+                                 std::vector<std::pair<std::string, double>> phases, double from,
+                                 double to)
+    : c_(c), phases_(std::move(phases)), from_(from), to_(to), last_(from) {
+  cli::set_progress_hook(
+      [this](const std::string& what, double fraction, double) { on(what, fraction); });
+}
+
+ForwardProgress::~ForwardProgress() {
+  cli::set_progress_hook({});
+}
+
+void ForwardProgress::on(const std::string& what, double fraction) {
+  double total = 0, before = 0;
+  int found = -1;
+  for (std::size_t i = 0; i < phases_.size(); ++i) {
+    if (found < 0 && what.find(phases_[i].first) != std::string::npos) {
+      found = static_cast<int>(i);
+      before = total;
+    }
+    total += phases_[i].second;
   }
-  for (const auto& [id, title] : figures) r.figures.push_back({id, title, r.note, "pending", {}});
-  return r;
+  if (found >= 0 && total > 0) {
+    const double f = std::clamp(fraction, 0.0, 1.0);
+    last_ = from_ + (to_ - from_) * (before + phases_[std::size_t(found)].second * f) / total;
+  }
+  c_.progress(last_, what);
 }
 
 namespace {
@@ -72,41 +89,18 @@ std::vector<Step> all_steps() {
   return {
       {"tap", "3.2", "Tap the dome (ground-truth contact)", step_tap},
       {"contacts", "3.2.2", "Contact points of five objects, threshold vs estimate", step_contacts},
-      {"shape", "3.3", "Shape reconstruction",
-       [](const Context&) {
-         return pending_step(
-             "its demo step (inhap/surface has landed; `inhap eval shape` computes Table 3.1 "
-             "meanwhile)",
-             {{"Hausdorff distance to truth, foam ball / ridged / hemisphere (mm)", "",
-               "2.16 / 4.92 / 3.30 (Table 3.1)"},
-              {"same with simple thresholding (mm)", "", "2.82 / 4.67 / 6.69 (Table 3.1)"}},
-             {{"fig3_6", "Reconstructed meshes coloured by error (fig. 3.6-3.7)"},
-              {"table3_1", "Table 3.1"}});
-       }},
-      {"palpation", "4.3", "Palpate the sliding yield surfaces",
-       [](const Context&) {
-         return pending_step("the chapter-4.3 friction module (inhap/friction)",
-                             {{"sliding yield surface: stick/slip border found", "", "fig. 4.7"}},
-                             {{"fig4_7", "u^p vs f_T with the found border (fig. 4.7)"},
-                              {"fig4_8", "A sliding yield surface in 3D (fig. 4.8)"}});
-       }},
+      {"shape", "3.3", "Shape reconstruction from tapped contact points", step_shape},
+      {"palpation", "4.3", "Palpate the sliding yield surfaces of the dome", step_palpation},
       {"explore", "4.4.1", "Record free exploration of the dome", step_explore},
-      {"force-model", "4.4", "Train the force model, validate on a held-out recording",
-       [](const Context&) {
-         return pending_step("the chapter-4.4 data-driven module (inhap/datadriven)",
-                             {{"force RMSE x / y / z, dome (N)", "", "0.51 / 0.33 / 0.50"},
-                              {"relative force error mean / median, dome", "", "0.260 / 0.211"}},
-                             {{"fig4_12", "Measured vs rendered force per axis (fig. 4.11-4.12)"},
-                              {"fig4_13", "Relative error vs force magnitude (fig. 4.13)"},
-                              {"fig4_14", "Relative error box plots (fig. 4.14)"}});
-       }},
+      {"force-model", "4.4-4.5", "Train the force model, validate on a held-out recording",
+       step_force_model},
       {"strokes", "5.3", "Strokes on the 25-model surface, TCA-MESH vs CBA", step_strokes},
       {"study", "5.4", "Virtual user study, TCA-MESH vs CBA", step_study},
       {"data", "5.3", "Strokes on the real data sets (--data)", step_data_strokes},
   };
 }
 
-void print_summary(const std::vector<StepRecord>& steps, double total) {
+void print_summary(const std::vector<StepRecord>& steps, double total, double cpu) {
   std::size_t wq = 8, wm = 8;
   for (const auto& s : steps)
     for (const auto& r : s.result.rows) {
@@ -121,9 +115,9 @@ void print_summary(const std::vector<StepRecord>& steps, double total) {
                  r.thesis);
   fmt::print("\n");
   for (const auto& s : steps)
-    fmt::print("{:<12} {:>6.1f} s  {}\n", s.step.name, s.result.seconds,
-               s.result.available ? s.result.note : s.result.note);
-  fmt::print("total {:.1f} s\n", total);
+    fmt::print("{:<12} {:>6.1f} s wall {:>6.1f} s CPU  {}\n", s.step.name, s.result.seconds,
+               s.result.cpu_seconds, s.result.note);
+  fmt::print("total {:.1f} s wall, {:.1f} s CPU\n", total, cpu);
 }
 
 void run_demo(const Options& o) {
@@ -141,22 +135,26 @@ void run_demo(const Options& o) {
     });
   std::filesystem::create_directories(o.out);
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
   std::vector<StepRecord> done;
   for (std::size_t i = 0; i < steps.size(); ++i) {
     const Step& s = steps[i];
     fmt::print(stderr, "[demo] step {}/{}: {} (thesis {}): {}\n", i + 1, steps.size(), s.name,
                s.chapter, s.title);
     Context c{o, s.name};
+    const std::clock_t step_c0 = std::clock();
     StepResult r = s.run(c);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
+    r.cpu_seconds = static_cast<double>(std::clock() - step_c0) / CLOCKS_PER_SEC;
     if (r.available) cli::progress(s.name, 1.0, 0);
-    fmt::print(stderr, "[demo] {} {} in {:.1f} s\n", s.name,
-               r.available ? "done" : "skipped (" + r.note + ")", r.seconds);
+    fmt::print(stderr, "[demo] {} {} in {:.1f} s ({:.1f} s CPU)\n", s.name,
+               r.available ? "done" : "skipped (" + r.note + ")", r.seconds, r.cpu_seconds);
     done.push_back({s, std::move(r)});
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_report(o, web, done, total);
-  print_summary(done, total);
+  const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  write_report(o, web, done, total, cpu);
+  print_summary(done, total, cpu);
   fmt::print("report: {}\n", (std::filesystem::path(o.out) / "report.html").string());
 }
 
@@ -164,22 +162,26 @@ void register_demo(CLI::App& app) {
   auto o = std::make_shared<Options>();
   auto* cmd = app.add_subcommand(
       "demo",
-      "The whole thesis on the virtual lab: taps the dome (ch. 3), records free exploration\n"
-      "(ch. 4), strokes the 25-model surface with TCA-MESH and CBA and runs a reduced virtual\n"
-      "user study (ch. 5); with --data also strokes the bunny, CT head and AFM data. Prints a\n"
-      "summary table (measured vs thesis) and writes OUT/report.html (self-contained, opens\n"
-      "offline) plus each figure's data as OUT/*.csv / *.json. Steps whose module is not in\n"
-      "this build are marked 'not available in this build'. Units: mm, N, s, N/mm.");
+      "The whole thesis on the virtual lab: taps the dome and the Table 3.1 objects, estimates\n"
+      "the contact points and reconstructs their shape (ch. 3); palpates the dome's sliding\n"
+      "yield surfaces, records free exploration, trains the force model and validates it on a\n"
+      "held-out recording (ch. 4); strokes the 25-model surface with TCA-MESH and CBA and runs\n"
+      "a virtual user study (ch. 5); with --data also strokes the bunny, CT head and AFM data.\n"
+      "Prints a summary table (measured vs thesis) and writes OUT/report.html (self-contained,\n"
+      "opens offline) plus each figure's data as OUT/*.csv / *.json. About 2-4 min on 2 cores,\n"
+      "--quick under 20 s. Units: mm, N, s, N/mm.");
   cmd->add_option("--out,-o", o->out, "output folder")->capture_default_str();
-  cmd->add_flag("--quick", o->quick, "shorter recordings and a smaller study (CI, < 2 min)");
+  cmd->add_flag("--quick", o->quick,
+                "shorter recordings, the dome only, fewer palpation points and a smaller study "
+                "(CI, < 2 min)");
   cmd->add_option("--data", o->data, "folder with bunny/, headsq/, afm-topography/")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--web-dir", o->web_dir,
                   "folder with the report template and node_modules (default: web/ of the "
                   "source tree, or INHAP_WEB_DIR)");
   cmd->add_option("--only", o->only,
-                  "run only these steps (tap shape palpation explore "
-                  "force-model strokes study data)")
+                  "run only these steps (tap contacts shape palpation explore force-model "
+                  "strokes study data)")
       ->delimiter(',');
   cmd->add_option("--seed", o->seed, "seed of every random choice")->capture_default_str();
   cmd->callback([o] { run_demo(*o); });

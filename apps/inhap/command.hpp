@@ -33,8 +33,14 @@ inline CLI::App* eval_group(CLI::App& app) {
 }
 
 /// Progress line on stderr for long work: "[what] 42% (eta 3 s)"; quiet when stderr is not a
-/// terminal unless `force`.
+/// terminal unless `force`. While a progress hook is set, the line goes to the hook instead.
 void progress(const std::string& what, double fraction, double eta_s);
+
+/// Receives progress() calls instead of stderr while set (e.g. `inhap demo` turns the progress of
+/// shared helpers into its own step progress); an empty hook restores stderr. A progress() call
+/// made from inside the hook prints as usual.
+using ProgressHook = std::function<void(const std::string& what, double fraction, double eta_s)>;
+void set_progress_hook(ProgressHook hook);
 
 }  // namespace inhap::cli
 

@@ -1,7 +1,6 @@
 // `inhap demo`: the whole thesis on the virtual lab. The demo is a sequence of steps; each step
 // measures something, writes its data to OUT/*.csv / OUT/*.json, adds rows to the summary table
 // (measured figure beside the thesis figure it answers) and figures to the HTML report.
-// A step whose module is not in this build reports itself as "not available in this build".
 // Units: mm, N, s, N/mm.
 #pragma once
 
@@ -26,25 +25,26 @@ struct Options {
 /// One line of the summary table.
 struct Row {
   std::string quantity;  ///< what was measured, with unit
-  std::string measured;  ///< this run's value ("not available in this build" when pending)
+  std::string measured;  ///< this run's value ("skipped: ..." when the step could not run)
   std::string thesis;    ///< the thesis figure it answers ("-" when the thesis has none)
 };
 
 /// One figure of the report. kind "plotly": spec = {data, layout}; kind "three": spec =
-/// {meshes: [{positions, indices, colors}], lines: [{points, color}], points: [...]};
-/// kind "pending": no drawing, the caption says what is missing.
+/// {meshes: [{positions, indices, colors}], lines: [{points, color}], line_radius (mm), camera
+/// ([x, y, z] view direction in scene sizes, optional)}.
 struct Figure {
   std::string id, title, caption, kind;
   nlohmann::json spec;
 };
 
 struct StepResult {
-  bool available = true;
-  std::string note;  ///< why not available, or a remark
+  bool available = true;  ///< false: skipped (e.g. no --data), `note` says why
+  std::string note;       ///< why skipped, or a remark
   std::vector<Row> rows;
   std::vector<Figure> figures;
   std::vector<std::string> files;  ///< data files written (relative to OUT)
-  double seconds = 0;
+  double seconds = 0;              ///< wall time of the step
+  double cpu_seconds = 0;          ///< CPU time of the step (all threads)
 };
 
 /// What a step gets: the options and a progress reporter ("what", fraction done).
@@ -62,17 +62,40 @@ struct Step {
   std::function<StepResult(const Context&)> run;
 };
 
+/// While alive, the progress lines of shared helpers (cli::progress, e.g. from forces_lab and
+/// sys_lab) become this step's progress: `phases` are substrings of the helpers' labels with
+/// their share of the time, in the order they run; fraction f of phase i maps to
+/// from + (to - from) * (shares before i + share_i * f) / (all shares). A label matching no
+/// phase keeps the last fraction and shows its own label.
+class ForwardProgress {
+ public:
+  ForwardProgress(const Context& c, std::vector<std::pair<std::string, double>> phases,
+                  double from = 0.0, double to = 1.0);
+  ~ForwardProgress();
+  ForwardProgress(const ForwardProgress&) = delete;
+  ForwardProgress& operator=(const ForwardProgress&) = delete;
+
+ private:
+  void on(const std::string& what, double fraction);
+  const Context& c_;
+  std::vector<std::pair<std::string, double>> phases_;
+  double from_, to_, last_;
+};
+
 // Steps (demo_steps_*.cpp).
 StepResult step_tap(const Context& c);
-/// Fig. 3.4; "not available" unless inhap/contact/knee.hpp is in the build.
+/// Fig. 3.4.
 StepResult step_contacts(const Context& c);
+/// Fig. 3.6-3.7, Table 3.1 (shape_lab.hpp).
+StepResult step_shape(const Context& c);
+/// Fig. 4.7-4.8 (sys_lab.hpp).
+StepResult step_palpation(const Context& c);
 StepResult step_explore(const Context& c);
+/// Fig. 4.11-4.14 (forces_lab.hpp).
+StepResult step_force_model(const Context& c);
 StepResult step_study(const Context& c);
 StepResult step_strokes(const Context& c);
 StepResult step_data_strokes(const Context& c);
-/// A step whose module has not landed: the summary rows and pending figures it would produce.
-StepResult pending_step(const std::string& module, const std::vector<Row>& rows,
-                        const std::vector<std::pair<std::string, std::string>>& figures);
 
 // Helpers shared by the steps.
 /// Rounds to `digits` decimals (keeps the report's JSON small).
@@ -90,8 +113,8 @@ struct StepRecord {
 /// beside or above the executable / the working directory. Throws Error telling to run
 /// ./run setup when the libraries are missing.
 std::string find_web_dir(const std::string& given);
-/// Writes OUT/report.html (self-contained) and OUT/summary.{csv,json}.
+/// Writes OUT/report.html (self-contained), OUT/figures.json and OUT/summary.{csv,json}.
 void write_report(const Options& o, const std::string& web_dir,
-                  const std::vector<StepRecord>& steps, double total_seconds);
+                  const std::vector<StepRecord>& steps, double total_seconds, double cpu_seconds);
 
 }  // namespace inhap::demo

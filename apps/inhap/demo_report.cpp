@@ -90,17 +90,23 @@ std::string script_safe(std::string s) {
   return s;
 }
 
-nlohmann::json report_json(const Options& o, const std::vector<StepRecord>& steps, double total) {
+nlohmann::json report_json(const Options& o, const std::vector<StepRecord>& steps, double total,
+                           double cpu) {
   nlohmann::json j;
   j["title"] = "inhap demo: the thesis on the virtual lab";
   j["quick"] = o.quick;
   j["seed"] = o.seed;
   j["total_s"] = rnd(total, 1);
+  j["cpu_s"] = rnd(cpu, 1);
   j["steps"] = nlohmann::json::array();
   for (const auto& s : steps) {
-    nlohmann::json js = {{"name", s.step.name},    {"chapter", s.step.chapter},
-                         {"title", s.step.title},  {"available", s.result.available},
-                         {"note", s.result.note},  {"seconds", rnd(s.result.seconds, 1)},
+    nlohmann::json js = {{"name", s.step.name},
+                         {"chapter", s.step.chapter},
+                         {"title", s.step.title},
+                         {"available", s.result.available},
+                         {"note", s.result.note},
+                         {"seconds", rnd(s.result.seconds, 1)},
+                         {"cpu_seconds", rnd(s.result.cpu_seconds, 1)},
                          {"files", s.result.files}};
     js["rows"] = nlohmann::json::array();
     for (const auto& r : s.result.rows)
@@ -160,9 +166,9 @@ std::string find_web_dir(const std::string& given) {
 }
 
 void write_report(const Options& o, const std::string& web_dir,
-                  const std::vector<StepRecord>& steps, double total) {
+                  const std::vector<StepRecord>& steps, double total, double cpu) {
   const fs::path web(web_dir), out(o.out);
-  const nlohmann::json data = report_json(o, steps, total);
+  const nlohmann::json data = report_json(o, steps, total, cpu);
   const std::string tpl_path = (web / "report_template.html").string();
   std::string page = slurp(tpl_path);
   replace_marker(page, "<!--INHAP_PLOTLY-->",
@@ -190,8 +196,7 @@ void write_report(const Options& o, const std::string& web_dir,
   write_file_atomic((out / "summary.csv").string(), csv);
   nlohmann::json figs = nlohmann::json::object();
   for (const auto& s : data["steps"])
-    for (const auto& f : s["figures"])
-      if (f["kind"] != "pending") figs[f["id"].get<std::string>()] = f;
+    for (const auto& f : s["figures"]) figs[f["id"].get<std::string>()] = f;
   write_file_atomic((out / "figures.json").string(), figs.dump() + "\n");
   nlohmann::json summary = data;
   for (auto& s : summary["steps"]) s.erase("figures");

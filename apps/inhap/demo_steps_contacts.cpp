@@ -1,6 +1,5 @@
 // inhap demo: contact-point error per tapping object, simple thresholding vs the two-segment
-// (knee) estimate (thesis fig. 3.4), on lab recordings with ground truth. Live when the
-// chapter-3 knee fit (inhap/contact/knee.hpp) is in the build. Units: mm, N, s.
+// (knee) estimate (thesis fig. 3.4), on lab recordings with ground truth. Units: mm, N, s.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,17 +7,13 @@
 #include <span>
 
 #include "demo.hpp"
+#include "inhap/contact/knee.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
-#if __has_include("inhap/contact/knee.hpp")
-#include "inhap/contact/knee.hpp"
-#define INHAP_DEMO_HAVE_KNEE 1
-#endif
 
 namespace inhap::demo {
 
-#ifdef INHAP_DEMO_HAVE_KNEE
 namespace {
 
 struct TapErrors {
@@ -123,13 +118,5 @@ StepResult step_contacts(const Context& c) {
        "< 0.5 estimate (sec. 3.4)"});
   return r;
 }
-#else
-StepResult step_contacts(const Context&) {
-  return pending_step("the chapter-3 contact estimator (inhap/contact/knee.hpp)",
-                      {{"contact point error, mean over 5 objects: estimate / threshold (mm)", "",
-                        "< 0.5 estimate (sec. 3.4)"}},
-                      {{"fig3_4", "Contact error per object, threshold vs estimate (fig. 3.4)"}});
-}
-#endif
 
 }  // namespace inhap::demo

@@ -7,14 +7,11 @@
 #include <span>
 
 #include "demo.hpp"
+#include "inhap/contact/knee.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
-#if __has_include("inhap/contact/knee.hpp")
-#include "inhap/contact/knee.hpp"
-#define INHAP_DEMO_HAVE_KNEE 1
-#endif
 
 namespace inhap::demo {
 namespace {
@@ -43,18 +40,17 @@ nlohmann::json line(const nlohmann::json& x, const nlohmann::json& y, const std:
 
 // The chapter-3 contact estimator on the first tap (thesis sec. 3.2.2): threshold detection at
 // 0.5 N, then the two-segment (knee) fit over the 100 ms before it. t is relative to the true
-// contact instant. Returns false when the module is not in this build.
-bool add_knee_fit(Figure& f, StepResult& r, const std::vector<double>& t,
+// contact instant.
+void add_knee_fit(Figure& f, StepResult& r, const std::vector<double>& t,
                   const std::vector<double>& fm) {
-#ifdef INHAP_DEMO_HAVE_KNEE
   std::size_t d = 0;
   while (d < t.size() && (t[d] < -0.1 || fm[d] < 0.5)) ++d;
-  if (d == t.size()) return true;
+  if (d == t.size()) return;
   std::size_t b = d;
   while (b > 0 && t[b - 1] >= t[d] - 0.1) --b;
   const std::span<const double> tw(t.data() + b, d - b + 1), fw(fm.data() + b, d - b + 1);
   const KneeFit k = fit_knee(tw, fw);
-  if (!k.valid) return true;
+  if (!k.valid) return;
   f.spec["data"].push_back(line({rnd(tw.front(), 4), rnd(k.tc, 4), rnd(tw.back(), 4)},
                                 {rnd(k.g0), rnd(k.gc), rnd(k.gd)}, "two-segment fit", "#9467bd",
                                 2.5));
@@ -71,11 +67,6 @@ bool add_knee_fit(Figure& f, StepResult& r, const std::vector<double>& t,
       "0.5 N threshold crossing and the contact instant it detects (purple dotted line).";
   r.rows.push_back(
       {"first tap: detected minus true contact instant (ms)", fmt_num(1000.0 * k.tc, 1), "-"});
-  return true;
-#else
-  (void)f, (void)r, (void)t, (void)fm;
-  return false;
-#endif
 }
 
 }  // namespace
@@ -117,8 +108,7 @@ StepResult step_tap(const Context& c) {
   Figure f{"fig3_2",
            "Tap force profile (fig. 3.2)",
            "Force magnitude of the first tap on the dome around the true contact instant t = 0 "
-           "(dashed line, from the lab's ground truth). The two-segment fit and the detected "
-           "contact instant need the chapter-3 contact estimator: not available in this build.",
+           "(dashed line, from the lab's ground truth).",
            "plotly",
            {}};
   f.spec["data"] = {
@@ -174,11 +164,11 @@ StepResult step_explore(const Context& c) {
   const double rms = std::sqrt(sq / double(std::max<std::size_t>(1, n)));
   const char* axes[] = {"x", "y", "z"};
   const char* colors[] = {"#1f77b4", "#ff7f0e", "#2ca02c"};
-  Figure f{"fig4_11",
-           "Measured force per axis over time (fig. 4.11-4.12)",
-           "Free exploration of the dome: compensated sensor reading (solid) and the noise-free "
-           "contact force (dotted) per axis. The rendered force of the data-driven model needs "
-           "the chapter-4.4 module: not available in this build.",
+  Figure f{"explore_force",
+           "Free exploration: measured vs true force per axis",
+           "Free exploration of the dome: compensated sensor reading (solid) and the lab's "
+           "noise-free contact force (dotted) per axis, i.e. what the force model is trained on "
+           "and how noisy it is. The rendered force of the trained model is in the next step.",
            "plotly",
            {}};
   f.spec["data"] = nlohmann::json::array();

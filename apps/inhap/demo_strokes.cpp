@@ -142,6 +142,21 @@ void write_stroke_csv(const std::string& path, const StrokePair& p) {
   csv.commit();
 }
 
+nlohmann::json colored_mesh_json(const TriMesh& mesh, const std::vector<double>& values, double lo,
+                                 double hi, const Vec3& offset) {
+  const double span = std::max(hi - lo, 1e-12);
+  nlohmann::json pos = nlohmann::json::array(), col = nlohmann::json::array(),
+                 idx = nlohmann::json::array();
+  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
+    for (int a = 0; a < 3; ++a) pos.push_back(rnd(mesh.positions[i][a] + offset[a], 2));
+    const double v = i < values.size() && std::isfinite(values[i]) ? values[i] : lo;
+    for (double c : ramp((v - lo) / span)) col.push_back(rnd(c, 2));
+  }
+  for (const auto& t : mesh.triangles)
+    for (int a = 0; a < 3; ++a) idx.push_back(t[a]);
+  return {{"positions", pos}, {"colors", col}, {"indices", idx}};
+}
+
 Figure mesh_figure(const TriMesh& mesh, const std::string& property,
                    const std::vector<StrokeLine>& lines, const std::string& id,
                    const std::string& title, const std::string& caption) {
@@ -153,16 +168,7 @@ Figure mesh_figure(const TriMesh& mesh, const std::string& property,
     for (const auto& p : mesh.positions) v.push_back(p.z());
   }
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-  const double span = std::max(*hi - *lo, 1e-12);
-  nlohmann::json pos = nlohmann::json::array(), col = nlohmann::json::array(),
-                 idx = nlohmann::json::array();
-  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
-    for (int a = 0; a < 3; ++a) pos.push_back(rnd(mesh.positions[i][a], 2));
-    for (double c : ramp((v[i] - *lo) / span)) col.push_back(rnd(c, 2));
-  }
-  for (const auto& t : mesh.triangles)
-    for (int a = 0; a < 3; ++a) idx.push_back(t[a]);
-  f.spec["meshes"] = {{{"positions", pos}, {"colors", col}, {"indices", idx}}};
+  f.spec["meshes"] = nlohmann::json::array({colored_mesh_json(mesh, v, *lo, *hi)});
   f.spec["lines"] = nlohmann::json::array();
   const Box3 box = mesh.bbox();
   const double radius = 0.006 * (box.max - box.min).norm();  // tube radius, lifted by as much

@@ -1,4 +1,5 @@
-// inhap demo: TCA-MESH vs CBA stroke pairs and their figures. Units: mm, N, s, N/mm.
+// inhap demo: TCA-MESH vs CBA stroke pairs and their figures, and the three.js mesh JSON shared
+// by the 3-D figures. Units: mm, N, s, N/mm.
 #pragma once
 
 #include <functional>
@@ -35,6 +36,10 @@ StrokePair run_stroke_pair(const render::Model& model, const StrokeCase& sc, std
 Figure stroke_figure(const StrokeCase& sc, const StrokePair& p, const std::string& id,
                      const std::string& title);
 void write_stroke_csv(const std::string& path, const StrokePair& p);
+/// three.js mesh {positions, colors, indices} of `mesh` moved by `offset` (mm), vertex i
+/// coloured by values[i] from lo (blue) through white to hi (red), clamped.
+nlohmann::json colored_mesh_json(const TriMesh& mesh, const std::vector<double>& values, double lo,
+                                 double hi, const Vec3& offset = Vec3::Zero());
 /// three.js view of `mesh` coloured by `property` (height when empty or absent) with the HIP
 /// paths of `lines`.
 Figure mesh_figure(const TriMesh& mesh, const std::string& property,
