@@ -26,8 +26,6 @@ namespace {
 
 // The build keeps the depth below kBvhMaxDepth, so a fixed stack never overflows.
 constexpr int kStackSize = detail::kBvhMaxDepth + 8;
-// Four-wide nodes push at most three entries per level, over at most as many levels.
-constexpr int kStack4Size = 3 * detail::kBvhMaxDepth + 8;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Ize (2013): relative error bound of a slab-test parameter, 2 * gamma(3).
 constexpr double kSlabSlack = 2.0 * 3.0 * std::numeric_limits<double>::epsilon();
@@ -58,60 +56,27 @@ detail::IndexVector<N> to_child_box_nodes(const std::vector<detail::BvhBuildNode
   return nodes;
 }
 
-// Collapses binary inner node b and its descendants into four-wide nodes appended to `out`
-// (the child with the largest box is opened until there are four). Returns b's node index.
-template <class N4>
-std::int32_t collapse4(const std::vector<detail::BvhBuildNode>& bn,
-                       const std::vector<detail::BvhObb>& obb, detail::IndexVector<N4>& out,
-                       std::size_t b) {
-  auto half_area = [&](std::size_t i) {
-    const double dx = double(bn[i].hi[0]) - bn[i].lo[0], dy = double(bn[i].hi[1]) - bn[i].lo[1],
-                 dz = double(bn[i].hi[2]) - bn[i].lo[2];
-    return dx * dy + dy * dz + dz * dx;
-  };
-  std::size_t kids[4] = {b + 1, static_cast<std::size_t>(bn[b].first), 0, 0};
-  int nk = 2;
-  while (nk < 4) {
-    int open = -1;
-    for (int k = 0; k < nk; ++k)
-      if (bn[kids[k]].count == 0 && (open < 0 || half_area(kids[k]) > half_area(kids[open])))
-        open = k;
-    if (open < 0) break;
-    const std::size_t e = kids[open];
-    kids[open] = e + 1;
-    kids[nk++] = static_cast<std::size_t>(bn[e].first);
-  }
-  const auto self = static_cast<std::int32_t>(out.size());
-  out.emplace_back();
-  for (int c = 0; c < 4; ++c) {
-    N4& n = out[static_cast<std::size_t>(self)];
-    if (c >= nk) {  // unused slot: empty boxes, never opened
+// Oriented boxes of the children of every inner node, in the order of to_child_box_nodes.
+template <class O>
+detail::IndexVector<O> to_child_obb_nodes(const std::vector<detail::BvhBuildNode>& bn,
+                                          const std::vector<detail::BvhObb>& obb) {
+  detail::IndexVector<O> out;
+  out.reserve(bn.size() / 2 + 1);
+  for (std::size_t i = 0; i < bn.size(); ++i) {
+    if (bn[i].count != 0) continue;
+    O& o = out.emplace_back();
+    const std::size_t kids[2] = {i + 1, static_cast<std::size_t>(bn[i].first)};
+    for (int c = 0; c < 2; ++c) {
+      const detail::BvhObb& k = obb[kids[c]];
+      auto& d = o.child[c];
+      for (int j = 0; j < 4; ++j) d.q[j] = k.q[j];
       for (int a = 0; a < 3; ++a) {
-        n.lo[a][c] = n.olo[a][c] = std::numeric_limits<float>::infinity();
-        n.hi[a][c] = n.ohi[a][c] = -std::numeric_limits<float>::infinity();
+        d.lo[a] = k.lo[a];
+        d.hi[a] = k.hi[a];
       }
-      for (int j = 0; j < 4; ++j) n.q[c][j] = j == 0 ? 32767 : 0;
-      n.child[c] = 0;
-      n.count[c] = -1;
-      continue;
-    }
-    const detail::BvhBuildNode& k = bn[kids[c]];
-    const detail::BvhObb& o = obb[kids[c]];
-    for (int a = 0; a < 3; ++a) {
-      n.lo[a][c] = k.lo[a];
-      n.hi[a][c] = k.hi[a];
-      n.olo[a][c] = o.lo[a];
-      n.ohi[a][c] = o.hi[a];
-    }
-    for (int j = 0; j < 4; ++j) n.q[c][j] = o.q[j];
-    n.count[c] = k.count;
-    n.child[c] = k.first;
-    if (k.count == 0) {
-      const std::int32_t sub = collapse4(bn, obb, out, kids[c]);
-      out[static_cast<std::size_t>(self)].child[c] = sub;
     }
   }
-  return self;
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -288,62 +253,31 @@ inline void prefetch_line(const void* p) {
 #endif
 }
 
-// Oriented-box lower bound of child c of a four-wide node (see detail::obb_distance2).
-template <class N4>
-inline double obb_child_distance2(const N4& n, int c, const Vec3& p, double eq) {
-  struct {
-    const std::int16_t* q;
-    float lo[3], hi[3];
-  } o{n.q[c], {n.olo[0][c], n.olo[1][c], n.olo[2][c]}, {n.ohi[0][c], n.ohi[1][c], n.ohi[2][c]}};
-  return detail::obb_distance2(o, p, eq);
+// Lower bound of the squared distance from p to the triangles under child c of node n: its
+// axis-aligned box distance, then, if that still leaves it open, the max with its oriented box
+// distance (both are lower bounds: docs/spatial-queries.md, "Oriented bounds").
+template <class N, class O, class Open>
+inline double child_bound(const N& n, const O& o, int c, const Vec3& p, double eq, Open&& open) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = n.lo[k][c], hi = n.hi[k][c];
+    const double g = std::max(std::max(lo - p[k], p[k] - hi), 0.0);  // branch-free
+    d2 += g * g;
+  }
+  return open(d2) ? std::max(d2, detail::obb_distance2(o.child[c], p, eq)) : d2;
 }
 
-// A child of a four-wide node that may hold a nearer point: lower bound, squared distance from
-// the query to its box centre (breaks the frequent ties at 0 near the surface), subtree.
-struct OpenChild {
-  double d2, centre;
-  Ref ref;
-};
-
-// The children of n that `open` accepts, sorted by (bound, centre distance); returns how many.
-// Bound: the axis-aligned box distance, then, if still open, the max with the oriented one.
-template <class N4, class Open>
-inline int open_children(const N4& n, const Vec3& p, double eq, Open&& open, OpenChild (&kids)[4]) {
-  int nk = 0;
-  for (int c = 0; c < 4; ++c) {
-    double d2 = 0, centre = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double lo = n.lo[k][c], hi = n.hi[k][c];
-      const double g = std::max(std::max(lo - p[k], p[k] - hi), 0.0);
-      const double m = 0.5 * (lo + hi) - p[k];
-      d2 += g * g;
-      centre += m * m;
-    }
-    if (n.count[c] < 0 || !open(d2)) continue;
-    d2 = std::max(d2, obb_child_distance2(n, c, p, eq));
-    if (!open(d2)) continue;
-    const OpenChild kid{d2, centre, {n.child[c], n.count[c]}};
-    int at = nk++;
-    for (; at > 0 && (kid.d2 < kids[at - 1].d2 ||
-                      (kid.d2 == kids[at - 1].d2 && kid.centre < kids[at - 1].centre));
-         --at)
-      kids[at] = kids[at - 1];
-    kids[at] = kid;
+// 0 or 1: the child whose box centre is nearer to p.
+template <class N>
+inline int nearer_centre(const N& n, const Vec3& p) {
+  double d0 = 0, d1 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double c0 = 0.5 * (double(n.lo[k][0]) + n.hi[k][0]) - p[k];
+    const double c1 = 0.5 * (double(n.lo[k][1]) + n.hi[k][1]) - p[k];
+    d0 += c0 * c0;
+    d1 += c1 * c1;
   }
-  return nk;
-}
-
-// Starts loading a subtree of the four-wide hierarchy (both lines of a node, or the leaf).
-template <class NV, class TV>
-inline void prefetch4(const NV& nodes, const TV& tris, Ref r) {
-  if (r.count == 0) {
-    const char* p = reinterpret_cast<const char*>(&nodes[r.index]);
-    for (int k = 0; k < 4; ++k) prefetch_line(p + 64 * k);
-  } else {
-    const char* p = reinterpret_cast<const char*>(&tris[r.index]);
-    const char* end = reinterpret_cast<const char*>(&tris[r.index] + r.count);
-    for (; p < end; p += 64) prefetch_line(p);
-  }
+  return d1 < d0 ? 1 : 0;
 }
 
 // Starts loading a subtree that will probably be visited soon (a stack push).
@@ -393,11 +327,7 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
     tris_[s] = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
     for (int c = 0; c < 3; ++c) verts[3 * s + c] = mesh.positions[t[c]];
   }
-  if (!nodes_.empty()) {
-    nodes4_.reserve(nodes_.size() / 2 + 1);
-    collapse4(bvh.nodes, detail::build_obbs(bvh, verts), nodes4_, 0);
-    nodes4_.shrink_to_fit();
-  }
+  obbs_ = to_child_obb_nodes<NodeObb>(bvh.nodes, detail::build_obbs(bvh, verts));
   tri_ids_ = std::move(bvh.order);
 }
 
@@ -406,7 +336,7 @@ Box3 MeshIndex::bounds() const {
 }
 
 std::size_t MeshIndex::memory_bytes() const {
-  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + nodes4_.capacity() * sizeof(Node4) +
+  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + obbs_.capacity() * sizeof(NodeObb) +
          tris_.capacity() * sizeof(TriData) + tri_ids_.capacity() * sizeof(std::int32_t);
 }
 
@@ -531,7 +461,7 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& 
     Ref ref;
     double d2;
   };
-  Entry stack[kStack4Size];
+  Entry stack[kStackSize];
   int sp = 0;
   double best_d2 = max_distance * max_distance;
   std::int32_t best_slot = -1;
@@ -539,7 +469,7 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& 
   const double eq = detail::obb_project_error(p);
   // A subtree at lower bound d2 can still improve the answer (ties only while none is found).
   auto open = [&](double d2) { return d2 < best_d2 || (best_slot < 0 && d2 <= best_d2); };
-  Ref cur = nodes4_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
+  Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
   auto pop = [&] {  // next subtree that can still hold a nearer point
     while (sp > 0) {
       const Entry& e = stack[--sp];
@@ -571,15 +501,22 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& 
       }
     } else {
       stats.node();
-      OpenChild kids[4];
-      const int nk = open_children(nodes4_[cur.index], p, eq, open, kids);
-      if (nk > 0) {
-        for (int k = nk - 1; k > 0; --k) {  // farther ones later, nearest now
-          stack[sp++] = {kids[k].ref, kids[k].d2};
-          prefetch4(nodes4_, tris_, kids[k].ref);
+      const Node& n = nodes_[cur.index];
+      const NodeObb& o = obbs_[cur.index];
+      const double d[2] = {child_bound(n, o, 0, p, eq, open), child_bound(n, o, 1, p, eq, open)};
+      // Nearer bound first; equal (e.g. both 0 near the surface): nearer box centre first.
+      const int near = d[0] != d[1] ? (d[1] < d[0] ? 1 : 0) : nearer_centre(n, p);
+      if (open(d[near])) {
+        if (open(d[1 - near])) {
+          stack[sp++] = {child_ref(n, 1 - near), d[1 - near]};
+          prefetch(nodes_, tris_, stack[sp - 1].ref);
+          if (stack[sp - 1].ref.count == 0) prefetch_line(&obbs_[stack[sp - 1].ref.index]);
         }
-        cur = kids[0].ref;
-        prefetch4(nodes4_, tris_, cur);
+        cur = child_ref(n, near);
+        if (cur.count > 0)
+          prefetch(nodes_, tris_, cur);  // all lines of the leaf at once
+        else
+          prefetch_line(&obbs_[cur.index]);
         continue;
       }
     }

@@ -94,14 +94,13 @@ class MeshIndex {
     std::int32_t child[2];     // leaf child: first triangle slot; inner child: node index
     std::int32_t count[2];     // leaf child: number of triangles (1..4); inner child: 0
   };
-  // Four-wide node for distance queries (two lines of 128 B): axis-aligned and oriented boxes
-  // of up to four children. The oriented frame is an int16 quaternion (src/geometry/bvh_obb.hpp).
-  struct alignas(64) Node4 {
-    float lo[3][4], hi[3][4];    // [axis][child] axis-aligned box, rounded outwards
-    float olo[3][4], ohi[3][4];  // [axis][child] extents along the oriented frame's axes
-    std::int16_t q[4][4];        // [child] frame quaternion (w, x, y, z)
-    std::int32_t child[4];       // leaf child: first triangle slot; inner child: Node4 index
-    std::int32_t count[4];       // leaf: 1..4 triangles; inner: 0; unused slot: -1
+  // Oriented boxes of both children of the same inner node, for distance pruning only (one more
+  // cache line per visit). Frame: int16 quaternion, see src/geometry/bvh_obb.hpp.
+  struct alignas(64) NodeObb {
+    struct Child {
+      std::int16_t q[4];   // frame quaternion (w, x, y, z)
+      float lo[3], hi[3];  // extents along the frame axes, rounded outwards
+    } child[2];
   };
   struct TriData {
     // Raw vertex positions (not v0 + edges): a vertex shared by several triangles must be
@@ -109,7 +108,7 @@ class MeshIndex {
     Vec3 v0, v1, v2;
   };
   detail::IndexVector<Node> nodes_;    // root = nodes_[0]; empty when all triangles fit a leaf
-  detail::IndexVector<Node4> nodes4_;  // closest-point hierarchy; root = nodes4_[0]
+  detail::IndexVector<NodeObb> obbs_;  // parallel to nodes_
   detail::IndexVector<TriData> tris_;  // leaf order
   std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
   Box3 bounds_;                        // exact bounds of all vertices
