@@ -253,18 +253,37 @@ inline void prefetch_line(const void* p) {
 #endif
 }
 
+// The oriented box only pays once a best distance is known and it is large against the child's
+// size (an axis-aligned box sticks out of a tilted patch by about half its size; for nearer
+// queries it is nearly as tight, and reading and evaluating the oriented box costs a cache line
+// and ~30 flops per child). Gate: best^2 > kObbGate * (largest box side)^2, best finite.
+// Evaluating it always (also during the first descent) made 0.5 mm queries 40 % slower.
+constexpr double kObbGate = 0.25;
+
+template <class N>
+inline bool obb_pays(const N& n, int c, double best_d2) {
+  double e2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = double(n.hi[k][c]) - n.lo[k][c];
+    e2 = std::max(e2, e * e);
+  }
+  return best_d2 > kObbGate * e2 && best_d2 < std::numeric_limits<double>::infinity();
+}
+
 // Lower bound of the squared distance from p to the triangles under child c of node n: its
-// axis-aligned box distance, then, if that still leaves it open, the max with its oriented box
-// distance (both are lower bounds: docs/spatial-queries.md, "Oriented bounds").
-template <class N, class O, class Open>
-inline double child_bound(const N& n, const O& o, int c, const Vec3& p, double eq, Open&& open) {
+// axis-aligned box distance, then, if that still leaves it open and obb_pays, the max with its
+// oriented box distance (both are lower bounds: docs/spatial-queries.md, "Oriented bounds").
+template <class N, class OV, class Open>
+inline double child_bound(const N& n, const OV& obbs, std::int32_t i, int c, const Vec3& p,
+                          double eq, double best_d2, Open&& open) {
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
     const double lo = n.lo[k][c], hi = n.hi[k][c];
     const double g = std::max(std::max(lo - p[k], p[k] - hi), 0.0);  // branch-free
     d2 += g * g;
   }
-  return open(d2) ? std::max(d2, detail::obb_distance2(o.child[c], p, eq)) : d2;
+  if (!open(d2) || !obb_pays(n, c, best_d2)) return d2;
+  return std::max(d2, detail::obb_distance2(obbs[i].child[c], p, eq));
 }
 
 // 0 or 1: the child whose box centre is nearer to p.
@@ -502,20 +521,21 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& 
     } else {
       stats.node();
       const Node& n = nodes_[cur.index];
-      const NodeObb& o = obbs_[cur.index];
-      const double d[2] = {child_bound(n, o, 0, p, eq, open), child_bound(n, o, 1, p, eq, open)};
+      const double d[2] = {child_bound(n, obbs_, cur.index, 0, p, eq, best_d2, open),
+                           child_bound(n, obbs_, cur.index, 1, p, eq, best_d2, open)};
       // Nearer bound first; equal (e.g. both 0 near the surface): nearer box centre first.
       const int near = d[0] != d[1] ? (d[1] < d[0] ? 1 : 0) : nearer_centre(n, p);
       if (open(d[near])) {
         if (open(d[1 - near])) {
           stack[sp++] = {child_ref(n, 1 - near), d[1 - near]};
           prefetch(nodes_, tris_, stack[sp - 1].ref);
-          if (stack[sp - 1].ref.count == 0) prefetch_line(&obbs_[stack[sp - 1].ref.index]);
+          if (stack[sp - 1].ref.count == 0 && obb_pays(n, 1 - near, best_d2))
+            prefetch_line(&obbs_[stack[sp - 1].ref.index]);
         }
         cur = child_ref(n, near);
         if (cur.count > 0)
           prefetch(nodes_, tris_, cur);  // all lines of the leaf at once
-        else
+        else if (obb_pays(n, near, best_d2))
           prefetch_line(&obbs_[cur.index]);
         continue;
       }
