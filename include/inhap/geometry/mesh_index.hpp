@@ -13,6 +13,26 @@
 
 namespace inhap {
 
+namespace detail {
+/// Storage of the large index arrays: above 1 MiB, 2 MiB-aligned and (on Linux) advised for
+/// transparent huge pages, since queries jump around 100 MB and would otherwise miss the TLB at
+/// almost every node. Goes through the aligned global operator new.
+void* index_alloc(std::size_t bytes);
+void index_free(void* p, std::size_t bytes) noexcept;
+template <class T>
+struct IndexAllocator {
+  using value_type = T;
+  IndexAllocator() = default;
+  template <class U>
+  IndexAllocator(const IndexAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(index_alloc(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { index_free(p, n * sizeof(T)); }
+  friend bool operator==(const IndexAllocator&, const IndexAllocator&) { return true; }
+};
+template <class T>
+using IndexVector = std::vector<T, IndexAllocator<T>>;
+}  // namespace detail
+
 /// A point on the surface: triangle id and barycentric weights of its vertices t[0], t[1], t[2]
 /// (bary sums to 1; point = sum bary[i] * positions[t[i]]).
 struct SurfacePoint {
@@ -51,24 +71,45 @@ class MeshIndex {
   ClosestPoint closest_point(const Vec3& p,
                              double max_distance = std::numeric_limits<double>::infinity()) const;
 
+  /// Work done by one query (diagnostics and benchmarks; not needed by callers).
+  struct QueryStats {
+    std::int64_t nodes = 0;      ///< inner nodes visited
+    std::int64_t triangles = 0;  ///< triangles loaded from leaves
+    std::int64_t exact = 0;      ///< triangles that needed the full point-triangle test
+  };
+  /// closest_point() that also adds its work to `stats` (same result, a little slower).
+  ClosestPoint closest_point_counted(const Vec3& p, double max_distance, QueryStats& stats) const;
+
   std::size_t num_triangles() const { return tri_ids_.size(); }
   Box3 bounds() const;
   std::size_t memory_bytes() const;
 
  private:
+  template <class Stats>
+  ClosestPoint closest_impl(const Vec3& p, double max_distance, Stats& stats) const;
+
   // Inner node with the bounds of both children: one 64-byte cache line per visited node.
   struct alignas(64) Node {
     float lo[3][2], hi[3][2];  // [axis][child], float, conservatively rounded outwards
     std::int32_t child[2];     // leaf child: first triangle slot; inner child: node index
     std::int32_t count[2];     // leaf child: number of triangles (1..4); inner child: 0
   };
+  // Oriented boxes of both children of the same inner node, for distance pruning only (one more
+  // cache line per visit). Frame: int16 quaternion, see src/geometry/bvh_obb.hpp.
+  struct alignas(64) NodeObb {
+    struct Child {
+      std::int16_t q[4];   // frame quaternion (w, x, y, z)
+      float lo[3], hi[3];  // extents along the frame axes, rounded outwards
+    } child[2];
+  };
   struct TriData {
     // Raw vertex positions (not v0 + edges): a vertex shared by several triangles must be
     // bit-identical in each of them for the watertight segment test.
     Vec3 v0, v1, v2;
   };
-  std::vector<Node> nodes_;            // root = nodes_[0]; empty when all triangles fit one leaf
-  std::vector<TriData> tris_;          // leaf order
+  detail::IndexVector<Node> nodes_;    // root = nodes_[0]; empty when all triangles fit a leaf
+  detail::IndexVector<NodeObb> obbs_;  // parallel to nodes_
+  detail::IndexVector<TriData> tris_;  // leaf order
   std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
   Box3 bounds_;                        // exact bounds of all vertices
 };

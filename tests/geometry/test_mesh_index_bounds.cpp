@@ -1,0 +1,232 @@
+// MeshIndex distance pruning: the oriented node boxes (src/geometry/bvh_obb.hpp) are true lower
+// bounds (checked against an independent point-triangle distance for every node and triangle),
+// they are tight on a tilted plane (analytic distance), and closest_point stays exact against
+// brute force on hard inputs: degenerate triangles, points exactly on the surface, meshes far
+// from the origin.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "../../src/geometry/bvh_build.hpp"
+#include "../../src/geometry/bvh_obb.hpp"
+#include "inhap/core/random.hpp"
+#include "inhap/geometry/mesh_index.hpp"
+#include "support/meshes.hpp"
+
+using namespace inhap;
+
+namespace {
+
+Vec3 seg_closest(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 e = b - a;
+  const double l2 = e.squaredNorm();
+  const double s = l2 > 0 ? std::clamp((p - a).dot(e) / l2, 0.0, 1.0) : 0.0;
+  return a + s * e;
+}
+
+// Independent reference: projection onto the plane when inside, else the nearest edge. A
+// (near-)collinear triangle (sin^2 of its angle below 1e-13, width below 3e-7 of its size) is
+// its edges: its plane is not defined well enough to project onto.
+double ref_distance2(const Vec3& p, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+  const Vec3 n = (v1 - v0).cross(v2 - v0);
+  const double n2 = n.squaredNorm();
+  if (n2 > 1e-13 * (v1 - v0).squaredNorm() * (v2 - v0).squaredNorm()) {
+    const Vec3 q = p - n * (n.dot(p - v0) / n2);
+    if ((v2 - v1).cross(q - v1).dot(n) >= 0 && (v0 - v2).cross(q - v2).dot(n) >= 0 &&
+        (v1 - v0).cross(q - v0).dot(n) >= 0)
+      return (p - q).squaredNorm();
+  }
+  return std::min({(p - seg_closest(p, v0, v1)).squaredNorm(),
+                   (p - seg_closest(p, v1, v2)).squaredNorm(),
+                   (p - seg_closest(p, v2, v0)).squaredNorm()});
+}
+
+double ref_d2(const TriMesh& m, std::size_t f, const Vec3& p) {
+  const auto& t = m.triangles[f];
+  return ref_distance2(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
+}
+
+double brute_force_d2(const TriMesh& m, const Vec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < m.num_triangles(); ++f) best = std::min(best, ref_d2(m, f, p));
+  return best;
+}
+
+double bumpy(double x, double y) {
+  return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y) + 0.05 * x;
+}
+
+// A soup with zero-area triangles mixed in: repeated vertices and collinear vertices.
+TriMesh soup_with_degenerates(std::uint64_t seed) {
+  TriMesh m = test::random_soup(600, seed);
+  Rng rng(seed + 1);
+  for (int i = 0; i < 150; ++i) {
+    const auto base = static_cast<std::int32_t>(m.positions.size());
+    const Vec3 a(rng.uniform(), rng.uniform(), rng.uniform());
+    const Vec3 d = 0.05 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    m.positions.push_back(a);
+    m.positions.push_back(a + d);
+    m.positions.push_back(i % 3 == 0 ? a : a + rng.uniform(-2, 2) * d);  // repeated / collinear
+    m.triangles.push_back({base, base + 1, base + 2});
+  }
+  return m;
+}
+
+TriMesh translated(TriMesh m, const Vec3& t) {
+  for (auto& p : m.positions) p += t;
+  return m;
+}
+
+// A point on triangle f at barycentrics (1 - u - v, u, v), or a vertex / edge midpoint.
+Vec3 surface_point(const TriMesh& m, std::size_t f, int kind, Rng& rng) {
+  const auto& t = m.triangles[f];
+  const Vec3 &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
+  if (kind == 0) return a;
+  if (kind == 1) return 0.5 * (b + c);
+  double u = rng.uniform(), v = rng.uniform();
+  if (u + v > 1) {
+    u = 1 - u;
+    v = 1 - v;
+  }
+  return (1 - u - v) * a + u * b + v * c;
+}
+
+struct Case {
+  const char* name;
+  TriMesh mesh;
+};
+
+std::vector<Case> hard_cases() {
+  return {{"soup_with_degenerates", soup_with_degenerates(5)},
+          {"torus", test::make_torus(40.0, 15.0, 60, 30)},
+          {"bumpy_grid_far_away",
+           translated(test::make_grid_mesh(31, 31, 0.25, bumpy), Vec3(1.0e4, -3.0e3, 2.0e3))}};
+}
+
+}  // namespace
+
+// Every node's oriented box bounds the distance to every triangle below it from below.
+TEST(MeshIndexBounds, OrientedBoxesAreLowerBounds) {
+  for (const auto& c : hard_cases()) {
+    SCOPED_TRACE(c.name);
+    const TriMesh& m = c.mesh;
+    std::vector<detail::BvhBox> boxes(m.num_triangles());
+    for (std::size_t f = 0; f < m.num_triangles(); ++f)
+      for (int k = 0; k < 3; ++k) boxes[f].grow(m.positions[m.triangles[f][k]]);
+    const detail::BvhBuild bvh = detail::build_bvh(boxes);
+    std::vector<Vec3> verts;
+    for (const std::int32_t f : bvh.order)
+      for (int k = 0; k < 3; ++k) verts.push_back(m.positions[m.triangles[f][k]]);
+    const std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
+    ASSERT_EQ(obb.size(), bvh.nodes.size());
+    // Slot range of every node (children follow their parent).
+    const std::size_t n = bvh.nodes.size();
+    std::vector<std::int32_t> begin(n), end(n);
+    for (std::size_t i = n; i-- > 0;) {
+      const auto& b = bvh.nodes[i];
+      begin[i] = b.count > 0 ? b.first : begin[i + 1];
+      end[i] = b.count > 0 ? b.first + b.count : end[static_cast<std::size_t>(b.first)];
+    }
+    Rng rng(21);
+    const Box3 box = m.bbox();
+    const double diag = box.size().norm();
+    long checked = 0, positive = 0;
+    for (int q = 0; q < 300; ++q) {
+      // Near the surface, on it, or anywhere around the mesh.
+      const std::size_t f = rng.below(m.num_triangles());
+      Vec3 p = surface_point(m, f, q % 4, rng);
+      if (q % 4 == 3)
+        p += 0.02 * diag * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      if (q % 8 == 7)
+        p = box.min +
+            (box.max - box.min).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+      const double eq = detail::obb_project_error(p);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double lb = detail::obb_distance2(obb[i], p, eq);
+        positive += lb > 0;
+        for (std::int32_t s = begin[i]; s < end[i]; ++s, ++checked) {
+          const double d2 = ref_d2(m, static_cast<std::size_t>(bvh.order[s]), p);
+          ASSERT_LE(lb, d2) << "node " << i << " slot " << s << " query " << q;
+        }
+      }
+    }
+    std::printf("[ %s ] %ld (node, triangle, point) triples, %ld positive node bounds\n", c.name,
+                checked, positive);
+    EXPECT_GT(positive, 0);
+  }
+}
+
+// On a plane tilted to every axis, a point at height h sees every node's oriented bound at
+// about h (plus its lateral offset), where axis-aligned boxes would give far less.
+TEST(MeshIndexBounds, OrientedBoxesAreTightOnATiltedPlane) {
+  TriMesh m = test::make_grid_mesh(41, 41, 0.5);
+  const Mat3 rot = (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
+  for (auto& p : m.positions) p = rot * p + Vec3(3, -2, 5);
+  std::vector<detail::BvhBox> boxes(m.num_triangles());
+  for (std::size_t f = 0; f < m.num_triangles(); ++f)
+    for (int k = 0; k < 3; ++k) boxes[f].grow(m.positions[m.triangles[f][k]]);
+  const detail::BvhBuild bvh = detail::build_bvh(boxes);
+  std::vector<Vec3> verts;
+  for (const std::int32_t f : bvh.order)
+    for (int k = 0; k < 3; ++k) verts.push_back(m.positions[m.triangles[f][k]]);
+  const std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
+  const Vec3 normal = rot * Vec3::UnitZ();
+  const double h = 5.0;
+  const Vec3 p = rot * Vec3(10.2, 9.9, 0) + Vec3(3, -2, 5) + h * normal;
+  const double eq = detail::obb_project_error(p);
+  // Root: the whole plane lies under p, so the bound is exactly h up to float rounding.
+  // (The int16 quaternion tilts a frame by up to ~3e-5 rad: 5e-4 mm over the 15 mm between p
+  // and the farthest nodes.)
+  EXPECT_NEAR(std::sqrt(detail::obb_distance2(obb[0], p, eq)), h, 1e-3);
+  // Every node's bound is at least h (up to that tilt); the axis-aligned box of the root
+  // contains p (bound 0).
+  for (std::size_t i = 0; i < obb.size(); ++i)
+    EXPECT_GE(std::sqrt(detail::obb_distance2(obb[i], p, eq)), h - 1e-3) << "node " << i;
+  const auto& r = bvh.nodes[0];
+  EXPECT_TRUE(p.x() > r.lo[0] && p.x() < r.hi[0] && p.y() > r.lo[1] && p.y() < r.hi[1] &&
+              p.z() > r.lo[2] && p.z() < r.hi[2]);
+}
+
+// Exact against brute force where rounding is hardest; the counted variant gives the same answer.
+TEST(MeshIndexBounds, ClosestPointExactOnHardCases) {
+  for (const auto& c : hard_cases()) {
+    SCOPED_TRACE(c.name);
+    const TriMesh& m = c.mesh;
+    const MeshIndex index(m);
+    Rng rng(33);
+    const double diag = m.bbox().size().norm();
+    const double coord = m.bbox().min.cwiseAbs().cwiseMax(m.bbox().max.cwiseAbs()).maxCoeff();
+    MeshIndex::QueryStats stats;
+    int on_surface = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const std::size_t f = rng.below(m.num_triangles());
+      Vec3 p = surface_point(m, f, i % 3, rng);
+      const bool exactly_on = i % 2 == 0;  // vertices, edge midpoints, interior points
+      if (!exactly_on)
+        p += rng.uniform(0.0, 0.1) * diag *
+             Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const double ref = brute_force_d2(m, p);
+      const ClosestPoint cp = index.closest_point(p);
+      ASSERT_TRUE(cp.valid());
+      // Exact: the same distance up to the rounding of the two point-triangle routines, which
+      // grows with the size of the coordinates (1e4 mm for the far grid).
+      const double tol = 1e-9 * std::sqrt(ref) + 4e-15 * coord;
+      EXPECT_NEAR(std::sqrt(cp.distance2), std::sqrt(ref), tol) << "point " << i;
+      EXPECT_NEAR(std::sqrt(ref_d2(m, static_cast<std::size_t>(cp.triangle), p)), std::sqrt(ref),
+                  tol);
+      const ClosestPoint counted = index.closest_point_counted(p, 1e300, stats);
+      EXPECT_EQ(counted.triangle, cp.triangle);
+      EXPECT_EQ(counted.distance2, cp.distance2);
+      on_surface += exactly_on && std::sqrt(ref) <= 1e-12 * coord;
+    }
+    EXPECT_GT(stats.nodes, 0);
+    EXPECT_LE(stats.exact, stats.triangles);
+    std::printf(
+        "[ %s ] %d points on the surface; mean %.1f nodes, %.1f triangles loaded, %.1f "
+        "exact tests per query\n",
+        c.name, on_surface, stats.nodes / 3000.0, stats.triangles / 3000.0, stats.exact / 3000.0);
+  }
+}
