@@ -174,6 +174,7 @@ struct Scene {
   std::vector<std::pair<Vec3, Vec3>> segments;  // servo-like
   std::vector<Vec3> points;                     // within 5 mm of the surface
   std::vector<Vec3> near_points;                // within 0.5 mm (contact regime)
+  std::vector<Vec3> path;  // servo path: 0.1 mm per query (100 mm/s at 1 kHz), -5..5 mm off
   std::unique_ptr<MeshIndex> ours;
   std::unique_ptr<CgalIndex> cgal;
 };
@@ -212,6 +213,25 @@ void make_queries(Scene& s, std::uint64_t seed) {
   }
 }
 
+// A probe stroking the surface at 100 mm/s sampled at 1 kHz (<= 0.1 mm between queries) while
+// its distance to the surface swings slowly between -5 and 5 mm (period 700 queries): the query
+// sequence the servo loop and the proxy estimator issue. `surface(a, b)` gives the surface point
+// and its unit normal for path parameters (a, b); the parameters advance so the step is 0.1 mm.
+template <class Surface>
+void make_path(Scene& s, Surface&& surface, double wa, double wb) {
+  double a = 0.3, b = 0.1;
+  for (int i = 0; i < kQueries; ++i) {
+    const auto [x, n] = surface(a, b);
+    s.path.push_back(x + 5.0 * std::sin(2 * std::numbers::pi * i / 700.0) * n);
+    // Step (wa, wb) in parameter space scaled to 0.1 mm on the surface (finite difference).
+    const double h = 1e-6;
+    const Vec3 da = (surface(a + h, b).first - x) / h, db = (surface(a, b + h).first - x) / h;
+    const double len = (wa * da + wb * db).norm();
+    a += 0.1 * wa / len;
+    b += 0.1 * wb / len;
+  }
+}
+
 Scene& scene(int which) {
   static std::unique_ptr<Scene> scenes[2];
   if (!scenes[which]) {
@@ -219,9 +239,28 @@ Scene& scene(int which) {
     if (which == 0) {
       s->name = "afm_grid_131k";
       s->mesh = inhap::test::make_grid_mesh(257, 257, 0.39, afm_height);
+      // Lissajous over the 100 x 100 mm grid, offset along z.
+      make_path(
+          *s,
+          [](double a, double b) {
+            const double x = 50 + 45 * std::sin(a), y = 50 + 45 * std::sin(b);
+            return std::pair<Vec3, Vec3>(Vec3(x, y, afm_height(x, y)), Vec3::UnitZ());
+          },
+          1.0, 1.37);
     } else {
       s->name = "torus_1M";
       s->mesh = inhap::test::make_torus(40.0, 15.0, 1000, 500);
+      // Winding path over the torus (u around the z axis, v around the tube), offset along
+      // the true normal.
+      make_path(
+          *s,
+          [](double u, double v) {
+            const double rho = 40.0 + 15.0 * std::cos(v);
+            const Vec3 n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+            return std::pair<Vec3, Vec3>(
+                Vec3(rho * std::cos(u), rho * std::sin(u), 15.0 * std::sin(v)), n);
+          },
+          1.0, 2.3);
     }
     make_queries(*s, 42 + which);
     scenes[which] = std::move(s);
@@ -241,7 +280,7 @@ const CTree& cgal(Scene& s) {
 // --- result table ----------------------------------------------------------------------------
 struct Row {
   double build_ms = NAN, mbytes = NAN, seg_p50 = NAN, seg_p99 = NAN, cp_p50 = NAN, cp_p99 = NAN,
-         near_p50 = NAN, near_p99 = NAN;
+         near_p50 = NAN, near_p99 = NAN, path_p50 = NAN, path_p99 = NAN;
 };
 std::map<std::string, Row> g_rows;  // "scene / method"
 
@@ -361,15 +400,26 @@ void bm_segment_cgal_all(benchmark::State& state, int which) {
       state, s, [&](const Vec3& a, const Vec3& b) { return cgal_segment_t(tree, a, b, scratch); });
 }
 
-// Closest-point queries: `near` = points within 0.5 mm (contact regime), else within 5 mm.
-void bm_closest_ours(benchmark::State& state, int which, bool near) {
+// Closest-point query sets: random points within 5 mm of the surface, within 0.5 mm (contact
+// regime), and the servo path (in order: consecutive queries 0.1 mm apart).
+enum Kind { kFar = 0, kNear = 1, kPath = 2 };
+const std::vector<Vec3>& points_of(const Scene& s, int kind) {
+  return kind == kFar ? s.points : kind == kNear ? s.near_points : s.path;
+}
+std::pair<double*, double*> row_slots(Row& row, int kind) {
+  if (kind == kFar) return {&row.cp_p50, &row.cp_p99};
+  if (kind == kNear) return {&row.near_p50, &row.near_p99};
+  return {&row.path_p50, &row.path_p99};
+}
+
+void bm_closest_ours(benchmark::State& state, int which, int kind) {
   Scene& s = scene(which);
   const MeshIndex& index = ours(s);
-  const auto& pts = near ? s.near_points : s.points;
-  Row& row = g_rows[s.name + " / inhap"];
+  const auto& pts = points_of(s, kind);
+  const auto slots = row_slots(g_rows[s.name + " / inhap"], kind);
   time_queries(
-      state, [&](std::size_t i) { return index.closest_point(pts[i]).distance2; },
-      near ? row.near_p50 : row.cp_p50, near ? row.near_p99 : row.cp_p99);
+      state, [&](std::size_t i) { return index.closest_point(pts[i]).distance2; }, *slots.first,
+      *slots.second);
   // Work per query (untimed): inner nodes visited, triangles loaded, full point-triangle tests.
   MeshIndex::QueryStats st;
   for (int i = 0; i < kChecked; ++i)
@@ -379,14 +429,14 @@ void bm_closest_ours(benchmark::State& state, int which, bool near) {
   state.counters["exact"] = static_cast<double>(st.exact) / kChecked;
 }
 
-void bm_closest_cgal(benchmark::State& state, int which, bool near) {
+void bm_closest_cgal(benchmark::State& state, int which, int kind) {
   Scene& s = scene(which);
   const CTree& tree = cgal(s);
-  const auto& pts = near ? s.near_points : s.points;
-  Row& row = g_rows[s.name + " / CGAL ray"];  // same tree as the ray row
+  const auto& pts = points_of(s, kind);
+  const auto slots = row_slots(g_rows[s.name + " / CGAL ray"], kind);  // same tree as the ray row
   time_queries(
       state, [&](std::size_t i) { return tree.closest_point_and_primitive(cp(pts[i])).first; },
-      near ? row.near_p50 : row.cp_p50, near ? row.near_p99 : row.cp_p99);
+      *slots.first, *slots.second);
   const MeshIndex& index = ours(s);
   double max_dd = 0;
   for (int i = 0; i < kChecked; ++i) {
@@ -411,11 +461,13 @@ void register_all() {
     reg("first_hit/inhap", bm_segment_ours);
     reg("first_hit/cgal_ray", bm_segment_cgal_ray);
     reg("first_hit/cgal_segment", bm_segment_cgal_all);
-    for (const bool near : {false, true}) {
-      const std::string what = near ? "closest_0.5mm/" : "closest_5mm/";
+    for (const int kind : {kFar, kNear, kPath}) {
+      const std::string what = kind == kFar    ? "closest_5mm/"
+                               : kind == kNear ? "closest_0.5mm/"
+                                               : "closest_path/";
       for (const bool ours : {true, false})
         benchmark::RegisterBenchmark((what + (ours ? "inhap/" : "cgal/") + n).c_str(),
-                                     ours ? bm_closest_ours : bm_closest_cgal, w, near)
+                                     ours ? bm_closest_ours : bm_closest_cgal, w, kind)
             ->Unit(benchmark::kMicrosecond);
     }
   }
@@ -432,13 +484,15 @@ void print_table() {
       std::snprintf(b, 32, fmt, v);
     return b;
   };
-  std::printf("\n%-28s %8s %8s | %-19s | %-19s | %-19s\n", "mesh / method", "build ms", "heap MB",
-              "first hit p50/p99", "closest 5mm p50/p99", "closest .5mm p50/p99");
+  std::printf("\n%-28s %8s %8s | %-19s | %-19s | %-19s | %-19s\n", "mesh / method", "build ms",
+              "heap MB", "first hit p50/p99", "closest 5mm p50/p99", "closest .5mm p50/p99",
+              "closest path p50/p99");
   for (const auto& [name, r] : g_rows) {
     std::printf("%-28s %8s %8s | ", name.c_str(), f(r.build_ms, "%.0f"), f(r.mbytes, "%.1f"));
     std::printf("%8s / %8s | ", f(r.seg_p50, "%.2f"), f(r.seg_p99, "%.2f"));
     std::printf("%8s / %8s | ", f(r.cp_p50, "%.2f"), f(r.cp_p99, "%.2f"));
-    std::printf("%8s / %8s\n", f(r.near_p50, "%.2f"), f(r.near_p99, "%.2f"));
+    std::printf("%8s / %8s | ", f(r.near_p50, "%.2f"), f(r.near_p99, "%.2f"));
+    std::printf("%8s / %8s\n", f(r.path_p50, "%.2f"), f(r.path_p99, "%.2f"));
   }
   std::printf(
       "(latencies in microseconds per query; CGAL closest uses the same tree as CGAL ray)\n");
