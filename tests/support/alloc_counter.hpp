@@ -1,7 +1,8 @@
 // Counts global heap allocations, for the "a servo step never allocates" tests.
 //
 // Include in exactly ONE translation unit of a test program: it replaces the global operator
-// new/delete of the whole program (the replacements only count and forward to malloc/free).
+// new/delete of the whole program, plain and nothrow forms (they count and forward to
+// malloc/free; the aligned forms are left to the library and stay consistent with themselves).
 // Usage: const long before = test::heap_allocations(); step(...);
 //        EXPECT_EQ(test::heap_allocations() - before, 0);
 #pragma once
