@@ -25,6 +25,13 @@ struct ForceLabOptions {
   bool baselines = true;       ///< also train the no-proxy and onset-proxy models
   std::string keep;            ///< folder for recordings and models ("": none)
   std::string progress_label;  ///< prefix of progress lines ("": the scene name)
+  /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
+  /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
+  /// shape mesh) or "truth" (the lab's true proxy and contact flag).
+  std::string proxy = "estimated";
+  /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
+  /// "random" (the ordinary random exploration, as the test run).
+  std::string train_operator = "coverage";
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.
@@ -49,6 +56,11 @@ struct ForceLabResult {
   ForceVariant proxy;
   ForceVariant no_proxy, onset;  ///< empty models when !baselines
   dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
+  double palpation_s = 0;        ///< wall time of the palpation (estimated proxy), s
+  std::size_t reference_points = 0;  ///< palpated reference points (estimated proxy)
+  /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
+  /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.
+  double proxy_rms_mm = 0, contact_agreement = 0;
 };
 
 /// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).

@@ -19,12 +19,14 @@
 namespace inhap::dd {
 
 const char* to_string(FeatureSet f) {
+  if (f == FeatureSet::kLocalFrame) return "local";
   return f == FeatureSet::kDisplacementProxyVelocity ? "ue_q_v" : "p_v_q";
 }
 
 FeatureSet feature_set_from_string(const std::string& s) {
   if (s == "ue_q_v") return FeatureSet::kDisplacementProxyVelocity;
   if (s == "p_v_q") return FeatureSet::kPositionVelocityProxy;
+  if (s == "local") return FeatureSet::kLocalFrame;
   throw Error(fmt::format("expected feature set 'ue_q_v' or 'p_v_q', got '{}'", s));
 }
 
@@ -199,8 +201,11 @@ namespace {
 
 void check_training_set(const TrainingSet& data, const TrainParams& params) {
   const std::size_t n = data.size();
-  if (data.v.size() != n || data.q.size() != n || data.f.size() != n)
-    throw Error("force model training: expected p, v, q and f of equal length");
+  if (data.v.size() != n || data.q.size() != n || data.f.size() != n ||
+      (!data.n.empty() && data.n.size() != n))
+    throw Error("force model training: expected p, v, q, f (and n) of equal length");
+  if (params.features == FeatureSet::kLocalFrame && data.n.size() != n)
+    throw Error("force model training: the local-frame features need the normal at q (n)");
   if (n < 2 * static_cast<std::size_t>(params.bins))
     throw Error(fmt::format("force model training: expected at least {} in-contact samples, got {}",
                             2 * params.bins, n));
@@ -274,9 +279,11 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     double row[kFeatureDim];
     for (Eigen::Index i = 0; i < m; ++i) {
       const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
-      make_features(params.features, data.p[k], data.v[k], data.q[k], row);
+      const SurfaceFrame fr = data.n.empty() ? SurfaceFrame{} : surface_frame(data.n[k]);
+      make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-      f.row(i) = data.f[k].transpose();
+      const bool local = params.features == FeatureSet::kLocalFrame;
+      f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
     }
     results[b] = train_bin(std::move(x), f, params, bi);
     results[b].model.key_min = key[order[s0]];
@@ -373,10 +380,17 @@ Vec3 eval_union(const BinModel& bm, const double* z) {
 }  // namespace
 
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
+  return model_force(model, p, v, q, Vec3::UnitZ());
+}
+
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                 const Vec3& normal) {
   if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
   const BinModel& bm = model.bins[static_cast<std::size_t>(model.bin_of((q - p).norm()))];
+  const bool local = model.features == FeatureSet::kLocalFrame;
+  const SurfaceFrame fr = local ? surface_frame(normal) : SurfaceFrame{};
   double z[kFeatureDim];
-  make_features(model.features, p, v, q, z);
+  make_features(model.features, p, v, q, fr, z);
   for (int d = 0; d < kFeatureDim; ++d) {
     const auto ud = static_cast<std::size_t>(d);
     z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
@@ -387,6 +401,7 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   } else {  // not finalized: per-axis evaluation
     f = Vec3(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
   }
+  if (local) f = fr.to_world(f);
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;
