@@ -46,7 +46,7 @@ struct EvalForcesOptions {
   std::string design = to_string(TrainParams{}.design);
   std::string features = to_string(TrainParams{}.features);
   TrainParams params;
-  bool quick = false;
+  bool quick = false, baselines = true;
   std::string proxy = "estimated", train_operator = "coverage";
 };
 
@@ -114,7 +114,7 @@ json object_json(const ForceLabResult& d) {
                 {"edges_mm", v.model.edges},
                 {"support", v.model.stats.support}};
   j["errors"] = json::parse(force_errors_json(v.all));
-  j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
+  if (v0.all.n > 0) j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
   return j;
 }
 
@@ -129,6 +129,7 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.quick = o.quick;
   fo.keep = o.keep;
   fo.proxy = o.proxy;
+  fo.baselines = o.baselines;
   fo.train_operator = o.train_operator;
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
@@ -221,6 +222,9 @@ void register_eval_forces(CLI::App& app) {
                   "(the ordinary exploration, as the test run)")
       ->capture_default_str()
       ->check(CLI::IsMember({"coverage", "random"}));
+  cmd->add_flag("--baselines,!--no-baselines", o->baselines,
+                "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
+                "null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o] { run_eval_forces(*o); });
 }

@@ -24,6 +24,7 @@
 #include "command.hpp"
 #include "inhap/friction/proxy_estimator.hpp"
 #include "sys_lab.hpp"
+#include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
@@ -151,6 +152,16 @@ ForceReplay timed_replay(const ForceModel& m, const Recording& rec, const ProxyT
   return r;
 }
 
+/// Statistics of an empty subset (or of a variant not run): n = 0, NaN (written as null).
+ForceErrors no_errors() {
+  ForceErrors e;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  e.ae_mean = e.ae_median = e.re_mean = e.re_median = nan;
+  e.rmse.fill(nan);
+  e.ae_axis_median.fill(nan);
+  return e;
+}
+
 /// Errors over in-contact samples with t >= t_from (and mask[i] when a mask is given); an
 /// empty subset gives n = 0 and NaN statistics (written as null).
 ForceErrors errors_from(const Recording& rec, const std::vector<char>& contact,
@@ -162,14 +173,7 @@ ForceErrors errors_from(const Recording& rec, const std::vector<char>& contact,
       r.push_back(f[i]);
       m.push_back(rec.f[i]);
     }
-  if (r.empty()) {
-    ForceErrors e;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    e.ae_mean = e.ae_median = e.re_mean = e.re_median = nan;
-    e.rmse.fill(nan);
-    e.ae_axis_median.fill(nan);
-    return e;
-  }
+  if (r.empty()) return no_errors();
   return force_errors(r, m);
 }
 
@@ -206,6 +210,27 @@ std::vector<char> coverage(const Recording& train, const ProxyTrack& tr, const R
         }
   }
   return out;
+}
+
+/// The test run as replayed: measured and rendered force, q, normal and contact flags.
+void write_replay(const std::string& path, const ForceLabResult& d,
+                  const std::vector<char>& scored) {
+  const std::vector<std::string> comments{
+      "units: t s, p q mm, f (measured) and r (rendered) N; contact = the track's flag, scored = "
+      "the lab's contact flag"};
+  CsvWriter w(path,
+              {"t", "px", "py", "pz", "fx", "fy", "fz", "rx", "ry", "rz", "qx", "qy", "qz", "nx",
+               "ny", "nz", "contact", "scored"},
+              comments);
+  const Recording& rec = d.test.rec;
+  const ProxyTrack& tr = d.test_track;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const Vec3 &p = rec.p[i], &f = rec.f[i], &r = d.proxy.replay.forces[i], &q = tr.q[i];
+    const Vec3 n = tr.n.size() == rec.size() ? tr.n[i] : Vec3::UnitZ();
+    w.row({rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), r.x(), r.y(), r.z(), q.x(), q.y(),
+           q.z(), n.x(), n.y(), n.z(), tr.contact[i] ? 1.0 : 0.0, scored[i] ? 1.0 : 0.0});
+  }
+  w.commit();
 }
 
 ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& scored,
@@ -301,8 +326,12 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
         with_n(entry_proxy_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
         "train (onset proxy)", label);
   }
+  if (!o.baselines) {
+    for (ForceVariant* v : {&d.no_proxy, &d.onset}) v->all = v->sliding = no_errors();
+  }
   if (!o.keep.empty()) {
     save_force_model(o.keep + "/" + name + "-model.json", d.proxy.model);
+    write_replay(o.keep + "/" + name + "-test-replay.csv", d, scored);
     if (o.baselines) {
       save_force_model(o.keep + "/" + name + "-model-noproxy.json", d.no_proxy.model);
       save_force_model(o.keep + "/" + name + "-model-onset.json", d.onset.model);

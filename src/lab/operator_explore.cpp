@@ -217,20 +217,28 @@ class ExploreOperator final : public HandOperator {
     queue_.push_back({Segment::press, load_time, Vec2::Zero(), force});
   }
 
-  /// Coverage mode: a hexagonal grid over the region with about seconds / seconds_per_spot
-  /// spots, in serpentine row order; `shift` moves it by half a cell (later passes).
+  /// Coverage mode: a hexagonal grid over the region (lattice points up to half a cell outside
+  /// pulled onto the rim) with about coverage_share * seconds / seconds_per_spot spots, in
+  /// serpentine row order; `shift` moves it by half a cell (later passes).
   void make_spots(bool shift) {
     const Region& r = scene_.region;
-    const double n = std::max(4.0, seconds_ / std::max(0.5, opt_.seconds_per_spot));
-    const double h = std::sqrt(M_PI * r.radius * r.radius / (n * std::sqrt(3.0) / 2));
+    const double n = std::max(
+        4.0, opt_.coverage_share * seconds_ / std::max(0.5, opt_.seconds_per_spot));
+    double h = r.radius;  // spacing: n cells of area sqrt(3)/2 h^2 fill the disc of R + h/2
+    for (int it = 0; it < 8; ++it)
+      h = (r.radius + 0.5 * h) * std::sqrt(M_PI / (n * std::sqrt(3.0) / 2));
     const double dy = h * std::sqrt(3.0) / 2, o = shift ? 0.5 : 0.0;
     spots_.clear();
     const int rows = static_cast<int>(std::ceil(r.radius / dy)) + 1;
     for (int j = -rows, k = 0; j <= rows; ++j) {
       std::vector<Vec2> row;
       for (int i = -rows - 1; i <= rows + 1; ++i) {
-        const Vec2 xy = r.center + Vec2((i + o + 0.5 * (j & 1)) * h, (j + o) * dy);
-        if ((xy - r.center).norm() <= r.radius) row.push_back(xy);
+        // Lattice points up to half a cell outside the region are pulled onto its rim, so the
+        // rim gets pressed too.
+        const Vec2 d((i + o + 0.5 * (j & 1)) * h, (j + o) * dy);
+        const double dn = d.norm();
+        if (dn <= r.radius + 0.5 * h)
+          row.push_back(r.center + (dn > r.radius ? Vec2(d * (r.radius / dn)) : d));
       }
       if (row.empty()) continue;
       if (k++ & 1) std::reverse(row.begin(), row.end());
@@ -243,22 +251,20 @@ class ExploreOperator final : public HandOperator {
     if (next_spot_ >= spots_.size()) make_spots(++passes_ & 1);
     const Vec2 xy = spots_[next_spot_++];
     const double f_slide = rng_.uniform(0.7, 2.5);
-    if (!touching_ || coverage_count_++ % 3 == 0) {
+    if (!touching_ || coverage_count_++ % 4 == 0) {
       add_approach(f_slide, rng_.uniform(0.3, 0.5), xy);
     } else {
-      const double v = rng_.uniform(8.0, 35.0);
-      queue_.push_back(
-          {Segment::slide, std::max(0.4, (xy - cursor_).norm() / v), xy, f_slide});
+      const double v = rng_.uniform(12.0, 35.0);
+      queue_.push_back({Segment::slide, std::max(0.3, (xy - cursor_).norm() / v), xy, f_slide});
     }
     const double deep = rng_.uniform(0.8, 0.95) * opt_.max_force;
-    queue_.push_back({Segment::press, rng_.uniform(0.5, 1.0), Vec2::Zero(), deep});
-    queue_.push_back({Segment::press, rng_.uniform(0.1, 0.4), Vec2::Zero(), deep});
-    queue_.push_back({Segment::press, rng_.uniform(0.3, 0.6), Vec2::Zero(), f_slide});
-    if (rng_.uniform() < 0.2) add_circles(rng_.uniform(0.7, 2.5));
+    queue_.push_back({Segment::press, rng_.uniform(0.4, 0.7), Vec2::Zero(), deep});
+    queue_.push_back({Segment::press, rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
+    queue_.push_back({Segment::press, rng_.uniform(0.25, 0.4), Vec2::Zero(), f_slide});
   }
 
   void plan(double t) {
-    if (opt_.coverage) return plan_coverage();
+    if (opt_.coverage && t < t_start_ + opt_.coverage_share * seconds_) return plan_coverage();
     const double slide_from = t_start_ + (1.0 - opt_.sliding_fraction) * seconds_;
     if (t >= slide_from - 1.5) {  // sliding-only passage: never leave the surface
       if (!touching_) add_approach(rng_.uniform(0.7, 2.5), rng_.uniform(0.3, 0.6));

@@ -52,15 +52,16 @@ struct TapOptions {
 struct ExploreOptions {
   double max_force = 5.0;             ///< N
   double sliding_fraction = 1.0 / 3;  ///< final share of the duration that only slides
-  /// Coverage-driven training mode (thesis 4.4.1: the operator explores the whole object): a
-  /// hexagonal grid of spots over the region, spaced so that one pass fills the duration, is
-  /// visited row by row (serpentine); at each spot the operator loads to a deep push
-  /// (0.8-0.95 max_force) and back, so every spot gets every depth; between spots it slides at
-  /// 0.7-2.5 N or (every third spot, and at the start) lifts and approaches from the air; some
-  /// spots get rubbing circles. When a pass ends another starts on a grid shifted by half a
-  /// cell. sliding_fraction is ignored in this mode.
+  /// Coverage-driven training mode (thesis 4.4.1: the operator explores the whole object): for
+  /// the first coverage_share of the duration a hexagonal grid of spots over the region, spaced
+  /// so that one pass fills that time, is visited row by row (serpentine; rim included); at each
+  /// spot the operator loads to a deep push (0.8-0.95 max_force) and back, so every spot gets
+  /// every depth; between spots it slides at 0.7-2.5 N or (every fourth spot, and at the start)
+  /// lifts and approaches from the air. After that the ordinary random exploration follows
+  /// (its sliding-only passage included).
   bool coverage = false;
-  double seconds_per_spot = 2.6;  ///< coverage mode: planned time per spot (sets the spacing), s
+  double coverage_share = 0.5;    ///< coverage mode: share of the duration spent on the grid
+  double seconds_per_spot = 2.0;  ///< coverage mode: planned time per spot (sets the spacing), s
 };
 
 /// The operator names make_operator() accepts: tap, explore, air.
