@@ -47,6 +47,7 @@ struct EvalForcesOptions {
   std::string features = to_string(TrainParams{}.features);
   TrainParams params;
   bool quick = false, baselines = true;
+  double coverage_share = 0.5, seconds_per_spot = 2.0;
   std::string proxy = "estimated", train_operator = "coverage";
 };
 
@@ -81,8 +82,7 @@ json object_json(const ForceLabResult& d) {
   j["scored_on"] = "test samples the lab says are in contact (true contact flag)";
   j["palpation_s"] = d.palpation_s;
   j["reference_points"] = d.reference_points;
-  j["proxy_vs_truth"] = {{"q_rms_mm", d.proxy_rms_mm},
-                         {"contact_agreement", d.contact_agreement}};
+  j["proxy_vs_truth"] = {{"q_rms_mm", d.proxy_rms_mm}, {"contact_agreement", d.contact_agreement}};
   j["train_contact_samples"] = v.train_contact;
   j["test_contact_samples"] = v.all.n;
   j["sliding_only"] = {{"t_from_s", d.t_slide},
@@ -130,6 +130,8 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.keep = o.keep;
   fo.proxy = o.proxy;
   fo.baselines = o.baselines;
+  fo.coverage_share = o.coverage_share;
+  fo.seconds_per_spot = o.seconds_per_spot;
   fo.train_operator = o.train_operator;
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
@@ -157,7 +159,8 @@ void run_eval_forces(const EvalForcesOptions& o) {
       "(sliding yield surfaces of a palpation of the scene, geometric contact with the palpated "
       "shape mesh); truth: the virtual lab's true proxy (anchor ax,ay,az) and contact flag; "
       "errors against the measured force on the truly-in-contact test samples; no_proxy = the "
-      "same model trained on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset position (u = p - p_c "
+      "same model trained on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset "
+      "position (u = p - p_c "
       "of earlier methods); sliding_only = last third of the test run (the explore operator's "
       "sliding-only passage); step_us = servo steps of the with-proxy model in contact";
   out["objects"] = json::array();
@@ -222,6 +225,14 @@ void register_eval_forces(CLI::App& app) {
                   "(the ordinary exploration, as the test run)")
       ->capture_default_str()
       ->check(CLI::IsMember({"coverage", "random"}));
+  cmd->add_option("--coverage-share", o->coverage_share,
+                  "Coverage training run: share of the run spent on the grid of spots")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--spot-seconds", o->seconds_per_spot,
+                  "Coverage training run: planned seconds per spot (sets the grid spacing)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 10.0));
   cmd->add_flag("--baselines,!--no-baselines", o->baselines,
                 "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
                 "null)");

@@ -22,16 +22,16 @@
 #include <unordered_map>
 
 #include "command.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
-#include "sys_lab.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/random.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
+#include "inhap/friction/proxy_estimator.hpp"
 #include "inhap/lab/operators.hpp"
-#include "inhap/core/random.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/lab/sim_device.hpp"
+#include "sys_lab.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -106,12 +106,15 @@ lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::ui
 
 /// The explore operator's coverage-driven training mode, device set up as lab::record_scene.
 lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::uint64_t seed,
+                                  const ForceLabOptions& o,
                                   const std::function<void(double)>& prog) {
   lab::DeviceParams dp;
   dp.seed = derive_seed(seed, 0);
   lab::SimDevice device(scene.object, dp);
   lab::ExploreOptions eo;
   eo.coverage = true;
+  eo.coverage_share = o.coverage_share;
+  eo.seconds_per_spot = o.seconds_per_spot;
   auto op = lab::make_explore_operator(scene, derive_seed(seed, 1), seconds, eo);
   lab::LabRecording r = lab::record(device, *op, seconds, prog);
   r.comments = {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}", scene.name,
@@ -131,8 +134,8 @@ void compare_with_truth(ForceLabResult& d, const ProxyTrack& truth) {
       ++both;
     }
   }
-  d.proxy_rms_mm = both ? std::sqrt(sq / static_cast<double>(both))
-                        : std::numeric_limits<double>::quiet_NaN();
+  d.proxy_rms_mm =
+      both ? std::sqrt(sq / static_cast<double>(both)) : std::numeric_limits<double>::quiet_NaN();
   d.contact_agreement = truth.size() ? static_cast<double>(agree) / truth.size() : 0.0;
 }
 
@@ -259,7 +262,8 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   const std::string& name = o.scene;
   const std::string label = o.progress_label.empty() ? name : o.progress_label;
   if (o.proxy != "estimated" && o.proxy != "truth")
-    throw Error(fmt::format("eval forces: --proxy: expected estimated or truth, got '{}'", o.proxy));
+    throw Error(
+        fmt::format("eval forces: --proxy: expected estimated or truth, got '{}'", o.proxy));
   if (o.train_operator != "coverage" && o.train_operator != "random")
     throw Error(fmt::format("eval forces: --train-operator: expected coverage or random, got '{}'",
                             o.train_operator));
@@ -272,7 +276,7 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   ForceLabResult d;
   d.name = name;
   d.train = o.train_operator == "coverage"
-                ? record_coverage(scene, dur.train_s, o.train_seed, prog("train recording"))
+                ? record_coverage(scene, dur.train_s, o.train_seed, o, prog("train recording"))
                 : record_random(scene, dur.train_s, o.train_seed, prog("train recording"));
   d.test = record_random(scene, dur.test_s, o.test_seed, prog("test recording"));
   if (!o.keep.empty()) {
@@ -318,7 +322,8 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
       return t;
     };
     d.no_proxy = run_variant(
-        d, scored, with_n(position_only_track(d.train.rec, d.train_track.contact, cs), d.train_track),
+        d, scored,
+        with_n(position_only_track(d.train.rec, d.train_track.contact, cs), d.train_track),
         with_n(position_only_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
         "train (no proxy)", label);
     d.onset = run_variant(

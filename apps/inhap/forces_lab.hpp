@@ -32,6 +32,8 @@ struct ForceLabOptions {
   /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
   /// "random" (the ordinary random exploration, as the test run).
   std::string train_operator = "coverage";
+  double coverage_share = 0.5;    ///< lab::ExploreOptions::coverage_share of the training run
+  double seconds_per_spot = 2.0;  ///< lab::ExploreOptions::seconds_per_spot
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.
@@ -54,9 +56,9 @@ struct ForceLabResult {
   dd::ProxyTrack train_track, test_track;
   double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
   ForceVariant proxy;
-  ForceVariant no_proxy, onset;  ///< empty models when !baselines
-  dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
-  double palpation_s = 0;        ///< wall time of the palpation (estimated proxy), s
+  ForceVariant no_proxy, onset;      ///< empty models when !baselines
+  dd::ForceErrors covered;           ///< proxy model on test samples the training run covered
+  double palpation_s = 0;            ///< wall time of the palpation (estimated proxy), s
   std::size_t reference_points = 0;  ///< palpated reference points (estimated proxy)
   /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
   /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.

@@ -222,8 +222,8 @@ class ExploreOperator final : public HandOperator {
   /// serpentine row order; `shift` moves it by half a cell (later passes).
   void make_spots(bool shift) {
     const Region& r = scene_.region;
-    const double n = std::max(
-        4.0, opt_.coverage_share * seconds_ / std::max(0.5, opt_.seconds_per_spot));
+    const double per_spot = std::max(0.5, opt_.seconds_per_spot) + 1.5 * opt_.stroke_probability;
+    const double n = std::max(4.0, opt_.coverage_share * seconds_ / per_spot);
     double h = r.radius;  // spacing: n cells of area sqrt(3)/2 h^2 fill the disc of R + h/2
     for (int it = 0; it < 8; ++it)
       h = (r.radius + 0.5 * h) * std::sqrt(M_PI / (n * std::sqrt(3.0) / 2));
@@ -257,10 +257,18 @@ class ExploreOperator final : public HandOperator {
       const double v = rng_.uniform(12.0, 35.0);
       queue_.push_back({Segment::slide, std::max(0.3, (xy - cursor_).norm() / v), xy, f_slide});
     }
+    // Load, hold, unload: about 1.2 s at the default 2 s per spot (scaled with it, 0.4 s at least
+    // for the load).
     const double deep = rng_.uniform(0.8, 0.95) * opt_.max_force;
-    queue_.push_back({Segment::press, rng_.uniform(0.4, 0.7), Vec2::Zero(), deep});
-    queue_.push_back({Segment::press, rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
-    queue_.push_back({Segment::press, rng_.uniform(0.25, 0.4), Vec2::Zero(), f_slide});
+    const double s = std::clamp(opt_.seconds_per_spot / 2.0, 0.5, 2.0);
+    queue_.push_back(
+        {Segment::press, std::max(0.3, s * rng_.uniform(0.4, 0.7)), Vec2::Zero(), deep});
+    queue_.push_back({Segment::press, s * rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
+    queue_.push_back(
+        {Segment::press, std::max(0.2, s * rng_.uniform(0.25, 0.4)), Vec2::Zero(), f_slide});
+    // Now and then a long stroke at the usual random speed (8-35 mm/s mean: the random
+    // exploration's strokes cross the region fast), from which the next spot is reached.
+    if (rng_.uniform() < opt_.stroke_probability) add_slide(rng_.uniform(0.7, 2.5));
   }
 
   void plan(double t) {
