@@ -44,10 +44,10 @@ struct EvalForcesOptions {
   std::vector<std::string> scenes{"planar", "dome"};
   std::uint64_t train_seed = 1, test_seed = 2;
   std::string design = to_string(TrainParams{}.design);
-  std::string features = to_string(TrainParams{}.features);
-  TrainParams params;
+  std::string features = to_string(lab_train_params().features);
+  TrainParams params = lab_train_params();
   bool quick = false, baselines = true;
-  double coverage_share = 0.5, seconds_per_spot = 2.0;
+  double coverage_share = 0.65, seconds_per_spot = 1.5;
   std::string proxy = "estimated", train_operator = "coverage";
 };
 
@@ -185,7 +185,10 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--train-seed", o->train_seed, "Seed of the training recording")
       ->capture_default_str();
   cmd->add_option("--test-seed", o->test_seed, "Seed of the test recording")->capture_default_str();
-  cmd->add_option("--design", o->design, "thesis (A~ M x N_bin) or regression (A~ N_bin x M)")
+  cmd->add_option("--design", o->design,
+                  "thesis (A~ M x N_bin, and the thesis' settings: features ue_q_v, 5 bins, no "
+                  "tail, weights 1 1 1, ridge 0, margin 0.1, unless given) or regression "
+                  "(A~ N_bin x M)")
       ->capture_default_str()
       ->check(CLI::IsMember({"thesis", "regression"}));
   cmd->add_option("--features", o->features,
@@ -206,7 +209,7 @@ void register_eval_forces(CLI::App& app) {
                 "Linear tail on every expansion (default on)");
   cmd->add_option(
       "--feature-weights", o->params.feature_weights,
-      "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 3 0.5)");
+      "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,
@@ -237,7 +240,20 @@ void register_eval_forces(CLI::App& app) {
                 "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
                 "null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
-  cmd->callback([o] { run_eval_forces(*o); });
+  cmd->callback([o, cmd] {
+    // --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
+    // world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
+    // clamping margin.
+    if (o->design == "thesis") {
+      if (!cmd->count("--features")) o->features = "ue_q_v";
+      if (!cmd->count("--bins")) o->params.bins = 5;
+      if (!cmd->count("--tail")) o->params.linear_tail = false;
+      if (!cmd->count("--feature-weights")) o->params.feature_weights = {1.0, 1.0, 1.0};
+      if (!cmd->count("--ridge")) o->params.ridge = 0.0;
+      if (!cmd->count("--box-margin")) o->params.box_margin = 0.1;
+    }
+    run_eval_forces(*o);
+  });
 }
 
 }  // namespace

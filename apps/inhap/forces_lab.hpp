@@ -17,14 +17,23 @@
 
 namespace inhap::cli {
 
+/// Model settings measured best on the lab (docs/force-model.md): local-frame features and
+/// location weight 5 (TrainParams defaults otherwise).
+inline dd::TrainParams lab_train_params() {
+  dd::TrainParams p;
+  p.features = dd::FeatureSet::kLocalFrame;
+  p.feature_weights = {1.0, 5.0, 0.5};
+  return p;
+}
+
 struct ForceLabOptions {
   std::string scene;  ///< built-in lab scene (planar, dome, ...)
   std::uint64_t train_seed = 1, test_seed = 2;
-  dd::TrainParams params;      ///< training settings (design included)
-  bool quick = false;          ///< recordings 2x shorter (smoke test)
-  bool baselines = true;       ///< also train the no-proxy and onset-proxy models
-  std::string keep;            ///< folder for recordings and models ("": none)
-  std::string progress_label;  ///< prefix of progress lines ("": the scene name)
+  dd::TrainParams params = lab_train_params();  ///< training settings (design included)
+  bool quick = false;                           ///< recordings 2x shorter (smoke test)
+  bool baselines = true;                        ///< also train the no-proxy and onset-proxy models
+  std::string keep;                             ///< folder for recordings and models ("": none)
+  std::string progress_label;                   ///< prefix of progress lines ("": the scene name)
   /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
   /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
   /// shape mesh) or "truth" (the lab's true proxy and contact flag).
@@ -32,8 +41,8 @@ struct ForceLabOptions {
   /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
   /// "random" (the ordinary random exploration, as the test run).
   std::string train_operator = "coverage";
-  double coverage_share = 0.5;    ///< lab::ExploreOptions::coverage_share of the training run
-  double seconds_per_spot = 2.0;  ///< lab::ExploreOptions::seconds_per_spot
+  double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
+  double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.

@@ -60,8 +60,8 @@ struct ExploreOptions {
   /// lifts and approaches from the air; after a spot, now and then a long random stroke. After that
   /// the ordinary random exploration follows (its sliding-only passage included).
   bool coverage = false;
-  double coverage_share = 0.5;      ///< coverage mode: share of the duration spent on the grid
-  double seconds_per_spot = 2.0;    ///< coverage mode: planned time per spot (sets the spacing), s
+  double coverage_share = 0.65;     ///< coverage mode: share of the duration spent on the grid
+  double seconds_per_spot = 1.5;    ///< coverage mode: planned time per spot (sets the spacing), s
   double stroke_probability = 0.3;  ///< coverage mode: chance of a long stroke after a spot
 };
 
