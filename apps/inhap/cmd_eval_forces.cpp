@@ -169,6 +169,18 @@ void run_eval_forces(const EvalForcesOptions& o) {
   fmt::print("report -> {}\n", o.json_path);
 }
 
+/// --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
+/// world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
+/// clamping margin.
+void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
+  if (!cmd.count("--features")) o.features = "ue_q_v";
+  if (!cmd.count("--bins")) o.params.bins = 5;
+  if (!cmd.count("--tail")) o.params.linear_tail = false;
+  if (!cmd.count("--feature-weights")) o.params.feature_weights = {1.0, 1.0, 1.0};
+  if (!cmd.count("--ridge")) o.params.ridge = 0.0;
+  if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
+}
+
 void register_eval_forces(CLI::App& app) {
   auto o = std::make_shared<EvalForcesOptions>();
   auto* cmd = eval_group(app)->add_subcommand(
@@ -241,17 +253,7 @@ void register_eval_forces(CLI::App& app) {
                 "null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o, cmd] {
-    // --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
-    // world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
-    // clamping margin.
-    if (o->design == "thesis") {
-      if (!cmd->count("--features")) o->features = "ue_q_v";
-      if (!cmd->count("--bins")) o->params.bins = 5;
-      if (!cmd->count("--tail")) o->params.linear_tail = false;
-      if (!cmd->count("--feature-weights")) o->params.feature_weights = {1.0, 1.0, 1.0};
-      if (!cmd->count("--ridge")) o->params.ridge = 0.0;
-      if (!cmd->count("--box-margin")) o->params.box_margin = 0.1;
-    }
+    if (o->design == "thesis") apply_thesis_defaults(*o, *cmd);
     run_eval_forces(*o);
   });
 }

@@ -256,6 +256,33 @@ ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& score
   return v;
 }
 
+/// Proxy tracks of both runs from the chosen source (see the file comment); returns the truth
+/// track of the test run (its contact flags are the scoring set).
+ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLabOptions& o,
+                       const std::string& label) {
+  const std::string& name = o.scene;
+  ProxyTrack test_truth = truth_track(scene, d.test);
+  if (o.proxy == "truth") {
+    d.train_track = truth_track(scene, d.train);
+    d.test_track = test_truth;
+    d.proxy_rms_mm = d.contact_agreement = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    ScenePalpationOptions po;
+    po.scene = name;
+    po.seed = o.train_seed;
+    po.quick = o.quick;
+    if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
+    po.progress_label = label + " palpation";
+    const ScenePalpation pal = palpate_scene(po);
+    d.palpation_s = pal.wall_s;
+    d.reference_points = pal.points.size();
+    d.train_track = estimated_track(pal, d.train.rec);
+    d.test_track = estimated_track(pal, d.test.rec);
+    compare_with_truth(d, test_truth);
+  }
+  return test_truth;
+}
+
 }  // namespace
 
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
@@ -284,25 +311,7 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
     lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);
     lab::write_lab_recording(o.keep + "/" + name + "-test.csv", d.test);
   }
-  const ProxyTrack test_truth = truth_track(scene, d.test);
-  if (o.proxy == "truth") {
-    d.train_track = truth_track(scene, d.train);
-    d.test_track = test_truth;
-    d.proxy_rms_mm = d.contact_agreement = std::numeric_limits<double>::quiet_NaN();
-  } else {
-    ScenePalpationOptions po;
-    po.scene = name;
-    po.seed = o.train_seed;
-    po.quick = o.quick;
-    if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
-    po.progress_label = label + " palpation";
-    const ScenePalpation pal = palpate_scene(po);
-    d.palpation_s = pal.wall_s;
-    d.reference_points = pal.points.size();
-    d.train_track = estimated_track(pal, d.train.rec);
-    d.test_track = estimated_track(pal, d.test.rec);
-    compare_with_truth(d, test_truth);
-  }
+  const ProxyTrack test_truth = make_tracks(d, scene, o, label);
   const std::vector<double>& tt = d.test.rec.t;
   d.t_slide = tt.front() + (tt.back() - tt.front()) * 2.0 / 3.0;
   const TrainParams& p = o.params;
