@@ -110,6 +110,7 @@ json object_json(const ForceLabResult& d) {
                 {"feature_weights", p.feature_weights},
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
+                {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
                 {"edges_mm", v.model.edges},
                 {"support", v.model.stats.support}};
@@ -171,7 +172,7 @@ void run_eval_forces(const EvalForcesOptions& o) {
 
 /// --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
 /// world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
-/// clamping margin.
+/// clamping margin, hard bin switch.
 void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--features")) o.features = "ue_q_v";
   if (!cmd.count("--bins")) o.params.bins = 5;
@@ -179,6 +180,7 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--feature-weights")) o.params.feature_weights = {1.0, 1.0, 1.0};
   if (!cmd.count("--ridge")) o.params.ridge = 0.0;
   if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
+  if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
 }
 
 void register_eval_forces(CLI::App& app) {
@@ -197,10 +199,11 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--train-seed", o->train_seed, "Seed of the training recording")
       ->capture_default_str();
   cmd->add_option("--test-seed", o->test_seed, "Seed of the test recording")->capture_default_str();
-  cmd->add_option("--design", o->design,
-                  "thesis (A~ M x N_bin, and the thesis' settings: features ue_q_v, 5 bins, no "
-                  "tail, weights 1 1 1, ridge 0, margin 0.1, unless given) or regression "
-                  "(A~ N_bin x M)")
+  cmd->add_option(
+         "--design", o->design,
+         "thesis (A~ M x N_bin, and the thesis' settings: features ue_q_v, 5 bins, no "
+         "tail, weights 1 1 1, ridge 0, margin 0.1, no bin blend, unless given) or regression "
+         "(A~ N_bin x M)")
       ->capture_default_str()
       ->check(CLI::IsMember({"thesis", "regression"}));
   cmd->add_option("--features", o->features,
@@ -222,6 +225,10 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option(
       "--feature-weights", o->params.feature_weights,
       "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
+  cmd->add_option("--bin-blend", o->params.bin_blend,
+                  "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,

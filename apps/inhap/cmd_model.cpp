@@ -218,6 +218,10 @@ void register_model(CLI::App& app) {
                "Linear polynomial tail on every expansion (default on; the thesis has none)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
+  ct->add_option("--bin-blend", tr->params.bin_blend,
+                 "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   ct->add_option("--threads", tr->params.threads, "Worker threads (0 = all cores)")
       ->capture_default_str();
   ct->add_option("--foaw-window", tr->foaw.max_window, "FOAW window cap, samples")

@@ -17,12 +17,14 @@
 
 namespace inhap::cli {
 
-/// Model settings measured best on the lab (docs/force-model.md): local-frame features and
-/// location weight 5 (TrainParams defaults otherwise).
+/// Model settings measured best on the lab (docs/force-model.md): local-frame features,
+/// location weight 5, bins blended over +-1 mm around their edge (TrainParams defaults
+/// otherwise).
 inline dd::TrainParams lab_train_params() {
   dd::TrainParams p;
   p.features = dd::FeatureSet::kLocalFrame;
   p.feature_weights = {1.0, 5.0, 0.5};
+  p.bin_blend = 1.0;
   return p;
 }
 

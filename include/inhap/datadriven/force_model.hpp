@@ -124,7 +124,11 @@ struct TrainParams {
   /// distances see (x_d - mean_d) / sd_d * weight_group(d).
   std::array<double, 3> feature_weights{1.0, 3.0, 0.5};
   double box_margin = 0.5;  ///< clamping box = training range +- margin * range (per dim)
-  int threads = 0;          ///< worker threads (0 = hardware concurrency)
+  /// Half-width (mm of ||q - p||) of the band around each bin edge in which the two bins'
+  /// forces are blended (smoothstep weights), so the rendered force has no jump at the edge.
+  /// 0 = hard switch (thesis).
+  double bin_blend = 0.0;
+  int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
   void validate() const;  ///< throws inhap::Error on out-of-range values
@@ -163,6 +167,7 @@ struct ForceModel {
   std::vector<BinModel> bins;
   FoawParams foaw;           ///< velocity filter used for training; the renderer uses the same
   double force_limit = 6.2;  ///< output clamp, N (device limit)
+  double bin_blend = 0.0;    ///< mm; see TrainParams::bin_blend
   TrainParams params;        ///< as trained (progress callback not kept)
   TrainStats stats;
   std::string sys_path, mesh_path;       ///< references (may be empty)
