@@ -1,5 +1,6 @@
 // Data-driven force model: training time on 65,000 synthetic samples (thesis planar object
-// size) and the servo step latency (p50/p99, us) on a held-out trajectory.
+// size) and the servo step latency (p50/p99, us) on a held-out trajectory; variants: thesis
+// design, regression design, regression design with local-frame features (normal given).
 // Units: time s / us; forces N.
 #include <benchmark/benchmark.h>
 
@@ -16,44 +17,54 @@ namespace {
 using namespace inhap;
 using namespace inhap::dd;
 
+const Vec3 kNormal = Vec3(0.1, -0.2, 1.0).normalized();  // normal handed to the local variant
+
 TrainingSet training_set() {
   SyntheticParams sp;
   sp.samples = 65000;
   sp.seed = 1;
   const Recording rec = synthetic_recording(sp);
-  return make_training_set(rec, proxy_from_columns(rec, "synthetic"), FoawParams{});
+  TrainingSet s = make_training_set(rec, proxy_from_columns(rec, "synthetic"), FoawParams{});
+  s.n.assign(s.size(), kNormal);
+  return s;
 }
 
-TrainParams params_for(Design d) {
+/// 0: thesis design, 1: regression design, 2: regression design with local-frame features.
+TrainParams params_for(int variant) {
   TrainParams p;
-  p.design = d;
+  p.design = variant == 0 ? Design::kThesis : Design::kRegression;
+  if (variant == 2) p.features = FeatureSet::kLocalFrame;
   return p;
 }
+const char* label(int variant) {
+  return variant == 2 ? "regression+local" : to_string(params_for(variant).design);
+}
 
-const ForceModel& trained(Design d) {
-  static const ForceModel thesis = train_force_model(training_set(), params_for(Design::kThesis));
-  static const ForceModel regression =
-      train_force_model(training_set(), params_for(Design::kRegression));
-  return d == Design::kThesis ? thesis : regression;
+const ForceModel& trained(int variant) {
+  static const ForceModel models[3] = {train_force_model(training_set(), params_for(0)),
+                                       train_force_model(training_set(), params_for(1)),
+                                       train_force_model(training_set(), params_for(2))};
+  return models[variant];
 }
 
 void BM_Train(benchmark::State& state) {
-  const auto design = static_cast<Design>(state.range(0));
+  const int variant = static_cast<int>(state.range(0));
   const TrainingSet set = training_set();
   double seconds = 0;
   for (auto _ : state) {
-    const ForceModel m = train_force_model(set, params_for(design));
+    const ForceModel m = train_force_model(set, params_for(variant));
     seconds = m.stats.seconds;
     benchmark::DoNotOptimize(m.bins.data());
   }
   state.counters["samples"] = static_cast<double>(set.size());
   state.counters["train_s"] = seconds;
-  state.SetLabel(to_string(design));
+  state.SetLabel(label(variant));
 }
-BENCHMARK(BM_Train)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_Train)->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 void BM_ServoStep(benchmark::State& state) {
-  const ForceModel& m = trained(static_cast<Design>(state.range(0)));
+  const int variant = static_cast<int>(state.range(0));
+  const ForceModel& m = trained(variant);
   SyntheticParams sp;
   sp.samples = 37000;
   sp.seed = 2;
@@ -65,7 +76,7 @@ void BM_ServoStep(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    const Vec3 f = servo_step(m, st, rec.p[i], track.q[i], track.contact[i] != 0);
+    const Vec3 f = servo_step(m, st, rec.p[i], track.q[i], kNormal, track.contact[i] != 0);
     const auto t1 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(f);
     if (track.contact[i] && us.size() < us.capacity())
@@ -77,9 +88,9 @@ void BM_ServoStep(benchmark::State& state) {
     state.counters["p50_us"] = us[us.size() / 2];
     state.counters["p99_us"] = us[us.size() * 99 / 100];
   }
-  state.SetLabel(to_string(static_cast<Design>(state.range(0))));
+  state.SetLabel(label(variant));
 }
-BENCHMARK(BM_ServoStep)->Arg(0)->Arg(1);
+BENCHMARK(BM_ServoStep)->Arg(0)->Arg(1)->Arg(2);
 
 }  // namespace
 

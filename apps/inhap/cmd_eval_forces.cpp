@@ -6,10 +6,10 @@
 // the pre-thesis approach) shows what the proxy buys on sliding.
 // Units: mm, N, s; step times in microseconds.
 //
-// Proxy and contact (see forces_lab.cpp): until the friction module's proxy estimator lands, q is
-// the lab's TRUE proxy (truth sidecar ax,ay,az) and contact the truth flag; the JSON says so
-// ("proxy_source": "truth", "contact_source": "truth"). make_tracks() is the one place to
-// switch to the estimated proxy.
+// Proxy and contact (see forces_lab.cpp): --proxy estimated (default) palpates the scene and runs
+// the friction module's proxy estimator over both recordings; --proxy truth uses the lab's true
+// proxy and contact flag. The JSON says which ("proxy_source", "contact_source"). The training
+// run is the explore operator's coverage-driven mode unless --train-operator random.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -44,8 +44,11 @@ struct EvalForcesOptions {
   std::vector<std::string> scenes{"planar", "dome"};
   std::uint64_t train_seed = 1, test_seed = 2;
   std::string design = to_string(TrainParams{}.design);
-  TrainParams params;
-  bool quick = false;
+  std::string features = to_string(lab_train_params().features);
+  TrainParams params = lab_train_params();
+  bool quick = false, baselines = true;
+  double coverage_share = 0.65, seconds_per_spot = 1.5;
+  std::string proxy = "estimated", train_operator = "coverage";
 };
 
 json xyz(const std::array<double, 3>& v) {
@@ -75,6 +78,11 @@ json object_json(const ForceLabResult& d) {
       {"p50", quantile(us, 0.5)}, {"p99", quantile(us, 0.99)}, {"max", quantile(us, 1.0)}};
   j["proxy_source"] = d.train_track.proxy_source;
   j["contact_source"] = d.train_track.contact_source;
+  j["train_recording"] = d.train.comments.empty() ? "" : d.train.comments.front();
+  j["scored_on"] = "test samples the lab says are in contact (true contact flag)";
+  j["palpation_s"] = d.palpation_s;
+  j["reference_points"] = d.reference_points;
+  j["proxy_vs_truth"] = {{"q_rms_mm", d.proxy_rms_mm}, {"contact_agreement", d.contact_agreement}};
   j["train_contact_samples"] = v.train_contact;
   j["test_contact_samples"] = v.all.n;
   j["sliding_only"] = {{"t_from_s", d.t_slide},
@@ -102,11 +110,12 @@ json object_json(const ForceLabResult& d) {
                 {"feature_weights", p.feature_weights},
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
+                {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
                 {"edges_mm", v.model.edges},
                 {"support", v.model.stats.support}};
   j["errors"] = json::parse(force_errors_json(v.all));
-  j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
+  if (v0.all.n > 0) j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
   return j;
 }
 
@@ -117,37 +126,61 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.test_seed = o.test_seed;
   fo.params = o.params;
   fo.params.design = design_from_string(o.design);
+  fo.params.features = feature_set_from_string(o.features);
   fo.quick = o.quick;
   fo.keep = o.keep;
+  fo.proxy = o.proxy;
+  fo.baselines = o.baselines;
+  fo.coverage_share = o.coverage_share;
+  fo.seconds_per_spot = o.seconds_per_spot;
+  fo.train_operator = o.train_operator;
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
   json j = object_json(d);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
       "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
-      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us\n",
+      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us; proxy {} (palpation {:.1f} s)\n",
       name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
       v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
       v.sliding.re_median, d.no_proxy.sliding.re_median, d.onset.sliding.re_median,
-      v.model.stats.seconds, j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>());
+      v.model.stats.seconds, j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>(),
+      d.train_track.proxy_source, d.palpation_s);
   return j;
 }
 
 void run_eval_forces(const EvalForcesOptions& o) {
   json out;
   out["units"] = {{"force", "N"}, {"time", "s"}, {"step", "us"}};
-  out["proxy_source"] = "truth";
-  out["contact_source"] = "truth";
+  const bool est = o.proxy == "estimated";
+  out["proxy_source"] = est ? "estimated:sys" : "truth";
+  out["contact_source"] = est ? "estimated:geometric" : "truth";
   out["note"] =
-      "q = the virtual lab's true proxy (truth anchor ax,ay,az) and contact = the truth flag until "
-      "the sliding-yield-surface proxy estimator is available; no_proxy = the same model trained "
-      "on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset position (u = p - p_c "
+      "estimated: q, the normal at q and contact from the friction module's proxy estimator "
+      "(sliding yield surfaces of a palpation of the scene, geometric contact with the palpated "
+      "shape mesh); truth: the virtual lab's true proxy (anchor ax,ay,az) and contact flag; "
+      "errors against the measured force on the truly-in-contact test samples; no_proxy = the "
+      "same model trained on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset "
+      "position (u = p - p_c "
       "of earlier methods); sliding_only = last third of the test run (the explore operator's "
       "sliding-only passage); step_us = servo steps of the with-proxy model in contact";
   out["objects"] = json::array();
   for (const auto& s : o.scenes) out["objects"].push_back(evaluate_object(o, s));
   write_file_atomic(o.json_path, out.dump(1) + "\n");
   fmt::print("report -> {}\n", o.json_path);
+}
+
+/// --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
+/// world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
+/// clamping margin, hard bin switch.
+void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
+  if (!cmd.count("--features")) o.features = "ue_q_v";
+  if (!cmd.count("--bins")) o.params.bins = 5;
+  if (!cmd.count("--tail")) o.params.linear_tail = false;
+  if (!cmd.count("--feature-weights")) o.params.feature_weights = {1.0, 1.0, 1.0};
+  if (!cmd.count("--ridge")) o.params.ridge = 0.0;
+  if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
+  if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
 }
 
 void register_eval_forces(CLI::App& app) {
@@ -157,7 +190,7 @@ void register_eval_forces(CLI::App& app) {
       "Data-driven force model on the virtual lab (thesis 4.5, fig. 4.10-4.14): train on a free-\n"
       "exploration recording, test on a held-out one (another seed; deep pushes, then sliding "
       "only),\n"
-      "with and without the proxy. q = the lab's true proxy until the proxy estimator lands.\n"
+      "with and without the proxy; q from the proxy estimator (or the lab's truth).\n"
       "Units: forces N, times s, step latency us.");
   cmd->add_option("--json", o->json_path, "Report file")->required();
   cmd->add_option("--scenes", o->scenes, "Lab scenes to evaluate")
@@ -166,9 +199,18 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--train-seed", o->train_seed, "Seed of the training recording")
       ->capture_default_str();
   cmd->add_option("--test-seed", o->test_seed, "Seed of the test recording")->capture_default_str();
-  cmd->add_option("--design", o->design, "thesis (A~ M x N_bin) or regression (A~ N_bin x M)")
+  cmd->add_option(
+         "--design", o->design,
+         "thesis (A~ M x N_bin, and the thesis' settings: features ue_q_v, 5 bins, no "
+         "tail, weights 1 1 1, ridge 0, margin 0.1, no bin blend, unless given) or regression "
+         "(A~ N_bin x M)")
       ->capture_default_str()
       ->check(CLI::IsMember({"thesis", "regression"}));
+  cmd->add_option("--features", o->features,
+                  "ue_q_v (q - p, q, pdot), p_v_q (eq. 4.1) or local (q - p, pdot and the force "
+                  "in the surface frame at q)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
   cmd->add_option("--bins", o->params.bins, "Bins by ||q - p||")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
@@ -182,7 +224,11 @@ void register_eval_forces(CLI::App& app) {
                 "Linear tail on every expansion (default on)");
   cmd->add_option(
       "--feature-weights", o->params.feature_weights,
-      "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 3 0.5)");
+      "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
+  cmd->add_option("--bin-blend", o->params.bin_blend,
+                  "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,
@@ -191,8 +237,32 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--threads", o->params.threads, "Training threads (0 = all cores)")
       ->capture_default_str();
   cmd->add_option("--keep", o->keep, "Folder to keep the recordings, truth and models in");
+  cmd->add_option("--proxy", o->proxy,
+                  "estimated (palpate the scene, run the proxy estimator) or truth (the lab's true "
+                  "proxy and contact)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"estimated", "truth"}));
+  cmd->add_option("--train-operator", o->train_operator,
+                  "Training run: coverage (grid of spots, every depth, slides between) or random "
+                  "(the ordinary exploration, as the test run)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"coverage", "random"}));
+  cmd->add_option("--coverage-share", o->coverage_share,
+                  "Coverage training run: share of the run spent on the grid of spots")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--spot-seconds", o->seconds_per_spot,
+                  "Coverage training run: planned seconds per spot (sets the grid spacing)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 10.0));
+  cmd->add_flag("--baselines,!--no-baselines", o->baselines,
+                "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
+                "null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
-  cmd->callback([o] { run_eval_forces(*o); });
+  cmd->callback([o, cmd] {
+    if (o->design == "thesis") apply_thesis_defaults(*o, *cmd);
+    run_eval_forces(*o);
+  });
 }
 
 }  // namespace

@@ -13,6 +13,8 @@
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/datadriven/model_io.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -38,6 +40,27 @@ void add_proxy_options(CLI::App* c, ProxyOptions& o) {
       ->check(CLI::NonNegativeNumber);
 }
 
+/// Normals at q for local-frame models: columns nx,ny,nz when the recording has them, else the
+/// outward normal of the shape mesh (probe-centre surface) closest to q.
+void add_normals(ProxyTrack& t, const Recording& rec, const std::string& path,
+                 const std::string& mesh) {
+  const auto *nx = rec.find_extra("nx"), *ny = rec.find_extra("ny"), *nz = rec.find_extra("nz");
+  t.n.assign(rec.size(), Vec3::UnitZ());
+  if (nx && ny && nz) {
+    for (std::size_t i = 0; i < rec.size(); ++i) t.n[i] = Vec3((*nx)[i], (*ny)[i], (*nz)[i]);
+    return;
+  }
+  if (mesh.empty())
+    throw ParseError(path, 1,
+                     "local-frame features: expected normal columns nx,ny,nz or a shape mesh "
+                     "(--mesh), got neither");
+  const friction::MeshSurface shape(read_mesh(mesh), 0.0);
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    Vec3 c, n;
+    if (t.contact[i] && shape.closest(t.q[i], c, n)) t.n[i] = n;
+  }
+}
+
 ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyOptions& o) {
   return proxy_from_columns(rec, path, o.prefix, o.contact_column, o.contact_threshold);
 }
@@ -54,7 +77,8 @@ struct TrainOptions {
 
 void run_train(TrainOptions o) {
   const Recording rec = read_recording(o.recording);
-  const ProxyTrack track = track_of(rec, o.recording, o.proxy);
+  ProxyTrack track = track_of(rec, o.recording, o.proxy);
+  if (o.features == "local") add_normals(track, rec, o.recording, o.mesh);
   o.foaw.dt = median_dt(rec);
   const TrainingSet set = make_training_set(rec, track, o.foaw);
   fmt::print(stderr, "inhap: {} samples, {} in contact ({}), proxy from {}\n", rec.size(),
@@ -86,7 +110,7 @@ void run_train(TrainOptions o) {
 
 // ------------------------------------------------------------------------------ eval/render
 struct ReplayOptions {
-  std::string model, recording, json, out;
+  std::string model, recording, json, out, mesh;
   ProxyOptions proxy;
 };
 
@@ -99,6 +123,8 @@ struct Replayed {
 Replayed replay_file(const ReplayOptions& o, const ForceModel& m) {
   Replayed r{read_recording(o.recording), {}, {}};
   r.track = track_of(r.rec, o.recording, o.proxy);
+  if (m.features == FeatureSet::kLocalFrame)
+    add_normals(r.track, r.rec, o.recording, o.mesh.empty() ? m.mesh_path : o.mesh);
   r.forces = replay(m, r.rec, r.track);
   return r;
 }
@@ -182,13 +208,20 @@ void register_model(CLI::App& app) {
                  "N_bin x M (rows = every sample, columns = selected samples)")
       ->capture_default_str()
       ->check(CLI::IsMember({"thesis", "regression"}));
-  ct->add_option("--features", tr->features, "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q)")
+  ct->add_option("--features", tr->features,
+                 "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q); local = (q - p, q, pdot) with "
+                 "q - p, pdot and the force in the surface frame at q (normals from columns "
+                 "nx,ny,nz or from --mesh)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"ue_q_v", "p_v_q"}));
+      ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
   ct->add_flag("--tail,!--no-tail", tr->params.linear_tail,
                "Linear polynomial tail on every expansion (default on; the thesis has none)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
+  ct->add_option("--bin-blend", tr->params.bin_blend,
+                 "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   ct->add_option("--threads", tr->params.threads, "Worker threads (0 = all cores)")
       ->capture_default_str();
   ct->add_option("--foaw-window", tr->foaw.max_window, "FOAW window cap, samples")
@@ -210,6 +243,8 @@ void register_model(CLI::App& app) {
   ce->add_option("--recording", ev->recording, "Test recording CSV with proxy columns")->required();
   ce->add_option("--json", ev->json, "Write the error report (N) as JSON here");
   add_proxy_options(ce, ev->proxy);
+  ce->add_option("--mesh", ev->mesh,
+                 "Shape mesh for the normals of a local-frame model (default: the model's)");
   ce->callback([ev] { run_eval(*ev); });
 
   auto rn = std::make_shared<ReplayOptions>();
@@ -221,6 +256,8 @@ void register_model(CLI::App& app) {
                  "CSV to write: t,px,py,pz,fx,fy,fz (rendered),mfx,mfy,mfz (measured),contact")
       ->required();
   add_proxy_options(cr, rn->proxy);
+  cr->add_option("--mesh", rn->mesh,
+                 "Shape mesh for the normals of a local-frame model (default: the model's)");
   cr->callback([rn] { run_render(*rn); });
 }
 

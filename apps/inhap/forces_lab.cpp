@@ -1,9 +1,15 @@
 // Force-model evaluation on the virtual lab (see forces_lab.hpp). Units: mm, N, s; us.
 //
-// Proxy and contact: until the friction module's proxy estimator is wired here, q is the lab's
-// TRUE proxy (truth sidecar ax,ay,az) and contact the truth flag; the tracks say so
-// ("proxy_source": "truth", "contact_source": "truth"). make_tracks() is the one place to
-// switch to the estimated proxy.
+// Proxy and contact (ForceLabOptions::proxy):
+//   estimated (default): the scene is palpated once (palpate_scene: 9 reference points on
+//     planar, 18 on the dome, as `inhap eval sys`), the sliding yield surfaces fitted, and the
+//     friction module's proxy estimator (proxy_step, with creep) is run over the training and
+//     test recordings: q, the surface normal at q and geometric contact with the palpated shape
+//     mesh ("proxy_source": "estimated:sys", "contact_source": "estimated:geometric");
+//   truth: the lab's true proxy (truth sidecar ax,ay,az), the object's normal at it and the truth
+//     contact flag.
+// Scoring is always against the measured force, on the samples the lab says are in contact (the
+// same set for both sources).
 #include "forces_lab.hpp"
 
 #include <fmt/format.h>
@@ -11,15 +17,21 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <unordered_map>
 
 #include "command.hpp"
+#include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/random.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
+#include "inhap/friction/proxy_estimator.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
+#include "inhap/lab/sim_device.hpp"
+#include "sys_lab.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -36,19 +48,95 @@ Durations durations_for(const std::string& scene) {
   return {60.0, 30.0};
 }
 
-/// Proxy q and contact of every sample: here the lab's ground truth (anchor = true proxy).
-ProxyTrack make_tracks(const lab::LabRecording& lr) {
+/// Proxy q, normal and contact of every sample from the lab's ground truth (anchor = true
+/// proxy; normal of the object's surface closest to it).
+ProxyTrack truth_track(const lab::Scene& scene, const lab::LabRecording& lr) {
   const Recording& rec = lr.rec;
   ProxyTrack t;
   t.proxy_source = "truth";
   t.contact_source = "truth";
   t.q.resize(rec.size());
+  t.n.assign(rec.size(), Vec3::UnitZ());
   t.contact.resize(rec.size());
   for (std::size_t i = 0; i < rec.size(); ++i) {
     t.contact[i] = lr.truth.contact[i] != 0 && lr.truth.anchor[i].allFinite();
     t.q[i] = t.contact[i] ? lr.truth.anchor[i] : rec.p[i];
+    if (t.contact[i]) {
+      const lab::SurfaceQuery sq = scene.object.query(t.q[i]);
+      if (std::isfinite(sq.distance) && sq.normal.allFinite()) t.n[i] = sq.normal;
+    }
   }
   return t;
+}
+
+/// Proxy q, normal at q and geometric contact from the friction module's estimator.
+ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
+  friction::ProxyModel model{&pal.sys, pal.shape.get()};
+  friction::ProxyState st;
+  ProxyTrack t;
+  t.proxy_source = "estimated:sys";
+  t.contact_source = "estimated:geometric";
+  t.q.resize(rec.size());
+  t.n.assign(rec.size(), Vec3::UnitZ());
+  t.contact.resize(rec.size());
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const double dt = i ? rec.t[i] - rec.t[i - 1] : 0.0;
+    const friction::ProxyOutput o = friction::proxy_step(model, st, rec.p[i], dt);
+    t.contact[i] = o.contact && o.q.allFinite();
+    t.q[i] = t.contact[i] ? o.q : rec.p[i];
+    if (t.contact[i]) t.n[i] = st.n;
+  }
+  return t;
+}
+
+std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
+  Rng r(seed ^ (0x5851f42d4c957f2dull * (stream + 1)));  // as lab::record_scene
+  return r.next_u64();
+}
+
+/// The ordinary random free exploration (the test run; the training run with "random").
+lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::uint64_t seed,
+                                const std::function<void(double)>& prog) {
+  lab::RecordSpec spec;
+  spec.operator_name = "explore";
+  spec.seconds = seconds;
+  spec.seed = seed;
+  return lab::record_scene(scene, spec, prog);
+}
+
+/// The explore operator's coverage-driven training mode, device set up as lab::record_scene.
+lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::uint64_t seed,
+                                  const ForceLabOptions& o,
+                                  const std::function<void(double)>& prog) {
+  lab::DeviceParams dp;
+  dp.seed = derive_seed(seed, 0);
+  lab::SimDevice device(scene.object, dp);
+  lab::ExploreOptions eo;
+  eo.coverage = true;
+  eo.coverage_share = o.coverage_share;
+  eo.seconds_per_spot = o.seconds_per_spot;
+  auto op = lab::make_explore_operator(scene, derive_seed(seed, 1), seconds, eo);
+  lab::LabRecording r = lab::record(device, *op, seconds, prog);
+  r.comments = {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}", scene.name,
+                            op->name(), seconds, seed)};
+  return r;
+}
+
+/// Estimated vs true proxy of the test run: RMS distance where both are in contact, and the
+/// fraction of samples whose contact flags agree.
+void compare_with_truth(ForceLabResult& d, const ProxyTrack& truth) {
+  double sq = 0;
+  std::size_t both = 0, agree = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    agree += (truth.contact[i] != 0) == (d.test_track.contact[i] != 0);
+    if (truth.contact[i] && d.test_track.contact[i]) {
+      sq += (truth.q[i] - d.test_track.q[i]).squaredNorm();
+      ++both;
+    }
+  }
+  d.proxy_rms_mm =
+      both ? std::sqrt(sq / static_cast<double>(both)) : std::numeric_limits<double>::quiet_NaN();
+  d.contact_agreement = truth.size() ? static_cast<double>(agree) / truth.size() : 0.0;
 }
 
 ForceReplay timed_replay(const ForceModel& m, const Recording& rec, const ProxyTrack& track) {
@@ -58,7 +146,8 @@ ForceReplay timed_replay(const ForceModel& m, const Recording& rec, const ProxyT
   ServoState st;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    r.forces[i] = servo_step(m, st, rec.p[i], track.q[i], track.contact[i] != 0);
+    const Vec3 n = track.n.size() == rec.size() ? track.n[i] : Vec3::UnitZ();
+    r.forces[i] = servo_step(m, st, rec.p[i], track.q[i], n, track.contact[i] != 0);
     const auto t1 = std::chrono::steady_clock::now();
     if (track.contact[i])
       r.step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
@@ -66,24 +155,28 @@ ForceReplay timed_replay(const ForceModel& m, const Recording& rec, const ProxyT
   return r;
 }
 
+/// Statistics of an empty subset (or of a variant not run): n = 0, NaN (written as null).
+ForceErrors no_errors() {
+  ForceErrors e;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  e.ae_mean = e.ae_median = e.re_mean = e.re_median = nan;
+  e.rmse.fill(nan);
+  e.ae_axis_median.fill(nan);
+  return e;
+}
+
 /// Errors over in-contact samples with t >= t_from (and mask[i] when a mask is given); an
 /// empty subset gives n = 0 and NaN statistics (written as null).
-ForceErrors errors_from(const Recording& rec, const ProxyTrack& track, const std::vector<Vec3>& f,
-                        double t_from, const std::vector<char>* mask = nullptr) {
+ForceErrors errors_from(const Recording& rec, const std::vector<char>& contact,
+                        const std::vector<Vec3>& f, double t_from,
+                        const std::vector<char>* mask = nullptr) {
   std::vector<Vec3> r, m;
   for (std::size_t i = 0; i < rec.size(); ++i)
-    if (track.contact[i] && rec.t[i] >= t_from && (!mask || (*mask)[i])) {
+    if (contact[i] && rec.t[i] >= t_from && (!mask || (*mask)[i])) {
       r.push_back(f[i]);
       m.push_back(rec.f[i]);
     }
-  if (r.empty()) {
-    ForceErrors e;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    e.ae_mean = e.ae_median = e.re_mean = e.re_median = nan;
-    e.rmse.fill(nan);
-    e.ae_axis_median.fill(nan);
-    return e;
-  }
+  if (r.empty()) return no_errors();
   return force_errors(r, m);
 }
 
@@ -122,8 +215,30 @@ std::vector<char> coverage(const Recording& train, const ProxyTrack& tr, const R
   return out;
 }
 
-ForceVariant run_variant(const ForceLabResult& d, const ProxyTrack& tr, const ProxyTrack& te,
-                         TrainParams p, const char* what, const std::string& label) {
+/// The test run as replayed: measured and rendered force, q, normal and contact flags.
+void write_replay(const std::string& path, const ForceLabResult& d,
+                  const std::vector<char>& scored) {
+  const std::vector<std::string> comments{
+      "units: t s, p q mm, f (measured) and r (rendered) N; contact = the track's flag, scored = "
+      "the lab's contact flag"};
+  CsvWriter w(path,
+              {"t", "px", "py", "pz", "fx", "fy", "fz", "rx", "ry", "rz", "qx", "qy", "qz", "nx",
+               "ny", "nz", "contact", "scored"},
+              comments);
+  const Recording& rec = d.test.rec;
+  const ProxyTrack& tr = d.test_track;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const Vec3 &p = rec.p[i], &f = rec.f[i], &r = d.proxy.replay.forces[i], &q = tr.q[i];
+    const Vec3 n = tr.n.size() == rec.size() ? tr.n[i] : Vec3::UnitZ();
+    w.row({rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), r.x(), r.y(), r.z(), q.x(), q.y(),
+           q.z(), n.x(), n.y(), n.z(), tr.contact[i] ? 1.0 : 0.0, scored[i] ? 1.0 : 0.0});
+  }
+  w.commit();
+}
+
+ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& scored,
+                         const ProxyTrack& tr, const ProxyTrack& te, TrainParams p,
+                         const char* what, const std::string& label) {
   FoawParams foaw;
   foaw.dt = median_dt(d.train.rec);
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
@@ -135,10 +250,37 @@ ForceVariant run_variant(const ForceLabResult& d, const ProxyTrack& tr, const Pr
   v.model.proxy_source = tr.proxy_source;
   v.train_contact = set.size();
   v.replay = timed_replay(v.model, d.test.rec, te);
-  // Scored against the measured force on the contact samples of the (true) contact flag.
-  v.all = errors_from(d.test.rec, d.test_track, v.replay.forces, -1e300);
-  v.sliding = errors_from(d.test.rec, d.test_track, v.replay.forces, d.t_slide);
+  // Scored against the measured force on the samples the lab says are in contact.
+  v.all = errors_from(d.test.rec, scored, v.replay.forces, -1e300);
+  v.sliding = errors_from(d.test.rec, scored, v.replay.forces, d.t_slide);
   return v;
+}
+
+/// Proxy tracks of both runs from the chosen source (see the file comment); returns the truth
+/// track of the test run (its contact flags are the scoring set).
+ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLabOptions& o,
+                       const std::string& label) {
+  const std::string& name = o.scene;
+  ProxyTrack test_truth = truth_track(scene, d.test);
+  if (o.proxy == "truth") {
+    d.train_track = truth_track(scene, d.train);
+    d.test_track = test_truth;
+    d.proxy_rms_mm = d.contact_agreement = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    ScenePalpationOptions po;
+    po.scene = name;
+    po.seed = o.train_seed;
+    po.quick = o.quick;
+    if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
+    po.progress_label = label + " palpation";
+    const ScenePalpation pal = palpate_scene(po);
+    d.palpation_s = pal.wall_s;
+    d.reference_points = pal.points.size();
+    d.train_track = estimated_track(pal, d.train.rec);
+    d.test_track = estimated_track(pal, d.test.rec);
+    compare_with_truth(d, test_truth);
+  }
+  return test_truth;
 }
 
 }  // namespace
@@ -146,49 +288,64 @@ ForceVariant run_variant(const ForceLabResult& d, const ProxyTrack& tr, const Pr
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   const std::string& name = o.scene;
   const std::string label = o.progress_label.empty() ? name : o.progress_label;
+  if (o.proxy != "estimated" && o.proxy != "truth")
+    throw Error(
+        fmt::format("eval forces: --proxy: expected estimated or truth, got '{}'", o.proxy));
+  if (o.train_operator != "coverage" && o.train_operator != "random")
+    throw Error(fmt::format("eval forces: --train-operator: expected coverage or random, got '{}'",
+                            o.train_operator));
   const lab::Scene scene = lab::builtin_scene(name);
   Durations dur = durations_for(name);
   if (o.quick) dur = {dur.train_s / 2, dur.test_s / 2};
-  auto record = [&](double seconds, std::uint64_t seed, const char* what) {
-    lab::RecordSpec spec;
-    spec.operator_name = "explore";
-    spec.seconds = seconds;
-    spec.seed = seed;
-    return lab::record_scene(scene, spec,
-                             [&](double f) { progress(fmt::format("{} {}", label, what), f, 0); });
+  auto prog = [&](const char* what) {
+    return [&label, what](double f) { progress(fmt::format("{} {}", label, what), f, 0); };
   };
   ForceLabResult d;
   d.name = name;
-  d.train = record(dur.train_s, o.train_seed, "train recording");
-  d.test = record(dur.test_s, o.test_seed, "test recording");
+  d.train = o.train_operator == "coverage"
+                ? record_coverage(scene, dur.train_s, o.train_seed, o, prog("train recording"))
+                : record_random(scene, dur.train_s, o.train_seed, prog("train recording"));
+  d.test = record_random(scene, dur.test_s, o.test_seed, prog("test recording"));
   if (!o.keep.empty()) {
     std::filesystem::create_directories(o.keep);
     lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);
     lab::write_lab_recording(o.keep + "/" + name + "-test.csv", d.test);
   }
-  d.train_track = make_tracks(d.train);
-  d.test_track = make_tracks(d.test);
+  const ProxyTrack test_truth = make_tracks(d, scene, o, label);
   const std::vector<double>& tt = d.test.rec.t;
   d.t_slide = tt.front() + (tt.back() - tt.front()) * 2.0 / 3.0;
   const TrainParams& p = o.params;
+  const std::vector<char>& scored = test_truth.contact;
 
-  d.proxy = run_variant(d, d.train_track, d.test_track, p, "train (proxy)", label);
+  d.proxy = run_variant(d, scored, d.train_track, d.test_track, p, "train (proxy)", label);
   if (d.proxy.all.n == 0)
     throw Error(fmt::format(
         "eval forces: {}: expected samples in contact in the test recording, got none", name));
   if (o.baselines) {
     // Pre-thesis baselines on the same recordings: (p, pdot) only (q = p), and q held at the
     // contact-onset point (u = p - p_c of earlier data-driven methods).
+    // The normals stay those of the proxy's tracks (used by local-frame features only).
     const std::string& cs = d.train_track.contact_source;
-    d.no_proxy = run_variant(d, position_only_track(d.train.rec, d.train_track.contact, cs),
-                             position_only_track(d.test.rec, d.test_track.contact, cs), p,
-                             "train (no proxy)", label);
-    d.onset = run_variant(d, entry_proxy_track(d.train.rec, d.train_track.contact, cs),
-                          entry_proxy_track(d.test.rec, d.test_track.contact, cs), p,
-                          "train (onset proxy)", label);
+    auto with_n = [](ProxyTrack t, const ProxyTrack& from) {
+      t.n = from.n;
+      return t;
+    };
+    d.no_proxy = run_variant(
+        d, scored,
+        with_n(position_only_track(d.train.rec, d.train_track.contact, cs), d.train_track),
+        with_n(position_only_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
+        "train (no proxy)", label);
+    d.onset = run_variant(
+        d, scored, with_n(entry_proxy_track(d.train.rec, d.train_track.contact, cs), d.train_track),
+        with_n(entry_proxy_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
+        "train (onset proxy)", label);
+  }
+  if (!o.baselines) {
+    for (ForceVariant* v : {&d.no_proxy, &d.onset}) v->all = v->sliding = no_errors();
   }
   if (!o.keep.empty()) {
     save_force_model(o.keep + "/" + name + "-model.json", d.proxy.model);
+    write_replay(o.keep + "/" + name + "-test-replay.csv", d, scored);
     if (o.baselines) {
       save_force_model(o.keep + "/" + name + "-model-noproxy.json", d.no_proxy.model);
       save_force_model(o.keep + "/" + name + "-model-onset.json", d.onset.model);
@@ -196,7 +353,7 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   }
   const std::vector<char> covered =
       coverage(d.train.rec, d.train_track, d.test.rec, d.test_track, 3.0);
-  d.covered = errors_from(d.test.rec, d.test_track, d.proxy.replay.forces, -1e300, &covered);
+  d.covered = errors_from(d.test.rec, scored, d.proxy.replay.forces, -1e300, &covered);
   return d;
 }
 

@@ -17,14 +17,34 @@
 
 namespace inhap::cli {
 
+/// Model settings measured best on the lab (docs/force-model.md): local-frame features,
+/// location weight 5, bins blended over +-1 mm around their edge (TrainParams defaults
+/// otherwise).
+inline dd::TrainParams lab_train_params() {
+  dd::TrainParams p;
+  p.features = dd::FeatureSet::kLocalFrame;
+  p.feature_weights = {1.0, 5.0, 0.5};
+  p.bin_blend = 1.0;
+  return p;
+}
+
 struct ForceLabOptions {
   std::string scene;  ///< built-in lab scene (planar, dome, ...)
   std::uint64_t train_seed = 1, test_seed = 2;
-  dd::TrainParams params;      ///< training settings (design included)
-  bool quick = false;          ///< recordings 2x shorter (smoke test)
-  bool baselines = true;       ///< also train the no-proxy and onset-proxy models
-  std::string keep;            ///< folder for recordings and models ("": none)
-  std::string progress_label;  ///< prefix of progress lines ("": the scene name)
+  dd::TrainParams params = lab_train_params();  ///< training settings (design included)
+  bool quick = false;                           ///< recordings 2x shorter (smoke test)
+  bool baselines = true;                        ///< also train the no-proxy and onset-proxy models
+  std::string keep;                             ///< folder for recordings and models ("": none)
+  std::string progress_label;                   ///< prefix of progress lines ("": the scene name)
+  /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
+  /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
+  /// shape mesh) or "truth" (the lab's true proxy and contact flag).
+  std::string proxy = "estimated";
+  /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
+  /// "random" (the ordinary random exploration, as the test run).
+  std::string train_operator = "coverage";
+  double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
+  double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.
@@ -47,8 +67,13 @@ struct ForceLabResult {
   dd::ProxyTrack train_track, test_track;
   double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
   ForceVariant proxy;
-  ForceVariant no_proxy, onset;  ///< empty models when !baselines
-  dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
+  ForceVariant no_proxy, onset;      ///< empty models when !baselines
+  dd::ForceErrors covered;           ///< proxy model on test samples the training run covered
+  double palpation_s = 0;            ///< wall time of the palpation (estimated proxy), s
+  std::size_t reference_points = 0;  ///< palpated reference points (estimated proxy)
+  /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
+  /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.
+  double proxy_rms_mm = 0, contact_agreement = 0;
 };
 
 /// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).

@@ -93,6 +93,7 @@ TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
     s.v.push_back(v[i]);
     s.q.push_back(proxy.q[i]);
     s.f.push_back(rec.f[i]);
+    if (proxy.n.size() == rec.size()) s.n.push_back(proxy.n[i]);
   }
   return s;
 }
@@ -104,7 +105,9 @@ std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const Pr
   ServoState st;
   std::vector<Vec3> out(rec.size());
   for (std::size_t i = 0; i < rec.size(); ++i)
-    out[i] = servo_step(model, st, rec.p[i], proxy.q[i], proxy.contact[i] != 0);
+    out[i] = servo_step(model, st, rec.p[i], proxy.q[i],
+                        proxy.n.size() == rec.size() ? proxy.n[i] : Vec3::UnitZ(),
+                        proxy.contact[i] != 0);
   return out;
 }
 

@@ -19,12 +19,14 @@
 namespace inhap::dd {
 
 const char* to_string(FeatureSet f) {
+  if (f == FeatureSet::kLocalFrame) return "local";
   return f == FeatureSet::kDisplacementProxyVelocity ? "ue_q_v" : "p_v_q";
 }
 
 FeatureSet feature_set_from_string(const std::string& s) {
   if (s == "ue_q_v") return FeatureSet::kDisplacementProxyVelocity;
   if (s == "p_v_q") return FeatureSet::kPositionVelocityProxy;
+  if (s == "local") return FeatureSet::kLocalFrame;
   throw Error(fmt::format("expected feature set 'ue_q_v' or 'p_v_q', got '{}'", s));
 }
 
@@ -48,6 +50,8 @@ void TrainParams::validate() const {
     throw Error(fmt::format("expected a lambda ratio in (0, 1), got {}", lambda_ratio));
   if (!(box_margin >= 0))
     throw Error(fmt::format("expected a box margin >= 0, got {}", box_margin));
+  if (!(bin_blend >= 0) || !std::isfinite(bin_blend))
+    throw Error(fmt::format("expected a bin blend half-width >= 0 mm, got {}", bin_blend));
   for (double w : feature_weights)
     if (!(w > 0) || !std::isfinite(w))
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
@@ -199,8 +203,11 @@ namespace {
 
 void check_training_set(const TrainingSet& data, const TrainParams& params) {
   const std::size_t n = data.size();
-  if (data.v.size() != n || data.q.size() != n || data.f.size() != n)
-    throw Error("force model training: expected p, v, q and f of equal length");
+  if (data.v.size() != n || data.q.size() != n || data.f.size() != n ||
+      (!data.n.empty() && data.n.size() != n))
+    throw Error("force model training: expected p, v, q, f (and n) of equal length");
+  if (params.features == FeatureSet::kLocalFrame && data.n.size() != n)
+    throw Error("force model training: the local-frame features need the normal at q (n)");
   if (n < 2 * static_cast<std::size_t>(params.bins))
     throw Error(fmt::format("force model training: expected at least {} in-contact samples, got {}",
                             2 * params.bins, n));
@@ -247,6 +254,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   model.foaw = foaw;
   model.params = params;
   model.params.progress = nullptr;
+  model.bin_blend = params.bin_blend;
 
   // Equal-count bins by ||q - p|| (stable order for ties).
   std::vector<double> key(n);
@@ -274,9 +282,11 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     double row[kFeatureDim];
     for (Eigen::Index i = 0; i < m; ++i) {
       const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
-      make_features(params.features, data.p[k], data.v[k], data.q[k], row);
+      const SurfaceFrame fr = data.n.empty() ? SurfaceFrame{} : surface_frame(data.n[k]);
+      make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-      f.row(i) = data.f[k].transpose();
+      const bool local = params.features == FeatureSet::kLocalFrame;
+      f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
     }
     results[b] = train_bin(std::move(x), f, params, bi);
     results[b].model.key_min = key[order[s0]];
@@ -373,10 +383,16 @@ Vec3 eval_union(const BinModel& bm, const double* z) {
 }  // namespace
 
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
-  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
-  const BinModel& bm = model.bins[static_cast<std::size_t>(model.bin_of((q - p).norm()))];
+  return model_force(model, p, v, q, Vec3::UnitZ());
+}
+
+namespace {
+
+/// Force of one bin in world axes (unclamped magnitude).
+Vec3 bin_force(const ForceModel& model, const BinModel& bm, const Vec3& p, const Vec3& v,
+               const Vec3& q, const SurfaceFrame& fr) {
   double z[kFeatureDim];
-  make_features(model.features, p, v, q, z);
+  make_features(model.features, p, v, q, fr, z);
   for (int d = 0; d < kFeatureDim; ++d) {
     const auto ud = static_cast<std::size_t>(d);
     z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
@@ -386,6 +402,40 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     f = eval_union(bm, z);
   } else {  // not finalized: per-axis evaluation
     f = Vec3(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
+  }
+  return model.features == FeatureSet::kLocalFrame ? fr.to_world(f) : f;
+}
+
+}  // namespace
+
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                 const Vec3& normal) {
+  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
+  const double key = (q - p).norm();
+  const auto b = static_cast<std::size_t>(model.bin_of(key));
+  const SurfaceFrame fr =
+      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
+  Vec3 f = bin_force(model, model.bins[b], p, v, q, fr);
+  // Within bin_blend of an edge, blend with the neighbouring bin (weight of the upper bin
+  // smoothstep((key - e + w) / 2w)), so the force is continuous across the edge.
+  const double w = model.bin_blend;
+  if (w > 0) {
+    const std::size_t ne = model.edges.size();
+    std::size_t lo = b;  // edge index e_k separates bins k and k + 1
+    double t = -1;
+    if (b < ne && model.edges[b] - key < w) {
+      lo = b;
+      t = (key - model.edges[b] + w) / (2 * w);
+    } else if (b > 0 && key - model.edges[b - 1] < w) {
+      lo = b - 1;
+      t = (key - model.edges[b - 1] + w) / (2 * w);
+    }
+    if (t >= 0) {
+      t = std::clamp(t, 0.0, 1.0);
+      const double s = t * t * (3 - 2 * t);
+      const Vec3 other = bin_force(model, model.bins[lo == b ? b + 1 : b - 1], p, v, q, fr);
+      f = lo == b ? Vec3((1 - s) * f + s * other) : Vec3((1 - s) * other + s * f);
+    }
   }
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();

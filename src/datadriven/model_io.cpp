@@ -159,6 +159,7 @@ std::string force_model_to_json(const ForceModel& m) {
   j["feature_dim"] = kFeatureDim;
   j["rbf"] = "r^3";
   j["force_limit_n"] = m.force_limit;
+  if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
   j["foaw"] = {{"dt_s", m.foaw.dt},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound}};
@@ -239,6 +240,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     r.fail("features", e.what());
   }
   m.force_limit = r.num(r.need(j, "force_limit_n", "(root)"), "force_limit_n");
+  if (j.contains("bin_blend_mm")) {
+    m.bin_blend = r.num(j["bin_blend_mm"], "bin_blend_mm");
+    if (!(m.bin_blend >= 0)) r.fail("bin_blend_mm", "expected >= 0");
+  }
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(

@@ -13,6 +13,11 @@ bool sane(const Vec3& v) {
 
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 bool contact) {
+  return servo_step(model, state, p, q, Vec3::UnitZ(), contact);
+}
+
+Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
+                const Vec3& normal, bool contact) {
   if (!sane(p) || (contact && !sane(q))) {
     state.reset();
     return Vec3::Zero();
@@ -25,7 +30,7 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     return state.force;
   }
   state.bin = model.bin_of((q - p).norm());
-  state.force = model_force(model, p, state.velocity, q);  // finite and clamped
+  state.force = model_force(model, p, state.velocity, q, normal);  // finite and clamped
   return state.force;
 }
 

@@ -6,9 +6,11 @@
 // a feed-forward guess of the depth needed for the reference force (the person's idea of the
 // object's softness and of their own hand compliance) plus an integral correction driven by
 // the delayed perceived normal force.
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <optional>
+#include <vector>
 
 #include "operator_common.hpp"
 
@@ -37,9 +39,10 @@ class ExploreOperator final : public HandOperator {
         tremor_(rng_),
         perception_(0.1, 1000.0) {}
 
-  std::string name() const override { return "explore"; }
+  std::string name() const override { return opt_.coverage ? "explore-coverage" : "explore"; }
 
   void begin(SimDevice& dev) override {
+    if (opt_.coverage) make_spots(false);
     radius_ = dev.probe_radius();
     dt_ = 1.0 / dev.info().servo_rate_hz;
     hand_ = detail::random_hand(rng_, dev.params());
@@ -205,16 +208,71 @@ class ExploreOperator final : public HandOperator {
                       rng_.uniform(4.0, 10.0), f});
   }
 
-  /// Lift (if touching), move above a new point, touch, load to `force`.
-  void add_approach(double force, double load_time) {
+  /// Lift (if touching), move above a new point (random unless given), touch, load to `force`.
+  void add_approach(double force, double load_time, std::optional<Vec2> to = std::nullopt) {
     if (touching_) queue_.push_back({Segment::lift, 2.0});
-    const Vec2 xy = detail::random_in_region(rng_, scene_.region);
+    const Vec2 xy = to ? *to : detail::random_in_region(rng_, scene_.region);
     queue_.push_back({Segment::air_move, 0.0, xy, 0, 0, 0, rng_.uniform(100.0, 250.0)});
     queue_.push_back({Segment::touch, 10.0, Vec2::Zero(), 0, 0, 0, rng_.uniform(15.0, 40.0)});
     queue_.push_back({Segment::press, load_time, Vec2::Zero(), force});
   }
 
+  /// Coverage mode: a hexagonal grid over the region (lattice points up to half a cell outside
+  /// pulled onto the rim) with about coverage_share * seconds / seconds_per_spot spots, in
+  /// serpentine row order; `shift` moves it by half a cell (later passes).
+  void make_spots(bool shift) {
+    const Region& r = scene_.region;
+    const double per_spot = std::max(0.5, opt_.seconds_per_spot) + 1.5 * opt_.stroke_probability;
+    const double n = std::max(4.0, opt_.coverage_share * seconds_ / per_spot);
+    double h = r.radius;  // spacing: n cells of area sqrt(3)/2 h^2 fill the disc of R + h/2
+    for (int it = 0; it < 8; ++it)
+      h = (r.radius + 0.5 * h) * std::sqrt(M_PI / (n * std::sqrt(3.0) / 2));
+    const double dy = h * std::sqrt(3.0) / 2, o = shift ? 0.5 : 0.0;
+    spots_.clear();
+    const int rows = static_cast<int>(std::ceil(r.radius / dy)) + 1;
+    for (int j = -rows, k = 0; j <= rows; ++j) {
+      std::vector<Vec2> row;
+      for (int i = -rows - 1; i <= rows + 1; ++i) {
+        // Lattice points up to half a cell outside the region are pulled onto its rim, so the
+        // rim gets pressed too.
+        const Vec2 d((i + o + 0.5 * (j & 1)) * h, (j + o) * dy);
+        const double dn = d.norm();
+        if (dn <= r.radius + 0.5 * h)
+          row.push_back(r.center + (dn > r.radius ? Vec2(d * (r.radius / dn)) : d));
+      }
+      if (row.empty()) continue;
+      if (k++ & 1) std::reverse(row.begin(), row.end());
+      spots_.insert(spots_.end(), row.begin(), row.end());
+    }
+    next_spot_ = 0;
+  }
+
+  void plan_coverage() {
+    if (next_spot_ >= spots_.size()) make_spots(++passes_ & 1);
+    const Vec2 xy = spots_[next_spot_++];
+    const double f_slide = rng_.uniform(0.7, 2.5);
+    if (!touching_ || coverage_count_++ % 4 == 0) {
+      add_approach(f_slide, rng_.uniform(0.3, 0.5), xy);
+    } else {
+      const double v = rng_.uniform(12.0, 35.0);
+      queue_.push_back({Segment::slide, std::max(0.3, (xy - cursor_).norm() / v), xy, f_slide});
+    }
+    // Load, hold, unload: about 1.2 s at the default 2 s per spot (scaled with it, 0.4 s at least
+    // for the load).
+    const double deep = rng_.uniform(0.8, 0.95) * opt_.max_force;
+    const double s = std::clamp(opt_.seconds_per_spot / 2.0, 0.5, 2.0);
+    queue_.push_back(
+        {Segment::press, std::max(0.3, s * rng_.uniform(0.4, 0.7)), Vec2::Zero(), deep});
+    queue_.push_back({Segment::press, s * rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
+    queue_.push_back(
+        {Segment::press, std::max(0.2, s * rng_.uniform(0.25, 0.4)), Vec2::Zero(), f_slide});
+    // Now and then a long stroke at the usual random speed (8-35 mm/s mean: the random
+    // exploration's strokes cross the region fast), from which the next spot is reached.
+    if (rng_.uniform() < opt_.stroke_probability) add_slide(rng_.uniform(0.7, 2.5));
+  }
+
   void plan(double t) {
+    if (opt_.coverage && t < t_start_ + opt_.coverage_share * seconds_) return plan_coverage();
     const double slide_from = t_start_ + (1.0 - opt_.sliding_fraction) * seconds_;
     if (t >= slide_from - 1.5) {  // sliding-only passage: never leave the surface
       if (!touching_) add_approach(rng_.uniform(0.7, 2.5), rng_.uniform(0.3, 0.6));
@@ -267,6 +325,9 @@ class ExploreOperator final : public HandOperator {
   Vec2 cursor_ = Vec2::Zero(), seg_from_ = Vec2::Zero();
   double t_start_ = 0, seg_t0_ = 0, f_from_ = 0, f_ref_ = 0, depth_ = 0, integ_ = 0;
   bool touching_ = false;
+  std::vector<Vec2> spots_;  // coverage mode: grid of the current pass, in visiting order
+  std::size_t next_spot_ = 0;
+  int passes_ = 0, coverage_count_ = 0;
 };
 
 }  // namespace

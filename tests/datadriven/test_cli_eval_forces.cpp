@@ -1,5 +1,6 @@
 // `inhap eval forces --quick` on the virtual lab: the report has every field the issue asks for,
-// says where q came from, and the proxy model beats the (p, pdot)-only model on sliding.
+// says where q came from (the proxy estimator by default), the estimated proxy is close to the
+// lab's true one, and the proxy model beats the (p, pdot)-only model on sliding.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -19,7 +20,7 @@ TEST(CliEvalForces, QuickReportHasAllFieldsAndTheProxyHelpsOnSliding) {
                           " > " + log + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << read_file(log);
   const auto j = nlohmann::json::parse(read_file(out));
-  EXPECT_EQ(j["proxy_source"], "truth");
+  EXPECT_EQ(j["proxy_source"], "estimated:sys");
   ASSERT_EQ(j["objects"].size(), 1u);
   const auto& o = j["objects"][0];
   EXPECT_EQ(o["name"], "planar");
@@ -31,8 +32,12 @@ TEST(CliEvalForces, QuickReportHasAllFieldsAndTheProxyHelpsOnSliding) {
     for (const char* s : {"mean", "median"}) EXPECT_TRUE(o[k][s].is_number()) << k << s;
   EXPECT_GT(o["train_s"].get<double>(), 0.0);
   EXPECT_GT(o["step_us"]["p99"].get<double>(), 0.0);
-  EXPECT_EQ(o["proxy_source"], "truth");
-  EXPECT_EQ(o["contact_source"], "truth");
+  EXPECT_EQ(o["proxy_source"], "estimated:sys");
+  EXPECT_EQ(o["contact_source"], "estimated:geometric");
+  EXPECT_EQ(o["reference_points"], 4);  // quick palpation: 2 x 2 grid
+  EXPECT_GT(o["palpation_s"].get<double>(), 0.0);
+  EXPECT_LT(o["proxy_vs_truth"]["q_rms_mm"].get<double>(), 0.5);
+  EXPECT_GT(o["proxy_vs_truth"]["contact_agreement"].get<double>(), 0.99);
   const auto& sl = o["sliding_only"];
   EXPECT_GT(sl["samples"].get<int>(), 100);
   EXPECT_LT(sl["re"]["median"].get<double>(), 0.5 * sl["no_proxy_re"]["median"].get<double>());

@@ -68,6 +68,45 @@ TEST(CliModel, TrainEvalRenderRoundTrip) {
     }
 }
 
+TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
+  // On the synthetic flat object (normal +z everywhere) the surface frame is the world frame
+  // exactly, so a local-frame model renders the same forces as the (q - p, q, pdot) model.
+  inhap::test::TempDir dir;
+  SyntheticParams sp;
+  sp.samples = 6000;
+  Recording train = synthetic_recording(sp);
+  write_recording(dir.path("plain.csv"), train);
+  train.set_extra("nx", std::vector<double>(train.size(), 0.0));
+  train.set_extra("ny", std::vector<double>(train.size(), 0.0));
+  train.set_extra("nz", std::vector<double>(train.size(), 1.0));
+  write_recording(dir.path("train.csv"), train);
+  const std::string log = dir.path("log.txt");
+  const std::string common = " --bins 2 --centers 40 --seed 3 --recording " + dir.path("train.csv");
+  ASSERT_EQ(run("model train" + common + " --features local --out " + dir.path("l.json"), log), 0)
+      << read_file(log);
+  ASSERT_EQ(run("model train" + common + " --features ue_q_v --out " + dir.path("w.json"), log), 0)
+      << read_file(log);
+  for (const char* m : {"l", "w"})
+    ASSERT_EQ(run(std::string("model eval --model ") + dir.path(std::string(m) + ".json") +
+                      " --recording " + dir.path("train.csv") + " --json " +
+                      dir.path(std::string(m) + "-eval.json"),
+                  log),
+              0)
+        << read_file(log);
+  const auto el = nlohmann::json::parse(read_file(dir.path("l-eval.json")));
+  const auto ew = nlohmann::json::parse(read_file(dir.path("w-eval.json")));
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("l.json")))["features"], "local");
+  for (const char* a : {"x", "y", "z"})
+    EXPECT_NEAR(el["errors"]["rmse_n"][a].get<double>(), ew["errors"]["rmse_n"][a].get<double>(),
+                1e-9);
+  // Without normal columns and without a mesh, a local-frame model cannot be trained.
+  EXPECT_EQ(run("model train --features local --recording " + dir.path("plain.csv") + " --out " +
+                    dir.path("x.json"),
+                log),
+            1);
+  EXPECT_NE(read_file(log).find("nx,ny,nz"), std::string::npos) << read_file(log);
+}
+
 TEST(CliModel, MissingProxyColumnsIsAnError) {
   inhap::test::TempDir dir;
   write_file_atomic(dir.path("rec.csv"), "t,px,py,pz,fx,fy,fz\n0,0,0,0,0,0,0\n0.001,0,0,0,0,0,0\n");

@@ -18,8 +18,11 @@
 namespace inhap::dd {
 
 struct ProxyTrack {
-  std::vector<Vec3> q;         ///< mm (meaningful where contact)
-  std::vector<char> contact;   ///< 1 in contact
+  std::vector<Vec3> q;        ///< mm (meaningful where contact)
+  std::vector<char> contact;  ///< 1 in contact
+  /// Outward unit surface normal at q per sample (from the proxy estimator's frame or a shape
+  /// mesh); empty when unknown (only FeatureSet::kLocalFrame needs it).
+  std::vector<Vec3> n;
   std::string proxy_source;    ///< "columns", "truth", "entry", ...
   std::string contact_source;  ///< "column:contact", "force>0.05N", "truth", ...
   std::size_t size() const { return q.size(); }

@@ -37,21 +37,50 @@ inline constexpr int kFeatureDim = 9;
 enum class FeatureSet {
   kDisplacementProxyVelocity,  ///< (q - p, q, pdot): "displacement, proxy and velocities" (default)
   kPositionVelocityProxy,      ///< (p, pdot, q) as written in eq. 4.1
+  /// (R (q - p), q, R pdot) with R = the surface frame at q (rows t0, t1, n: tangents and
+  /// outward normal); the force is learnt in that frame too and turned back to world axes when
+  /// rendered. Needs the normal at q (the proxy estimator's frame, or a shape mesh).
+  kLocalFrame,
 };
 const char* to_string(FeatureSet f);
 /// Parses "ue_q_v" or "p_v_q"; throws inhap::Error otherwise.
 FeatureSet feature_set_from_string(const std::string& s);
 
-/// Fills x[0..8] with the raw (unnormalised) features.
-inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Vec3& q, double* x) {
-  const Vec3 a = set == FeatureSet::kDisplacementProxyVelocity ? Vec3(q - p) : p;
-  const Vec3 b = set == FeatureSet::kDisplacementProxyVelocity ? q : v;
-  const Vec3 c = set == FeatureSet::kDisplacementProxyVelocity ? v : q;
+/// Surface frame from an outward normal: t0 = world x projected onto the tangent plane (world y
+/// when x is within ~25 deg of n), t1 = n x t0. A non-finite or zero n gives the world frame.
+struct SurfaceFrame {
+  Vec3 t0 = Vec3::UnitX(), t1 = Vec3::UnitY(), n = Vec3::UnitZ();
+  Vec3 to_local(const Vec3& w) const { return Vec3(t0.dot(w), t1.dot(w), n.dot(w)); }
+  Vec3 to_world(const Vec3& l) const { return l.x() * t0 + l.y() * t1 + l.z() * n; }
+};
+inline SurfaceFrame surface_frame(const Vec3& normal) {
+  SurfaceFrame f;
+  const double len = normal.norm();
+  if (!(len > 1e-9) || !normal.allFinite()) return f;
+  f.n = normal / len;
+  Vec3 t = Vec3::UnitX() - f.n.x() * f.n;
+  if (t.norm() < 0.4) t = Vec3::UnitY() - f.n.y() * f.n;
+  f.t0 = t.normalized();
+  f.t1 = f.n.cross(f.t0);
+  return f;
+}
+
+/// Fills x[0..8] with the raw (unnormalised) features; `frame` is used by kLocalFrame only.
+inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Vec3& q,
+                          const SurfaceFrame& frame, double* x) {
+  const bool local = set == FeatureSet::kLocalFrame;
+  const bool ue = local || set == FeatureSet::kDisplacementProxyVelocity;
+  const Vec3 a = local ? frame.to_local(q - p) : ue ? Vec3(q - p) : p;
+  const Vec3 b = ue ? q : v;
+  const Vec3 c = local ? frame.to_local(v) : ue ? v : q;
   for (int i = 0; i < 3; ++i) {
     x[i] = a[i];
     x[3 + i] = b[i];
     x[6 + i] = c[i];
   }
+}
+inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Vec3& q, double* x) {
+  make_features(set, p, v, q, SurfaceFrame{}, x);
 }
 
 /// In-contact training samples (all vectors the same length).
@@ -60,6 +89,7 @@ struct TrainingSet {
   std::vector<Vec3> v;  ///< probe velocity (FOAW), mm/s
   std::vector<Vec3> q;  ///< proxy, mm
   std::vector<Vec3> f;  ///< measured force, N
+  std::vector<Vec3> n;  ///< outward surface normal at q (empty: +z; used by kLocalFrame)
   std::size_t size() const { return p.size(); }
 };
 
@@ -94,7 +124,11 @@ struct TrainParams {
   /// distances see (x_d - mean_d) / sd_d * weight_group(d).
   std::array<double, 3> feature_weights{1.0, 3.0, 0.5};
   double box_margin = 0.5;  ///< clamping box = training range +- margin * range (per dim)
-  int threads = 0;          ///< worker threads (0 = hardware concurrency)
+  /// Half-width (mm of ||q - p||) of the band around each bin edge in which the two bins'
+  /// forces are blended (smoothstep weights), so the rendered force has no jump at the edge.
+  /// 0 = hard switch (thesis).
+  double bin_blend = 0.0;
+  int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
   void validate() const;  ///< throws inhap::Error on out-of-range values
@@ -133,6 +167,7 @@ struct ForceModel {
   std::vector<BinModel> bins;
   FoawParams foaw;           ///< velocity filter used for training; the renderer uses the same
   double force_limit = 6.2;  ///< output clamp, N (device limit)
+  double bin_blend = 0.0;    ///< mm; see TrainParams::bin_blend
   TrainParams params;        ///< as trained (progress callback not kept)
   TrainStats stats;
   std::string sys_path, mesh_path;       ///< references (may be empty)
@@ -156,6 +191,9 @@ void finalize_model(ForceModel& model);
 /// the three expansions, clamp the magnitude to force_limit. Non-finite input gives zero.
 /// Servo-safe: no allocation, no exceptions.
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
+/// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame).
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                 const Vec3& normal);
 
 /// Checks a model's internal consistency (sizes, finiteness, ordering). Throws inhap::Error
 /// naming what is wrong, prefixed with `where`.

@@ -44,6 +44,10 @@ inline constexpr double kAbsurdPositionMm = 1e5;
 /// model.force_limit.
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 bool contact);
+/// The same with the outward surface normal at q (the proxy estimator's frame; needed by
+/// FeatureSet::kLocalFrame models, ignored by the others). A non-finite normal gives +z.
+Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
+                const Vec3& normal, bool contact);
 
 /// Baseline proxy without the sliding yield surface: q = p_c, the probe centre at contact
 /// onset, held while contact lasts (the "u = p - p_c" of earlier data-driven methods).

@@ -13,7 +13,9 @@
 //   explore  free exploration for force modeling (thesis 4.4.1): pushes up to 5 N, deep pushes,
 //            strokes, rubbing circles, then a sliding-only passage (the last third) that never
 //            leaves the surface; the normal force is regulated like a person would (delayed
-//            feedback on a feed-forward guess).
+//            feedback on a feed-forward guess). ExploreOptions::coverage gives a training mode
+//            that visits the region systematically (grid of spots, each pressed to every depth,
+//            slides between them).
 //   air      moves the probe in free air above the object with tapping-like accelerations
 //            (for compensation tests: the contact force is zero throughout).
 #pragma once
@@ -50,6 +52,17 @@ struct TapOptions {
 struct ExploreOptions {
   double max_force = 5.0;             ///< N
   double sliding_fraction = 1.0 / 3;  ///< final share of the duration that only slides
+  /// Coverage-driven training mode (thesis 4.4.1: the operator explores the whole object): for
+  /// the first coverage_share of the duration a hexagonal grid of spots over the region, spaced
+  /// so that one pass fills that time, is visited row by row (serpentine; rim included); at each
+  /// spot the operator loads to a deep push (0.8-0.95 max_force) and back, so every spot gets
+  /// every depth; between spots it slides at 0.7-2.5 N or (every fourth spot, and at the start)
+  /// lifts and approaches from the air; after a spot, now and then a long random stroke. After that
+  /// the ordinary random exploration follows (its sliding-only passage included).
+  bool coverage = false;
+  double coverage_share = 0.65;     ///< coverage mode: share of the duration spent on the grid
+  double seconds_per_spot = 1.5;    ///< coverage mode: planned time per spot (sets the spacing), s
+  double stroke_probability = 0.3;  ///< coverage mode: chance of a long stroke after a spot
 };
 
 /// The operator names make_operator() accepts: tap, explore, air.
