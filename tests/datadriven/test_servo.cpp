@@ -9,24 +9,7 @@
 #include "dd_fixtures.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/servo.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed))
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_counter.hpp"
 
 namespace inhap::dd {
 namespace {
@@ -102,15 +85,16 @@ TEST(Servo, NoHeapAllocationPerStep) {
     qs.emplace_back(ps.back().x() + rng.uniform(-3, 3), ps.back().y(), 0.0);
   }
   double sink = 0;
-  g_allocations = 0;
-  g_counting = true;
+  const long probe = inhap::test::heap_allocations();
+  ::operator delete(::operator new(16));  // the counter sees allocations
+  ASSERT_EQ(inhap::test::heap_allocations() - probe, 1);
+  const long before = inhap::test::heap_allocations();
   for (int i = 0; i < 5000; ++i)
     sink += servo_step(m, st, ps[static_cast<std::size_t>(i)], qs[static_cast<std::size_t>(i)],
                        ps[static_cast<std::size_t>(i)].z() < 0)
                 .norm();
   servo_step(m, st, Vec3(std::nan(""), 0, 0), Vec3::Zero(), true);  // reset path too
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(inhap::test::heap_allocations() - before, 0);
   EXPECT_GT(sink, 0.0);
 }
 

@@ -14,52 +14,8 @@
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
+#include "support/alloc_counter.hpp"
 #include "support/meshes.hpp"
-
-// --- counting global allocator (whole test_geometry program; forwards to malloc) -----------
-// GCC flags free() on memory from operator new once these replacements are inlined; here the
-// pairing is ours and correct.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const auto al = static_cast<std::size_t>(a);
-  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 using namespace inhap;
 
@@ -507,11 +463,11 @@ TEST(MeshIndex, QueriesDoNotAllocate) {
   std::vector<Vec3> pts(20000);
   for (auto& p : pts) p = random_in(rng, Vec3(-60, -60, -20), Vec3(60, 60, 20));
   // The counter must see allocations at all (else this test could not fail).
-  const std::size_t before_probe = g_allocations.load();
+  const long before_probe = test::heap_allocations();
   { std::vector<double> probe(100); }
-  ASSERT_GT(g_allocations.load(), before_probe);
+  ASSERT_GT(test::heap_allocations(), before_probe);
 
-  const std::size_t before = g_allocations.load();
+  const long before = test::heap_allocations();
   int hits = 0, any = 0, near = 0;
   double sum = 0;
   for (int i = 0; i < 10000; ++i) {
@@ -525,7 +481,7 @@ TEST(MeshIndex, QueriesDoNotAllocate) {
     sum += index.closest_point(a).distance2;
     near += index.closest_point(b, 1.0).valid();
   }
-  EXPECT_EQ(g_allocations.load() - before, 0u);
+  EXPECT_EQ(test::heap_allocations() - before, 0);
   EXPECT_GT(hits, 0);
   EXPECT_EQ(any, hits);
   EXPECT_GT(near, 0);
