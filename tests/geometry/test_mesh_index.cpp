@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "geometry/reference_distance.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
@@ -45,27 +46,7 @@ std::optional<RefHit> ref_segment(const Vec3& a, const Vec3& b, const Vec3& v0, 
   return RefHit{t, Vec3(1 - u - v, u, v)};
 }
 
-Vec3 ref_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 e = b - a;
-  const double l2 = e.squaredNorm();
-  const double s = l2 > 0 ? std::clamp((p - a).dot(e) / l2, 0.0, 1.0) : 0.0;
-  return a + s * e;
-}
-
-// Projection onto the plane when it falls inside, else the nearest of the three edges.
-double ref_distance2(const Vec3& p, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
-  const Vec3 n = (v1 - v0).cross(v2 - v0);
-  const double n2 = n.squaredNorm();
-  if (n2 > 0) {
-    const Vec3 q = p - n * (n.dot(p - v0) / n2);
-    const double b0 = (v2 - v1).cross(q - v1).dot(n), b1 = (v0 - v2).cross(q - v2).dot(n),
-                 b2 = (v1 - v0).cross(q - v0).dot(n);
-    if (b0 >= 0 && b1 >= 0 && b2 >= 0) return (p - q).squaredNorm();
-  }
-  double best = (p - ref_on_segment(p, v0, v1)).squaredNorm();
-  best = std::min(best, (p - ref_on_segment(p, v1, v2)).squaredNorm());
-  return std::min(best, (p - ref_on_segment(p, v2, v0)).squaredNorm());
-}
+using test::ref_distance2;
 
 const Vec3& P(const TriMesh& m, std::int32_t f, int c) {
   return m.positions[m.triangles[f][c]];

@@ -12,6 +12,7 @@
 
 #include "../../src/geometry/bvh_build.hpp"
 #include "../../src/geometry/bvh_obb.hpp"
+#include "geometry/reference_distance.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
 #include "support/meshes.hpp"
@@ -20,29 +21,7 @@ using namespace inhap;
 
 namespace {
 
-Vec3 seg_closest(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 e = b - a;
-  const double l2 = e.squaredNorm();
-  const double s = l2 > 0 ? std::clamp((p - a).dot(e) / l2, 0.0, 1.0) : 0.0;
-  return a + s * e;
-}
-
-// Independent reference: projection onto the plane when inside, else the nearest edge. A
-// (near-)collinear triangle (sin^2 of its angle below 1e-13, width below 3e-7 of its size) is
-// its edges: its plane is not defined well enough to project onto.
-double ref_distance2(const Vec3& p, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
-  const Vec3 n = (v1 - v0).cross(v2 - v0);
-  const double n2 = n.squaredNorm();
-  if (n2 > 1e-13 * (v1 - v0).squaredNorm() * (v2 - v0).squaredNorm()) {
-    const Vec3 q = p - n * (n.dot(p - v0) / n2);
-    if ((v2 - v1).cross(q - v1).dot(n) >= 0 && (v0 - v2).cross(q - v2).dot(n) >= 0 &&
-        (v1 - v0).cross(q - v0).dot(n) >= 0)
-      return (p - q).squaredNorm();
-  }
-  return std::min({(p - seg_closest(p, v0, v1)).squaredNorm(),
-                   (p - seg_closest(p, v1, v2)).squaredNorm(),
-                   (p - seg_closest(p, v2, v0)).squaredNorm()});
-}
+using test::ref_distance2;
 
 double ref_d2(const TriMesh& m, std::size_t f, const Vec3& p) {
   const auto& t = m.triangles[f];
