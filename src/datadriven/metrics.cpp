@@ -24,19 +24,6 @@ double relative_error(double r, double m) {
   return e > 0 ? e / std::max(std::fabs(r), std::fabs(m)) : 0.0;
 }
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const double h = std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
-double median(std::vector<double> v) {
-  return quantile(std::move(v), 0.5);
-}
-
 double mean(const std::vector<double>& v) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   double s = 0;

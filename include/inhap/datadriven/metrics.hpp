@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "inhap/core/stats.hpp"
+
 #include "inhap/core/types.hpp"
 
 namespace inhap::dd {
@@ -25,9 +27,9 @@ double absolute_error(const Vec3& rendered, const Vec3& measured);  ///< eq. 4.2
 double relative_error(const Vec3& rendered, const Vec3& measured);  ///< eq. 4.28
 double relative_error(double rendered, double measured);            ///< eq. 4.30
 
-/// Quantile in [0, 1] with linear interpolation (type 7). Empty input gives NaN.
-double quantile(std::vector<double> values, double q);
-double median(std::vector<double> values);
+/// Quantile (type 7, NaN for no values) and median: inhap/core/stats.hpp.
+using inhap::median;
+using inhap::quantile;
 double mean(const std::vector<double>& values);
 
 struct BoxStats {
