@@ -62,16 +62,9 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   const ScenePalpation r = palpate_scene(po);
   // Elastic limits against the lab's mu at each reference point.
   std::vector<double> rel, rel_measured;
-  const friction::SysModel& m = r.sys;
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    const double mu = r.scene.object.mu_at(m.points[i].position);
-    for (std::size_t j = 0; j < m.f_normal_levels.size(); ++j)
-      for (std::size_t k = 0; k < m.angles.size(); ++k) {
-        const friction::BorderResult& b = m.border(i, j, k).result;
-        const double truth = mu * m.f_normal_levels[j];
-        rel.push_back(std::abs(b.f_limit - truth) / truth);
-        if (!b.extrapolated && !b.no_sliding) rel_measured.push_back(rel.back());
-      }
+  for (const LimitError& e : limit_errors(r)) {
+    rel.push_back(e.rel);
+    if (e.measured) rel_measured.push_back(e.rel);
   }
   // Free exploration with ground truth.
   lab::RecordSpec spec;
@@ -86,15 +79,15 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   const ProxyErrors pe = proxy_errors(r, lab, true), pr = proxy_errors(r, lab, false);
   json j;
   j["name"] = name;
-  j["reference_points"] = m.points.size();
+  j["reference_points"] = r.sys.points.size();
   j["limit_rel_error"] = {{"median", quantile(rel, 0.5)}, {"max", quantile(rel, 1.0)}};
   j["proxy_error_mm"] = {{"median", quantile(pe.err, 0.5)}, {"p95", quantile(pe.err, 0.95)}};
   j["palpation_sim_hours"] = static_cast<double>(r.ticks) / 3.6e6;
   j["palpation_wall_s"] = r.wall_s;
   // Extras (documented in docs/sliding-yield-surface.md).
-  j["palpation_wall_s_per_point"] = r.wall_s / static_cast<double>(m.points.size());
+  j["palpation_wall_s_per_point"] = r.wall_s / static_cast<double>(r.sys.points.size());
   j["palpation_cpu_s"] = r.cpu_s;
-  j["palpation_cpu_s_per_point"] = r.cpu_s / static_cast<double>(m.points.size());
+  j["palpation_cpu_s_per_point"] = r.cpu_s / static_cast<double>(r.sys.points.size());
   j["cycles"] = r.cycles.size();
   j["limits"] = rel.size();
   j["limit_rel_error_measured"] = {{"median", quantile(rel_measured, 0.5)},

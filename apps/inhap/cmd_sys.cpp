@@ -100,6 +100,27 @@ TriMesh shape_height_field(const lab::Scene& sc, double probe_radius, double hal
 
 }  // namespace
 
+std::vector<LimitError> limit_errors(const ScenePalpation& p) {
+  std::vector<LimitError> out;
+  const friction::SysModel& m = p.sys;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    const double mu = p.scene.object.mu_at(m.points[i].position);
+    for (std::size_t j = 0; j < m.f_normal_levels.size(); ++j)
+      for (std::size_t k = 0; k < m.angles.size(); ++k) {
+        const friction::BorderResult& b = m.border(i, j, k).result;
+        LimitError e;
+        e.point = i, e.level = j, e.direction = k;
+        e.f_limit = b.f_limit;
+        e.truth = mu * m.f_normal_levels[j];
+        e.rel = std::abs(b.f_limit - e.truth) / e.truth;
+        e.extrapolated = b.extrapolated;
+        e.measured = !b.extrapolated && !b.no_sliding;
+        out.push_back(e);
+      }
+  }
+  return out;
+}
+
 ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
   using namespace inhap::friction;
   ScenePalpation r;

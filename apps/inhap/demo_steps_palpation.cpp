@@ -139,25 +139,19 @@ Figure yield_figure(const cli::ScenePalpation& p, double mu) {
 
 // Every elastic limit against the lab's mu at its reference point: relative errors of all and of
 // the measured (not extrapolated) limits; returns them as CSV.
-std::string limit_errors(const cli::ScenePalpation& p, std::vector<double>& rel,
-                         std::vector<double>& rel_measured) {
+std::string limit_errors_csv(const cli::ScenePalpation& p, std::vector<double>& rel,
+                             std::vector<double>& rel_measured) {
   const friction::SysModel& m = p.sys;
   std::string limits =
       "# units: positions mm, forces N; f_limit = elastic limit found, truth = lab mu * f_N\n"
       "point,x,y,z,f_normal,direction_rad,f_limit,truth,rel_error,extrapolated\n";
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    const double mu = p.scene.object.mu_at(m.points[i].position);
-    for (std::size_t j = 0; j < m.f_normal_levels.size(); ++j)
-      for (std::size_t k = 0; k < m.angles.size(); ++k) {
-        const friction::BorderResult& b = m.border(i, j, k).result;
-        const double truth = mu * m.f_normal_levels[j];
-        rel.push_back(std::abs(b.f_limit - truth) / truth);
-        if (!b.extrapolated && !b.no_sliding) rel_measured.push_back(rel.back());
-        const Vec3& x = m.points[i].position;
-        limits += fmt::format("{},{:.3f},{:.3f},{:.3f},{:g},{:.4f},{:.4f},{:.4f},{:.4f},{}\n", i,
-                              x.x(), x.y(), x.z(), m.f_normal_levels[j], m.angles[k], b.f_limit,
-                              truth, rel.back(), b.extrapolated ? 1 : 0);
-      }
+  for (const cli::LimitError& e : cli::limit_errors(p)) {
+    rel.push_back(e.rel);
+    if (e.measured) rel_measured.push_back(e.rel);
+    const Vec3& x = m.points[e.point].position;
+    limits += fmt::format("{},{:.3f},{:.3f},{:.3f},{:g},{:.4f},{:.4f},{:.4f},{:.4f},{}\n", e.point,
+                          x.x(), x.y(), x.z(), m.f_normal_levels[e.level], m.angles[e.direction],
+                          e.f_limit, e.truth, e.rel, e.extrapolated ? 1 : 0);
   }
   return limits;
 }
@@ -181,7 +175,7 @@ StepResult step_palpation(const Context& c) {
   friction::write_sys_json(c.file(r, "dome_sys.json"), m);
 
   std::vector<double> rel, rel_measured;
-  write_file_atomic(c.file(r, "dome_elastic_limits.csv"), limit_errors(p, rel, rel_measured));
+  write_file_atomic(c.file(r, "dome_elastic_limits.csv"), limit_errors_csv(p, rel, rel_measured));
   const double mu0 = p.scene.object.mu_at(m.points[0].position);
   std::string steps =
       "# units: f N, u^p mm; first reference point, direction 0 (fig. 4.7)\n"

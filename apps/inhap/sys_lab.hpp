@@ -40,6 +40,18 @@ struct ScenePalpation {
 /// interface (hand detached) and fits the sliding yield surfaces. Throws inhap::Error.
 ScenePalpation palpate_scene(const ScenePalpationOptions& options);
 
+/// One elastic limit of a palpated lab scene against the lab's truth mu * f_N.
+struct LimitError {
+  std::size_t point = 0, level = 0, direction = 0;  ///< indices into sys points / f_N / angles
+  double f_limit = 0, truth = 0;                    ///< N
+  double rel = 0;                                   ///< |f_limit - truth| / truth
+  bool extrapolated = false;                        ///< the border lay beyond the largest f_T step
+  bool measured = false;  ///< found by the border (not extrapolated, sliding seen)
+};
+
+/// Every elastic limit of `p.sys` against the scene's mu at its reference point.
+std::vector<LimitError> limit_errors(const ScenePalpation& p);
+
 /// Reference point positions (x, y) on the scene's region from a --points spec.
 std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec);
 
