@@ -280,7 +280,8 @@ const CTree& cgal(Scene& s) {
 // --- result table ----------------------------------------------------------------------------
 struct Row {
   double build_ms = NAN, mbytes = NAN, seg_p50 = NAN, seg_p99 = NAN, cp_p50 = NAN, cp_p99 = NAN,
-         near_p50 = NAN, near_p99 = NAN, path_p50 = NAN, path_p99 = NAN;
+         near_p50 = NAN, near_p99 = NAN, path_p50 = NAN, path_p99 = NAN, hint_p50 = NAN,
+         hint_p99 = NAN;
 };
 std::map<std::string, Row> g_rows;  // "scene / method"
 
@@ -429,6 +430,35 @@ void bm_closest_ours(benchmark::State& state, int which, int kind) {
   state.counters["exact"] = static_cast<double>(st.exact) / kChecked;
 }
 
+// The servo path as a servo loop queries it: each query hinted with the previous answer's
+// triangle (MeshIndex::closest_point(p, max_distance, hint)).
+void bm_closest_path_hint(benchmark::State& state, int which) {
+  Scene& s = scene(which);
+  const MeshIndex& index = ours(s);
+  Row& row = g_rows[s.name + " / inhap"];
+  std::int32_t prev = -1;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  time_queries(
+      state,
+      [&](std::size_t i) {
+        const inhap::ClosestPoint c = index.closest_point(s.path[i], kInf, prev);
+        prev = c.triangle;
+        return c.distance2;
+      },
+      row.hint_p50, row.hint_p99);
+  MeshIndex::QueryStats st;
+  prev = -1;
+  double max_dd = 0;
+  for (int i = 0; i < kChecked; ++i) {
+    const inhap::ClosestPoint c = index.closest_point_counted(s.path[i], kInf, st, prev);
+    max_dd = std::max(max_dd, std::abs(c.distance2 - index.closest_point(s.path[i]).distance2));
+    prev = c.triangle;
+  }
+  state.counters["nodes"] = static_cast<double>(st.nodes) / kChecked;
+  state.counters["exact"] = static_cast<double>(st.exact) / kChecked;
+  state.counters["max_distance2_diff"] = max_dd;  // against the unhinted query: must be ~0
+}
+
 void bm_closest_cgal(benchmark::State& state, int which, int kind) {
   Scene& s = scene(which);
   const CTree& tree = cgal(s);
@@ -470,6 +500,7 @@ void register_all() {
                                      ours ? bm_closest_ours : bm_closest_cgal, w, kind)
             ->Unit(benchmark::kMicrosecond);
     }
+    reg("closest_path_hint/inhap", bm_closest_path_hint);
   }
 }
 
@@ -484,15 +515,16 @@ void print_table() {
       std::snprintf(b, 32, fmt, v);
     return b;
   };
-  std::printf("\n%-28s %8s %8s | %-19s | %-19s | %-19s | %-19s\n", "mesh / method", "build ms",
-              "heap MB", "first hit p50/p99", "closest 5mm p50/p99", "closest .5mm p50/p99",
-              "closest path p50/p99");
+  std::printf("\n%-28s %8s %8s | %-19s | %-19s | %-19s | %-19s | %-19s\n", "mesh / method",
+              "build ms", "heap MB", "first hit p50/p99", "closest 5mm p50/p99",
+              "closest .5mm p50/p99", "closest path p50/p99", "path hinted p50/p99");
   for (const auto& [name, r] : g_rows) {
     std::printf("%-28s %8s %8s | ", name.c_str(), f(r.build_ms, "%.0f"), f(r.mbytes, "%.1f"));
     std::printf("%8s / %8s | ", f(r.seg_p50, "%.2f"), f(r.seg_p99, "%.2f"));
     std::printf("%8s / %8s | ", f(r.cp_p50, "%.2f"), f(r.cp_p99, "%.2f"));
     std::printf("%8s / %8s | ", f(r.near_p50, "%.2f"), f(r.near_p99, "%.2f"));
-    std::printf("%8s / %8s\n", f(r.path_p50, "%.2f"), f(r.path_p99, "%.2f"));
+    std::printf("%8s / %8s | ", f(r.path_p50, "%.2f"), f(r.path_p99, "%.2f"));
+    std::printf("%8s / %8s\n", f(r.hint_p50, "%.2f"), f(r.hint_p99, "%.2f"));
   }
   std::printf(
       "(latencies in microseconds per query; CGAL closest uses the same tree as CGAL ray)\n");

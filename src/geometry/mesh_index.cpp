@@ -348,6 +348,8 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
   }
   obbs_ = to_child_obb_nodes<NodeObb>(bvh.nodes, detail::build_obbs(bvh, verts));
   tri_ids_ = std::move(bvh.order);
+  slots_.resize(nf);
+  for (std::size_t s = 0; s < nf; ++s) slots_[tri_ids_[s]] = static_cast<std::int32_t>(s);
 }
 
 Box3 MeshIndex::bounds() const {
@@ -356,7 +358,8 @@ Box3 MeshIndex::bounds() const {
 
 std::size_t MeshIndex::memory_bytes() const {
   return sizeof(*this) + nodes_.capacity() * sizeof(Node) + obbs_.capacity() * sizeof(NodeObb) +
-         tris_.capacity() * sizeof(TriData) + tri_ids_.capacity() * sizeof(std::int32_t);
+         tris_.capacity() * sizeof(TriData) +
+         (tri_ids_.capacity() + slots_.capacity()) * sizeof(std::int32_t);
 }
 
 std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) const {
@@ -463,17 +466,24 @@ struct CountStats {
 
 ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const {
   NoStats stats;
-  return closest_impl(p, max_distance, stats);
+  return closest_impl(p, max_distance, -1, stats);
 }
 
-ClosestPoint MeshIndex::closest_point_counted(const Vec3& p, double max_distance,
-                                              QueryStats& stats) const {
+ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance,
+                                      std::int32_t hint_triangle) const {
+  NoStats stats;
+  return closest_impl(p, max_distance, hint_triangle, stats);
+}
+
+ClosestPoint MeshIndex::closest_point_counted(const Vec3& p, double max_distance, QueryStats& stats,
+                                              std::int32_t hint_triangle) const {
   CountStats counter{stats};
-  return closest_impl(p, max_distance, counter);
+  return closest_impl(p, max_distance, hint_triangle, counter);
 }
 
 template <class Stats>
-ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& stats) const {
+ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::int32_t hint,
+                                     Stats& stats) const {
   ClosestPoint out;
   if (tris_.empty() || !p.allFinite() || !(max_distance >= 0)) return out;
   struct Entry {
@@ -485,6 +495,19 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, Stats& 
   double best_d2 = max_distance * max_distance;
   std::int32_t best_slot = -1;
   Vec3 best_bary = Vec3::Zero();
+  if (hint >= 0 && static_cast<std::size_t>(hint) < slots_.size()) {
+    // Warm start: the hint's distance bounds the search from the first node on.
+    const std::int32_t s = slots_[hint];
+    const TriData& tri = tris_[s];
+    stats.exact();
+    const Vec3 w = closest_bary(p, tri);
+    const double d2 = (p - (w[0] * tri.v0 + w[1] * tri.v1 + w[2] * tri.v2)).squaredNorm();
+    if (d2 <= best_d2) {
+      best_d2 = d2;
+      best_slot = s;
+      best_bary = w;
+    }
+  }
   const double eq = detail::obb_project_error(p);
   // A subtree at lower bound d2 can still improve the answer (ties only while none is found).
   auto open = [&](double d2) { return d2 < best_d2 || (best_slot < 0 && d2 <= best_d2); };

@@ -71,6 +71,13 @@ class MeshIndex {
   ClosestPoint closest_point(const Vec3& p,
                              double max_distance = std::numeric_limits<double>::infinity()) const;
 
+  /// closest_point() warm-started from a triangle that is probably near the answer, typically
+  /// the previous servo tick's (`ClosestPoint::triangle`): the hint's distance is the first
+  /// bound, so the search prunes from the start. Same answer as without the hint (an equally near
+  /// triangle may be reported instead); a hint that is -1, out of range or far away only costs
+  /// one point-triangle test.
+  ClosestPoint closest_point(const Vec3& p, double max_distance, std::int32_t hint_triangle) const;
+
   /// Work done by one query (diagnostics and benchmarks; not needed by callers).
   struct QueryStats {
     std::int64_t nodes = 0;      ///< inner nodes visited
@@ -78,7 +85,8 @@ class MeshIndex {
     std::int64_t exact = 0;      ///< triangles that needed the full point-triangle test
   };
   /// closest_point() that also adds its work to `stats` (same result, a little slower).
-  ClosestPoint closest_point_counted(const Vec3& p, double max_distance, QueryStats& stats) const;
+  ClosestPoint closest_point_counted(const Vec3& p, double max_distance, QueryStats& stats,
+                                     std::int32_t hint_triangle = -1) const;
 
   std::size_t num_triangles() const { return tri_ids_.size(); }
   Box3 bounds() const;
@@ -86,7 +94,8 @@ class MeshIndex {
 
  private:
   template <class Stats>
-  ClosestPoint closest_impl(const Vec3& p, double max_distance, Stats& stats) const;
+  ClosestPoint closest_impl(const Vec3& p, double max_distance, std::int32_t hint,
+                            Stats& stats) const;
 
   // Inner node with the bounds of both children: one 64-byte cache line per visited node.
   struct alignas(64) Node {
@@ -111,6 +120,7 @@ class MeshIndex {
   detail::IndexVector<NodeObb> obbs_;  // parallel to nodes_
   detail::IndexVector<TriData> tris_;  // leaf order
   std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
+  std::vector<std::int32_t> slots_;    // original triangle id -> leaf slot (for hints)
   Box3 bounds_;                        // exact bounds of all vertices
 };
 
