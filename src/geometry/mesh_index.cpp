@@ -273,9 +273,9 @@ inline bool obb_pays(const N& n, int c, double best_d2) {
 // Lower bound of the squared distance from p to the triangles under child c of node n: its
 // axis-aligned box distance, then, if that still leaves it open and obb_pays, the max with its
 // oriented box distance (both are lower bounds: docs/spatial-queries.md, "Oriented bounds").
-template <class N, class OV, class Open>
-inline double child_bound(const N& n, const OV& obbs, std::int32_t i, int c, const Vec3& p,
-                          double eq, double best_d2, Open&& open) {
+template <class N, class O, class Open>
+inline double child_bound(const N& n, const O& obb, int c, const Vec3& p, double eq, double best_d2,
+                          Open&& open) {
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
     const double lo = n.lo[k][c], hi = n.hi[k][c];
@@ -283,7 +283,7 @@ inline double child_bound(const N& n, const OV& obbs, std::int32_t i, int c, con
     d2 += g * g;
   }
   if (!open(d2) || !obb_pays(n, c, best_d2)) return d2;
-  return std::max(d2, detail::obb_distance2(obbs[i].child[c], p, eq));
+  return std::max(d2, detail::obb_distance2(obb.child[c], p, eq));
 }
 
 // 0 or 1: the child whose box centre is nearer to p.
@@ -299,19 +299,21 @@ inline int nearer_centre(const N& n, const Vec3& p) {
   return d1 < d0 ? 1 : 0;
 }
 
-// Starts loading a subtree that will probably be visited soon (a stack push).
+// Starts loading a subtree that will probably be visited soon (a stack push): an inner node's
+// boxes (and its oriented boxes, for distance queries), or all lines of a leaf's triangles.
 template <class NV, class TV>
-inline void prefetch(const NV& nodes, const TV& tris, Ref r) {
+inline void prefetch(const NV& nodes, const TV& tris, Ref r, bool with_obb) {
 #if defined(__GNUC__)
   if (r.count == 0) {
     __builtin_prefetch(&nodes[r.index]);
+    if (with_obb) __builtin_prefetch(&nodes[r.index].obb);
   } else {
     const char* p = reinterpret_cast<const char*>(&tris[r.index]);
     const char* end = reinterpret_cast<const char*>(&tris[r.index] + r.count);
     for (; p < end; p += 64) __builtin_prefetch(p);
   }
 #else
-  (void)nodes, (void)tris, (void)r;
+  (void)nodes, (void)tris, (void)r, (void)with_obb;
 #endif
 }
 
@@ -338,7 +340,7 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
   }
   detail::BvhBuild bvh = detail::build_bvh(std::move(boxes));
   assert(bvh.max_depth <= detail::kBvhMaxDepth);
-  nodes_ = to_child_box_nodes<Node>(bvh.nodes);
+  const auto boxes_only = to_child_box_nodes<Node>(bvh.nodes);
   tris_.resize(nf);
   std::vector<Vec3> verts(3 * nf);  // slot order, for the oriented boxes
   for (std::size_t s = 0; s < nf; ++s) {
@@ -346,7 +348,9 @@ MeshIndex::MeshIndex(const TriMesh& mesh) {
     tris_[s] = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
     for (int c = 0; c < 3; ++c) verts[3 * s + c] = mesh.positions[t[c]];
   }
-  obbs_ = to_child_obb_nodes<NodeObb>(bvh.nodes, detail::build_obbs(bvh, verts));
+  const auto obbs = to_child_obb_nodes<NodeObb>(bvh.nodes, detail::build_obbs(bvh, verts));
+  nodes_.resize(boxes_only.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) nodes_[i] = {boxes_only[i], obbs[i]};
   tri_ids_ = std::move(bvh.order);
   slots_.resize(nf);
   for (std::size_t s = 0; s < nf; ++s) slots_[tri_ids_[s]] = static_cast<std::int32_t>(s);
@@ -357,8 +361,7 @@ Box3 MeshIndex::bounds() const {
 }
 
 std::size_t MeshIndex::memory_bytes() const {
-  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + obbs_.capacity() * sizeof(NodeObb) +
-         tris_.capacity() * sizeof(TriData) +
+  return sizeof(*this) + nodes_.capacity() * sizeof(NodeRec) + tris_.capacity() * sizeof(TriData) +
          (tri_ids_.capacity() + slots_.capacity()) * sizeof(std::int32_t);
 }
 
@@ -398,7 +401,7 @@ std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) con
         }
       }
     } else {
-      const Node& n = nodes_[cur.index];
+      const Node& n = nodes_[cur.index].node;
       double t[2] = {0, 0};
       const bool h0 = hit_box(n, 0, ray, best_t, t[0]);
       const bool h1 = hit_box(n, 1, ray, best_t, t[1]);
@@ -406,7 +409,7 @@ std::optional<SegmentHit> MeshIndex::first_hit(const Vec3& a, const Vec3& b) con
         const int near = h0 && (!h1 || t[0] <= t[1]) ? 0 : 1;
         if (h0 && h1) {  // far child later, near child now
           stack[sp++] = {child_ref(n, 1 - near), t[1 - near]};
-          prefetch(nodes_, tris_, stack[sp - 1].ref);
+          prefetch(nodes_, tris_, stack[sp - 1].ref, false);
         }
         cur = child_ref(n, near);
         continue;
@@ -442,7 +445,7 @@ bool MeshIndex::any_hit(const Vec3& a, const Vec3& b) const {
       }
       continue;
     }
-    const Node& n = nodes_[r.index];
+    const Node& n = nodes_[r.index].node;
     double tnear;
     for (int c = 1; c >= 0; --c)
       if (hit_box(n, c, ray, 1.0, tnear)) stack[sp++] = child_ref(n, c);
@@ -543,23 +546,22 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
       }
     } else {
       stats.node();
-      const Node& n = nodes_[cur.index];
-      const double d[2] = {child_bound(n, obbs_, cur.index, 0, p, eq, best_d2, open),
-                           child_bound(n, obbs_, cur.index, 1, p, eq, best_d2, open)};
+      const Node& n = nodes_[cur.index].node;
+      const NodeObb& o = nodes_[cur.index].obb;
+      const double d[2] = {child_bound(n, o, 0, p, eq, best_d2, open),
+                           child_bound(n, o, 1, p, eq, best_d2, open)};
       // Nearer bound first; equal (e.g. both 0 near the surface): nearer box centre first.
       const int near = d[0] != d[1] ? (d[1] < d[0] ? 1 : 0) : nearer_centre(n, p);
       if (open(d[near])) {
         if (open(d[1 - near])) {
           stack[sp++] = {child_ref(n, 1 - near), d[1 - near]};
-          prefetch(nodes_, tris_, stack[sp - 1].ref);
-          if (stack[sp - 1].ref.count == 0 && obb_pays(n, 1 - near, best_d2))
-            prefetch_line(&obbs_[stack[sp - 1].ref.index]);
+          prefetch(nodes_, tris_, stack[sp - 1].ref, true);
         }
         cur = child_ref(n, near);
         if (cur.count > 0)
-          prefetch(nodes_, tris_, cur);  // all lines of the leaf at once
+          prefetch(nodes_, tris_, cur, false);  // all lines of the leaf at once
         else if (obb_pays(n, near, best_d2))
-          prefetch_line(&obbs_[cur.index]);
+          prefetch_line(&nodes_[cur.index].obb);
         continue;
       }
     }
