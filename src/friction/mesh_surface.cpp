@@ -22,10 +22,17 @@ MeshSurface::MeshSurface(const TriMesh& mesh, double probe_radius)
 
 bool MeshSurface::closest(const Vec3& p, Vec3& point, Vec3& normal,
                           double max_distance) const noexcept {
+  std::int32_t no_hint = -1;
+  return closest(p, point, normal, max_distance, no_hint);
+}
+
+bool MeshSurface::closest(const Vec3& p, Vec3& point, Vec3& normal, double max_distance,
+                          std::int32_t& hint) const noexcept {
   if (!p.allFinite()) return false;
   // The mesh is the offset surface's base: search radius + max_distance around p.
-  const ClosestPoint cp = index_.closest_point(p, max_distance + radius_);
+  const ClosestPoint cp = index_.closest_point(p, max_distance + radius_, hint);
   if (!cp.valid()) return false;
+  hint = cp.triangle;
   const Tri& t = tris_[cp.triangle];
   Vec3 n =
       cp.bary.x() * normals_[t[0]] + cp.bary.y() * normals_[t[1]] + cp.bary.z() * normals_[t[2]];

@@ -1,6 +1,7 @@
 #include "inhap/friction/proxy_estimator.hpp"
 
 #include <array>
+#include <limits>
 
 #include "inhap/friction/palpation.hpp"
 
@@ -8,13 +9,15 @@ namespace inhap::friction {
 
 namespace {
 
+constexpr double kNoBound = std::numeric_limits<double>::infinity();
+
 void set_frame(ProxyState& s, const Vec3& n, const Vec3& reference) noexcept {
   s.n = n;
   tangent_basis(n, reference, s.t0, s.t1);
 }
 
 ProxyOutput no_contact(ProxyState& s, const Vec3& p) noexcept {
-  reset(s);
+  reset(s);  // keeps shape_hint: it is only a hint
   ProxyOutput out;
   out.q = p.allFinite() ? p : Vec3::Zero();
   return out;
@@ -43,7 +46,8 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
   const SysModel& sys = *m.sys;
   if (!s.contact) {
     Vec3 c, n;
-    if (!m.shape->closest(p, c, n) || !c.allFinite() || !n.allFinite()) return no_contact(s, p);
+    if (!m.shape->closest(p, c, n, kNoBound, s.shape_hint) || !c.allFinite() || !n.allFinite())
+      return no_contact(s, p);
     if (!((c - p).dot(n) > 0.0)) return no_contact(s, p);
     s.contact = true;
     s.pc = s.q = c;
@@ -75,8 +79,9 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
     Vec3 c, n;
     // q lies in the tangent plane at the old proxy, close to the surface: a bounded search first.
     const double bound = 1.0 + (q - s.q).norm();
-    if ((m.shape->closest(q, c, n, bound) || m.shape->closest(q, c, n)) && c.allFinite() &&
-        n.allFinite()) {
+    if ((m.shape->closest(q, c, n, bound, s.shape_hint) ||
+         m.shape->closest(q, c, n, kNoBound, s.shape_hint)) &&
+        c.allFinite() && n.allFinite()) {
       q = c;
       set_frame(s, n, sys.tangent_reference);
     }

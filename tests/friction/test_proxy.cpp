@@ -152,6 +152,35 @@ TEST(ProxyEstimator, StepDoesNotAllocate) {
   EXPECT_GT(sliding, 100);
 }
 
+// The warm-started query of MeshSurface (what proxy_step uses every tick) answers exactly as
+// the plain one, whatever the hint holds, and leaves the answer's triangle in it.
+TEST(ProxyEstimator, MeshSurfaceHintNeverChangesTheAnswer) {
+  Grid g(41, 41);
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j)
+      g.at(j, i) = 3.0 * std::cos(0.1 * (i - 20)) * std::cos(0.1 * (j - 20));
+  const TriMesh mesh = grid_to_mesh(g, 1.0);
+  for (const double radius : {0.0, 1.5}) {
+    const MeshSurface surface(mesh, radius);
+    std::int32_t hint = -1;
+    for (int i = 0; i < 3000; ++i) {
+      const double t = i * 1e-3;
+      const Vec3 p(20 + 15 * std::sin(0.7 * t), 20 + 15 * std::sin(1.1 * t),
+                   1.0 + 4.0 * std::sin(3.0 * t));
+      Vec3 c0, n0, c1, n1, c2, n2;
+      ASSERT_TRUE(surface.closest(p, c0, n0));
+      ASSERT_TRUE(surface.closest(p, c1, n1, 1e9, hint));
+      std::int32_t garbage = (i % 2) ? 123456789 : static_cast<std::int32_t>(i % 3200);
+      ASSERT_TRUE(surface.closest(p, c2, n2, 1e9, garbage));
+      EXPECT_LT((c1 - c0).norm(), 1e-9);
+      EXPECT_LT((c2 - c0).norm(), 1e-9);
+      EXPECT_LT((n1 - n0).norm(), 1e-6);
+      EXPECT_GE(hint, 0);
+      EXPECT_LT(hint, static_cast<std::int32_t>(mesh.num_triangles()));
+    }
+  }
+}
+
 // End to end against ground truth: drive the fake device (ideal Coulomb, mu known) by force,
 // estimate the proxy from its positions with the analytic SYS, compare with the true anchor.
 TEST(ProxyEstimator, MatchesTheTrueAnchorOfACoulombContact) {

@@ -25,6 +25,9 @@ class MeshSurface final : public ShapeQuery {
   using ShapeQuery::closest;
   bool closest(const Vec3& p, Vec3& point, Vec3& normal,
                double max_distance) const noexcept override;
+  /// hint: the mesh triangle of the previous answer (MeshIndex::closest_point's warm start).
+  bool closest(const Vec3& p, Vec3& point, Vec3& normal, double max_distance,
+               std::int32_t& hint) const noexcept override;
   double probe_radius() const { return radius_; }
 
  private:

@@ -49,8 +49,9 @@ struct ProxyState {
   Vec3 ue = Vec3::Zero();  ///< elastic displacement u^e = p - q
   Vec3 n = Vec3::UnitZ(), t0 = Vec3::UnitX(), t1 = Vec3::UnitY();  ///< frame at q
   YieldSurface gs;                                                 ///< g_s interpolated at q
-  double tau = 0;  ///< creep relaxation time interpolated at q, s
-  int hint = -1;   ///< last reference triangle
+  double tau = 0;                ///< creep relaxation time interpolated at q, s
+  int hint = -1;                 ///< last reference triangle
+  std::int32_t shape_hint = -1;  ///< ShapeQuery warm start (reset() keeps it: any value is safe)
 };
 
 struct ProxyOutput {

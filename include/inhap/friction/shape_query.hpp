@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "inhap/core/types.hpp"
@@ -19,6 +20,14 @@ class ShapeQuery {
                        double max_distance) const noexcept = 0;
   bool closest(const Vec3& p, Vec3& point, Vec3& normal) const noexcept {
     return closest(p, point, normal, std::numeric_limits<double>::infinity());
+  }
+  /// closest() warm-started for a servo loop: `hint` holds what this shape left in it on the
+  /// previous call (start with -1; any value is safe). It may make the search cheaper and never
+  /// changes the answer. The default ignores it.
+  virtual bool closest(const Vec3& p, Vec3& point, Vec3& normal, double max_distance,
+                       std::int32_t& hint) const noexcept {
+    (void)hint;
+    return closest(p, point, normal, max_distance);
   }
   /// Depth of p below the surface along the normal at its closest point (> 0 inside), mm;
   /// NaN when there is no closest point.
