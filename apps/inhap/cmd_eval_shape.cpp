@@ -111,7 +111,7 @@ struct EvalShapeArgs {
   std::size_t taps = 0;  ///< 0: the thesis' counts
   std::uint64_t seed = 1;
   double region_mm = 5.0, rim_margin_mm = 1.0;
-  bool icp = false;
+  bool icp = false, no_normal_overlap = false;
 };
 
 ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std::size_t taps,
@@ -120,6 +120,7 @@ ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std
   co.icp = a.icp;
   co.region_mm = a.region_mm;
   co.rim_margin_mm = a.rim_margin_mm;
+  co.normal_overlap = !a.no_normal_overlap;
   ShapeVariant v = reconstruct_and_compare(rec, method, taps, reference, co);
   if (!a.out_dir.empty()) {
     std::filesystem::create_directories(a.out_dir);
@@ -176,6 +177,7 @@ void run_eval_shape(const EvalShapeArgs& a) {
       {"common_region",
        fmt::format("reference within {} mm of the true contact points, overlap only", a.region_mm)},
       {"icp", a.icp},
+      {"normal_overlap", !a.no_normal_overlap},
       {"seed", a.seed}};
   if (!a.json_out.empty()) {
     write_file_atomic(a.json_out, out.dump(2) + "\n");
@@ -226,6 +228,9 @@ void register_eval_shape(CLI::App& app) {
                    "common region: drop reference samples whose closest point on the\n"
                    "reconstruction is within this distance of its rim, mm")
       ->check(CLI::NonNegativeNumber);
+  shape->add_flag("--no-normal-overlap", s->no_normal_overlap,
+                  "common region: keep samples whose normal line misses the other surface (the\n"
+                  "rim test alone, as before; counts e.g. the slab's untapped end walls)");
   shape->add_flag("--icp", s->icp, "ICP-align each reconstruction onto the reference first");
   shape->add_option("--out-dir", s->out_dir,
                     "also write points, meshes (vertex property 'error', mm) and references");

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 
 #include "command.hpp"
 #include "inhap/contact/contact_io.hpp"
@@ -104,7 +105,7 @@ void run_reconstruct(const ReconstructArgs& a) {
 
 struct CompareArgs {
   std::string a, b, json, crop_points, colored;
-  bool icp = false, overlap_only = false;
+  bool icp = false, overlap_only = false, normal_overlap = false;
   double crop_radius = 0, crop_distance = 0, density = 4.0, rim_margin = 0;
 };
 
@@ -116,6 +117,7 @@ void run_compare(const CompareArgs& args) {
   o.crop_distance = args.crop_distance;
   o.exclude_boundary = args.overlap_only;
   o.rim_margin = args.rim_margin;
+  o.normal_overlap = args.normal_overlap;
   if (!args.crop_points.empty()) {
     if (!(args.crop_radius > 0)) throw Error("--crop-points needs --crop-radius MM > 0");
     o.region = read_points(args.crop_points).points;
@@ -123,10 +125,12 @@ void run_compare(const CompareArgs& args) {
   }
   const CompareResult r = compare_surfaces(a, b, o);
   fmt::print("hausdorff {:.4f} mm, mean {:.4f} mm, rms {:.4f} mm\n", r.hausdorff, r.mean, r.rms);
-  fmt::print("  {} -> {}: max {:.4f} mean {:.4f} rms {:.4f} mm ({} samples)\n", args.a, args.b,
-             r.a_to_b.max, r.a_to_b.mean, r.a_to_b.rms, r.a_to_b.samples);
-  fmt::print("  {} -> {}: max {:.4f} mean {:.4f} rms {:.4f} mm ({} samples)\n", args.b, args.a,
-             r.b_to_a.max, r.b_to_a.mean, r.b_to_a.rms, r.b_to_a.samples);
+  for (const auto& [from, to, side] :
+       {std::tuple(&args.a, &args.b, &r.a_to_b), std::tuple(&args.b, &args.a, &r.b_to_a)})
+    fmt::print(
+        "  {} -> {}: max {:.4f} (at {:.3f} {:.3f} {:.3f}) mean {:.4f} rms {:.4f} mm ({} samples)\n",
+        *from, *to, side->max, side->max_at.x(), side->max_at.y(), side->max_at.z(), side->mean,
+        side->rms, side->samples);
   if (o.icp) {
     const Eigen::AngleAxisd aa(r.transform.R);
     fmt::print("  icp: rotation {:.4f} deg, translation ({:.4f}, {:.4f}, {:.4f}) mm\n",
@@ -149,12 +153,16 @@ void run_compare(const CompareArgs& args) {
     j["mean_mm"] = r.mean;
     j["rms_mm"] = r.rms;
     auto side = [](const OneSided& s) {
-      return nlohmann::json{
-          {"max_mm", s.max}, {"mean_mm", s.mean}, {"rms_mm", s.rms}, {"samples", s.samples}};
+      return nlohmann::json{{"max_mm", s.max},
+                            {"max_at_mm", {s.max_at.x(), s.max_at.y(), s.max_at.z()}},
+                            {"mean_mm", s.mean},
+                            {"rms_mm", s.rms},
+                            {"samples", s.samples}};
     };
     j["a_to_b"] = side(r.a_to_b);
     j["b_to_a"] = side(r.b_to_a);
     j["icp"] = o.icp;
+    j["normal_overlap"] = o.normal_overlap;
     write_file_atomic(args.json, j.dump(2) + "\n");
   }
 }
@@ -268,6 +276,9 @@ void add_compare(CLI::App& shape_cmd) {
                   "with --overlap-only: also drop samples whose closest point is within this\n"
                   "distance of the other surface's rim, mm")
       ->check(CLI::NonNegativeNumber);
+  cmp->add_flag("--normal-overlap", m->normal_overlap,
+                "drop samples whose normal line (both ways) does not meet the other surface (e.g.\n"
+                "a reference's side wall below a partial reconstruction's rim)");
   cmp->add_option("--density", m->density, "face samples per mm^2")->check(CLI::PositiveNumber);
   cmp->add_option("--colored", m->colored,
                   "write A (aligned) with vertex property 'error' (mm) for colouring");

@@ -184,6 +184,7 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   co.region_radius = options.region_mm;
   co.exclude_boundary = true;
   co.rim_margin = options.rim_margin_mm;
+  co.normal_overlap = options.normal_overlap;
   v.points = pts.size();
   v.vertices = v.mesh.num_vertices();
   v.faces = v.mesh.num_triangles();

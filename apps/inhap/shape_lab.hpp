@@ -45,6 +45,7 @@ TriMesh reference_mesh(const lab::Shape& shape);
 struct ShapeCompareOptions {
   double region_mm = 5.0;      ///< common region: reference within this of the true contacts
   double rim_margin_mm = 1.0;  ///< drop samples whose closest point is this near the rim
+  bool normal_overlap = true;  ///< drop samples whose normal line misses the other surface
   bool icp = false;            ///< ICP-align the reconstruction first
 };
 

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
@@ -17,6 +18,13 @@ SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t
   SurfaceSamples s;
   s.points = mesh.positions;
   s.weights.assign(mesh.positions.size(), 0.0);
+  {
+    TriMesh copy;  // the mesh's own normals may be stale or absent
+    copy.positions = mesh.positions;
+    copy.triangles = mesh.triangles;
+    copy.compute_normals();
+    s.normals = std::move(copy.normals);
+  }
   Rng rng(seed);
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const double area = mesh.face_area(f);
@@ -24,11 +32,13 @@ SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t
     const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(area * density)));
     const Tri& t = mesh.triangles[f];
     const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const Vec3 normal = mesh.face_normal(f);
     for (std::size_t k = 0; k < n; ++k) {
       double u = rng.uniform(), v = rng.uniform();
       if (u + v > 1) u = 1 - u, v = 1 - v;
       s.points.push_back(a + u * (b - a) + v * (c - a));
       s.weights.push_back(area / static_cast<double>(n));
+      s.normals.push_back(normal);
     }
   }
   return s;
@@ -155,8 +165,17 @@ bool on_rim(const ClosestPoint& cp, const Rim& rim) {
   return false;
 }
 
+/// Half-length of the normal lines of the overlap test: longer than any distance between the
+/// two meshes.
+double line_length(const TriMesh& a, const TriMesh& b) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const TriMesh* m : {&a, &b})
+    for (const Vec3& p : m->positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  return 2.0 * (hi - lo).norm() + 1.0;
+}
+
 Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, const CompareOptions& o,
-               std::uint64_t seed) {
+               std::uint64_t seed, double line) {
   Side side;
   const SurfaceSamples s = sample_surface(from, o.density, seed);
   std::vector<double> d(s.points.size());
@@ -182,8 +201,12 @@ Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, cons
     if (!region_d.empty() && region_d[i] > o.region_radius) continue;
     if (o.crop_distance > 0 && d[i] > o.crop_distance) continue;
     if (rim[i]) continue;
+    if (o.normal_overlap) {
+      const Vec3 n = line * s.normals[i];
+      if (!(n.squaredNorm() > 0) || !to.any_hit(s.points[i] - n, s.points[i] + n)) continue;
+    }
     ++side.stats.samples;
-    side.stats.max = std::max(side.stats.max, d[i]);
+    if (d[i] >= side.stats.max) side.stats.max = d[i], side.stats.max_at = s.points[i];
     wsum += s.weights[i];
     wmean += s.weights[i] * d[i];
     wsq += s.weights[i] * d[i] * d[i];
@@ -210,8 +233,9 @@ CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const Comp
   const MeshIndex index_a(a), index_b(b);
   Rim rim_a, rim_b;
   if (o.exclude_boundary) rim_a = make_rim(a, o.rim_margin), rim_b = make_rim(b, o.rim_margin);
-  Side ab = one_sided(a, index_b, rim_b, o, o.seed);
-  Side ba = one_sided(b, index_a, rim_a, o, o.seed + 1);
+  const double line = o.normal_overlap ? line_length(a, b) : 0.0;
+  Side ab = one_sided(a, index_b, rim_b, o, o.seed, line);
+  Side ba = one_sided(b, index_a, rim_a, o, o.seed + 1, line);
   if (ab.stats.samples == 0 || ba.stats.samples == 0)
     throw Error("compare: no surface sample left in the common region (check the crop options)");
   res.a_to_b = ab.stats;

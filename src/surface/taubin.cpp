@@ -8,7 +8,7 @@ namespace inhap {
 
 namespace {
 
-/// Umbrella neighbours per vertex (CSR); boundary vertices only see boundary neighbours.
+/// Umbrella neighbours per vertex (CSR); boundary vertices get none (they stay where they are).
 struct Neighbours {
   std::vector<std::int32_t> offsets, ids;
 };
@@ -39,8 +39,8 @@ Neighbours umbrella(const TriMesh& mesh) {
   std::vector<std::vector<std::int32_t>> adj(nv);
   for (std::size_t e = 0; e < unique.size(); ++e) {
     auto [a, b] = unique[e];
-    if (!on_boundary[a] || boundary_edge[e]) adj[a].push_back(b);
-    if (!on_boundary[b] || boundary_edge[e]) adj[b].push_back(a);
+    if (!on_boundary[a]) adj[a].push_back(b);
+    if (!on_boundary[b]) adj[b].push_back(a);
   }
   Neighbours n;
   n.offsets.reserve(nv + 1);

@@ -106,3 +106,85 @@ TEST(Compare, SamplesCoverTheAreaUniformly) {
   EXPECT_GE(smp.points.size(), s.num_vertices() + static_cast<std::size_t>(2.0 * area));
   for (const Vec3& p : smp.points) EXPECT_LE(p.norm(), 10.0 + 1e-9);
 }
+
+namespace {
+/// Closed box [-10, 10]^2 x [-10, 0], outward (the "reference": an object tapped on its top).
+TriMesh box_top_at_zero() {
+  TriMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.emplace_back(i & 1 ? 10 : -10, i & 2 ? 10 : -10, i & 4 ? 0 : -10);
+  // Faces as quads a-b-c-d counter-clockwise seen from outside.
+  const int quads[6][4] = {{4, 5, 7, 6}, {0, 2, 3, 1}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.triangles.push_back({q[0], q[1], q[2]});
+    m.triangles.push_back({q[0], q[2], q[3]});
+  }
+  m.compute_normals();
+  return m;
+}
+
+/// Open grid patch over the box top, |x|, |y| <= 9 (1 mm cells): height `h` inside the square
+/// |x|, |y| <= 8, rising linearly to h + 1 at the rim (a reconstruction whose rim curls up).
+TriMesh curled_patch(double h) {
+  TriMesh m;
+  for (int j = -9; j <= 9; ++j)
+    for (int i = -9; i <= 9; ++i)
+      m.positions.emplace_back(i, j, h + std::max(0, std::max(std::abs(i), std::abs(j)) - 8));
+  auto v = [](int i, int j) { return (j + 9) * 19 + (i + 9); };
+  for (int j = -9; j < 9; ++j)
+    for (int i = -9; i < 9; ++i) {
+      m.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      m.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  m.compute_normals();
+  return m;
+}
+}  // namespace
+
+TEST(Compare, NormalOverlapDropsTheUntappedWallBelowACurledRim) {
+  // The patch lies 0.5 mm above the box top and its rim 1.5 mm above. A wall sample such as
+  // (-10, 0, -3.4) is within 5 mm of the rim (-9, 0, 1.5), and its closest point on the patch is
+  // the inner corner of the ramp, (-8, 0, 0.5), sqrt(2^2 + 3.9^2) = 4.38 mm away and 1.4 mm from
+  // the rim: the rim test keeps it, so the wall (which the patch does not represent) dominates.
+  const TriMesh box = box_top_at_zero(), patch = curled_patch(0.5);
+  CompareOptions o;
+  o.region = patch.positions;
+  o.region_radius = 5.0;
+  o.exclude_boundary = true;
+  o.rim_margin = 1.0;
+  const CompareResult rim_only = compare_surfaces(patch, box, o);
+  EXPECT_GT(rim_only.b_to_a.max, 4.0);
+  const Vec3 at = rim_only.b_to_a.max_at;  // on a wall, below the top
+  EXPECT_NEAR(std::max(std::abs(at.x()), std::abs(at.y())), 10.0, 1e-9);
+  EXPECT_LT(at.z(), -2.0);
+  // With the normal-line test the wall goes (its normal lines pass below the patch); the top
+  // stays: the worst is the rim vertices' 1.5 mm over the top, the reference side is between the
+  // 0.5 mm of the flat part and the 1.5 mm of the rim, its mean close to 0.5 mm.
+  o.normal_overlap = true;
+  const CompareResult r = compare_surfaces(patch, box, o);
+  EXPECT_NEAR(r.hausdorff, 1.5, 1e-9);
+  EXPECT_NEAR(r.a_to_b.max, 1.5, 1e-9);
+  EXPECT_GE(r.b_to_a.max, 0.5 - 1e-9);
+  EXPECT_LE(r.b_to_a.max, 1.5);
+  EXPECT_NEAR(r.b_to_a.max_at.z(), 0.0, 1e-9);  // on the top
+  EXPECT_NEAR(r.b_to_a.mean, 0.5, 0.1);
+}
+
+TEST(Compare, NormalOverlapKeepsTheSurfaceUnderABridge) {
+  // A patch lifted 4 mm over the box top (as a bridge over a groove would be): every top sample
+  // below it still counts, 4 mm from it; nothing is hidden by the normal-line test.
+  const TriMesh box = box_top_at_zero(), patch = curled_patch(4.0);
+  CompareOptions o;
+  o.region = {Vec3(0, 0, 0)};
+  o.region_radius = 6.0;
+  o.exclude_boundary = true;
+  o.rim_margin = 1.0;
+  const CompareResult without = compare_surfaces(patch, box, o);
+  o.normal_overlap = true;
+  const CompareResult with = compare_surfaces(patch, box, o);
+  EXPECT_NEAR(with.b_to_a.max, 4.0, 1e-9);
+  EXPECT_NEAR(with.b_to_a.mean, 4.0, 1e-9);
+  EXPECT_EQ(with.b_to_a.samples, without.b_to_a.samples);
+  EXPECT_NEAR(with.hausdorff, without.hausdorff, 1e-12);
+}

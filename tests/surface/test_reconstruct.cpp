@@ -224,6 +224,34 @@ TEST(MeshOps, TaubinRemovesNoiseWithoutShrinking) {
   EXPECT_LT(mean2, mean1 - 0.1);
 }
 
+TEST(MeshOps, TaubinKeepsTheRimOfACorrugatedPatch) {
+  // Open grid patch z = 3 mm triangle wave in x (period 8 mm, crests at x = 4, 12, ...), 1 mm
+  // cells: the rims y = 0 and y = 12 cross the crests. Smoothing a rim along itself would flatten
+  // its zigzag (two neighbours per vertex); the rim must stay exactly where it is, while the
+  // interior crests are rounded.
+  auto wave = [](int x) { return 3.0 * (1.0 - std::abs((x % 8) - 4) / 4.0); };
+  TriMesh m;
+  const int nx = 24, ny = 12;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.positions.emplace_back(i, j, wave(i));
+  auto v = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      m.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      m.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  const TriMesh before = m;
+  taubin_smooth(m, 10);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const auto k = static_cast<std::size_t>(v(i, j));
+      if (i == 0 || j == 0 || i == nx || j == ny) {
+        EXPECT_EQ(m.positions[k], before.positions[k]) << i << "," << j;
+      }
+    }
+  EXPECT_LT(m.positions[static_cast<std::size_t>(v(12, 6))].z(), 3.0 - 0.1);  // rounded crest
+}
+
 TEST(MeshOps, Sqrt3TriplesTheFacesOfAClosedMesh) {
   const TriMesh m = test::icosphere(1, 10.0);
   const TriMesh s = sqrt3_subdivide(m, 2);

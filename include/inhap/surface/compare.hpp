@@ -18,6 +18,7 @@ namespace inhap {
 struct SurfaceSamples {
   std::vector<Vec3> points;
   std::vector<double> weights;  ///< area represented by each sample, mm^2 (vertices: 0)
+  std::vector<Vec3> normals;    ///< unit normal: the vertex normal, or the face's normal
 };
 /// About `density` face samples per mm^2 (at least one per face) plus the vertices.
 SurfaceSamples sample_surface(const TriMesh& mesh, double density, std::uint64_t seed);
@@ -65,11 +66,19 @@ struct CompareOptions {
   /// the rim (mm): near a rim that curls, the closest point of an unsampled far part can fall
   /// just inside the surface instead of exactly on its edge.
   double rim_margin = 0;
+  /// Overlap only: drop samples whose normal line (through the sample along its surface
+  /// normal, both ways) does not meet the other surface, i.e. where the other surface does not
+  /// lie opposite the sample. With a partial reconstruction of the top of an object this drops
+  /// the reference's side walls below the sampled rim, whose closest point on the
+  /// reconstruction need not lie on its rim (e.g. a groove bottom just inside a rim that curls
+  /// up); a sample under a bridging or displaced part of the other surface still counts.
+  bool normal_overlap = false;
 };
 
 struct OneSided {
   double max = 0, mean = 0, rms = 0;  ///< over the kept samples, area-weighted mean/RMS, mm
   std::size_t samples = 0;            ///< kept samples
+  Vec3 max_at = Vec3::Zero();         ///< the sample (on the "from" surface) where max occurs
 };
 
 struct CompareResult {
