@@ -63,6 +63,9 @@ struct ExploreOptions {
   double coverage_share = 0.65;     ///< coverage mode: share of the duration spent on the grid
   double seconds_per_spot = 1.5;    ///< coverage mode: planned time per spot (sets the spacing), s
   double stroke_probability = 0.3;  ///< coverage mode: chance of a long stroke after a spot
+  /// Coverage mode: force range of the slides between spots and of the strokes, N (default: the
+  /// random exploration's strokes and circles, 0.5-3 N).
+  double coverage_force_min = 0.5, coverage_force_max = 3.0;
 };
 
 /// The operator names make_operator() accepts: tap, explore, air.
