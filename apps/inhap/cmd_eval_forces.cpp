@@ -96,6 +96,28 @@ json object_json(const ForceLabResult& d) {
                   {"samples", cov.n},
                   {"rmse_n", xyz(cov.rmse)},
                   {"re", mean_median(cov.re_mean, cov.re_median)}};
+  const ForceSupport& su = d.support;
+  j["support"] = {
+      {"definition",
+       "scored test samples with a normalised feature outside its bin's training range [min, "
+       "max] (any group; per group q - p, q, pdot), their share of the squared error per axis; "
+       "||q - p|| (mm) and ||pdot|| (mm/s) of training vs test contact samples"},
+      {"samples", su.samples},
+      {"outside_any", su.outside_any},
+      {"outside", {{"q_minus_p", su.outside[0]}, {"q", su.outside[1]}, {"pdot", su.outside[2]}}},
+      {"sse_share_outside", xyz(su.sse_share_outside)},
+      {"depth_mm",
+       {{"train_p99", su.train_depth_p99},
+        {"train_max", su.train_depth_max},
+        {"test_p99", su.test_depth_p99},
+        {"test_max", su.test_depth_max},
+        {"test_beyond_train_max", su.beyond_depth}}},
+      {"speed_mm_s",
+       {{"train_p99", su.train_speed_p99},
+        {"train_max", su.train_speed_max},
+        {"test_p99", su.test_speed_p99},
+        {"test_max", su.test_speed_max},
+        {"test_beyond_train_max", su.beyond_speed}}}};
   j["no_proxy_rmse_n"] = xyz(v0.all.rmse);
   j["onset_proxy_re"] = mean_median(v1.all.re_mean, v1.all.re_median);
   j["onset_proxy_rmse_n"] = xyz(v1.all.rmse);
@@ -110,6 +132,7 @@ json object_json(const ForceLabResult& d) {
                 {"feature_weights", p.feature_weights},
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
+                {"tangent_mirror", p.tangent_mirror},
                 {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
                 {"edges_mm", v.model.edges},
@@ -140,12 +163,15 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
       "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
-      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us; proxy {} (palpation {:.1f} s)\n",
+      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us; proxy {} (palpation {:.1f} s); outside "
+      "training range {:.3f} (SSE share {:.2f} {:.2f} {:.2f})\n",
       name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
       v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
       v.sliding.re_median, d.no_proxy.sliding.re_median, d.onset.sliding.re_median,
       v.model.stats.seconds, j["step_us"]["p50"].get<double>(), j["step_us"]["p99"].get<double>(),
-      d.train_track.proxy_source, d.palpation_s);
+      d.train_track.proxy_source, d.palpation_s, d.support.outside_any,
+      d.support.sse_share_outside[0], d.support.sse_share_outside[1],
+      d.support.sse_share_outside[2]);
   return j;
 }
 
@@ -181,6 +207,7 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--ridge")) o.params.ridge = 0.0;
   if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
   if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
+  if (!cmd.count("--tangent-mirror")) o.params.tangent_mirror = false;
 }
 
 void register_eval_forces(CLI::App& app) {
@@ -229,6 +256,9 @@ void register_eval_forces(CLI::App& app) {
                   "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--tangent-mirror,!--no-tangent-mirror", o->params.tangent_mirror,
+                "Local features: also train on every sample turned 180 deg about the normal "
+                "(tangentially isotropic material; default on)");
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,

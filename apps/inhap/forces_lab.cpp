@@ -215,23 +215,99 @@ std::vector<char> coverage(const Recording& train, const ProxyTrack& tr, const R
   return out;
 }
 
+/// Training vs test ranges of the with-proxy model (see ForceSupport).
+ForceSupport support_stats(ForceLabResult& d, const std::vector<char>& scored) {
+  ForceSupport s;
+  d.test_support.assign(d.test.rec.size(), SupportCheck{});
+  const ForceModel& m = d.proxy.model;
+  auto ranges = [&](const Recording& rec, const ProxyTrack& tr, std::vector<double>& depth,
+                    std::vector<double>& speed, std::vector<Vec3>& v) {
+    v = foaw_velocities(rec.p, m.foaw);
+    for (std::size_t i = 0; i < rec.size(); ++i)
+      if (tr.contact[i]) {
+        depth.push_back((tr.q[i] - rec.p[i]).norm());
+        speed.push_back(v[i].norm());
+      }
+  };
+  std::vector<double> dtr, str, dte, ste;
+  std::vector<Vec3> vtr, vte;
+  ranges(d.train.rec, d.train_track, dtr, str, vtr);
+  ranges(d.test.rec, d.test_track, dte, ste, vte);
+  if (dtr.empty() || dte.empty()) return s;
+  s.train_depth_p99 = quantile(dtr, 0.99), s.train_depth_max = quantile(dtr, 1.0);
+  s.train_speed_p99 = quantile(str, 0.99), s.train_speed_max = quantile(str, 1.0);
+  s.test_depth_p99 = quantile(dte, 0.99), s.test_depth_max = quantile(dte, 1.0);
+  s.test_speed_p99 = quantile(ste, 0.99), s.test_speed_max = quantile(ste, 1.0);
+  const Recording& rec = d.test.rec;
+  const ProxyTrack& te = d.test_track;
+  std::array<double, 3> sse{}, sse_out{};
+  std::size_t any = 0, deep = 0, fast = 0;
+  std::array<std::size_t, 3> out{};
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    if (!te.contact[i] || !scored[i]) continue;
+    ++s.samples;
+    const Vec3 n = te.n.size() == rec.size() ? te.n[i] : Vec3::UnitZ();
+    const SupportCheck c = support_check(m, rec.p[i], vte[i], te.q[i], n);
+    d.test_support[i] = c;
+    const bool outside = c.excess[0] > 0 || c.excess[1] > 0 || c.excess[2] > 0;
+    any += outside;
+    for (int g = 0; g < 3; ++g) out[g] += c.excess[g] > 0;
+    deep += (te.q[i] - rec.p[i]).norm() > s.train_depth_max;
+    fast += vte[i].norm() > s.train_speed_max;
+    const Vec3 e = d.proxy.replay.forces[i] - rec.f[i];
+    for (int a = 0; a < 3; ++a) {
+      sse[a] += e[a] * e[a];
+      if (outside) sse_out[a] += e[a] * e[a];
+    }
+  }
+  const double n = std::max<double>(1.0, static_cast<double>(s.samples));
+  s.outside_any = static_cast<double>(any) / n;
+  for (int g = 0; g < 3; ++g) s.outside[g] = static_cast<double>(out[g]) / n;
+  for (int a = 0; a < 3; ++a) s.sse_share_outside[a] = sse[a] > 0 ? sse_out[a] / sse[a] : 0.0;
+  s.beyond_depth = static_cast<double>(deep) / n;
+  s.beyond_speed = static_cast<double>(fast) / n;
+  return s;
+}
+
 /// The test run as replayed: measured and rendered force, q, normal and contact flags.
 void write_replay(const std::string& path, const ForceLabResult& d,
                   const std::vector<char>& scored) {
   const std::vector<std::string> comments{
       "units: t s, p q mm, f (measured) and r (rendered) N; contact = the track's flag, scored = "
       "the lab's contact flag"};
-  CsvWriter w(path,
-              {"t", "px", "py", "pz", "fx", "fy", "fz", "rx", "ry", "rz", "qx", "qy", "qz", "nx",
-               "ny", "nz", "contact", "scored"},
+  CsvWriter w(path, {"t",       "px",     "py",  "pz",       "fx",       "fy",       "fz",     "rx",
+                     "ry",      "rz",     "qx",  "qy",       "qz",       "nx",       "ny",     "nz",
+                     "contact", "scored", "bin", "excess_u", "excess_q", "excess_v", "nearest"},
               comments);
   const Recording& rec = d.test.rec;
   const ProxyTrack& tr = d.test_track;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     const Vec3 &p = rec.p[i], &f = rec.f[i], &r = d.proxy.replay.forces[i], &q = tr.q[i];
     const Vec3 n = tr.n.size() == rec.size() ? tr.n[i] : Vec3::UnitZ();
-    w.row({rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), r.x(), r.y(), r.z(), q.x(), q.y(),
-           q.z(), n.x(), n.y(), n.z(), tr.contact[i] ? 1.0 : 0.0, scored[i] ? 1.0 : 0.0});
+    const SupportCheck& c = d.test_support[i];
+    w.row({rec.t[i],
+           p.x(),
+           p.y(),
+           p.z(),
+           f.x(),
+           f.y(),
+           f.z(),
+           r.x(),
+           r.y(),
+           r.z(),
+           q.x(),
+           q.y(),
+           q.z(),
+           n.x(),
+           n.y(),
+           n.z(),
+           tr.contact[i] ? 1.0 : 0.0,
+           scored[i] ? 1.0 : 0.0,
+           static_cast<double>(c.bin),
+           c.excess[0],
+           c.excess[1],
+           c.excess[2],
+           c.nearest});
   }
   w.commit();
 }
@@ -343,6 +419,7 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   if (!o.baselines) {
     for (ForceVariant* v : {&d.no_proxy, &d.onset}) v->all = v->sliding = no_errors();
   }
+  d.support = support_stats(d, scored);
   if (!o.keep.empty()) {
     save_force_model(o.keep + "/" + name + "-model.json", d.proxy.model);
     write_replay(o.keep + "/" + name + "-test-replay.csv", d, scored);

@@ -6,6 +6,7 @@
 // Units: mm, N, s; step times in microseconds.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,13 +19,14 @@
 namespace inhap::cli {
 
 /// Model settings measured best on the lab (docs/force-model.md): local-frame features,
-/// location weight 5, bins blended over +-1 mm around their edge (TrainParams defaults
-/// otherwise).
+/// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
+/// training samples (TrainParams defaults otherwise).
 inline dd::TrainParams lab_train_params() {
   dd::TrainParams p;
   p.features = dd::FeatureSet::kLocalFrame;
   p.feature_weights = {1.0, 5.0, 0.5};
   p.bin_blend = 1.0;
+  p.tangent_mirror = true;
   return p;
 }
 
@@ -61,16 +63,33 @@ struct ForceVariant {
   dd::ForceErrors all, sliding;
 };
 
+/// How well the training run spans the test run (with-proxy model, scored test samples).
+struct ForceSupport {
+  std::size_t samples = 0;  ///< scored test samples in the track's contact
+  /// Fractions of those samples with a normalised feature outside its bin's training range:
+  /// any group, then per group (q - p, q, pdot).
+  double outside_any = 0;
+  std::array<double, 3> outside{};
+  std::array<double, 3> sse_share_outside{};  ///< their share of the squared error per axis
+  /// ||q - p|| (mm) and ||pdot|| (mm/s): p99 and max of the training and test contact samples,
+  /// and the fraction of test samples beyond the training maximum.
+  double train_depth_p99 = 0, train_depth_max = 0, test_depth_p99 = 0, test_depth_max = 0;
+  double train_speed_p99 = 0, train_speed_max = 0, test_speed_p99 = 0, test_speed_max = 0;
+  double beyond_depth = 0, beyond_speed = 0;
+};
+
 struct ForceLabResult {
   std::string name;
   lab::LabRecording train, test;
   dd::ProxyTrack train_track, test_track;
   double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
   ForceVariant proxy;
-  ForceVariant no_proxy, onset;      ///< empty models when !baselines
-  dd::ForceErrors covered;           ///< proxy model on test samples the training run covered
-  double palpation_s = 0;            ///< wall time of the palpation (estimated proxy), s
-  std::size_t reference_points = 0;  ///< palpated reference points (estimated proxy)
+  ForceVariant no_proxy, onset;  ///< empty models when !baselines
+  dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
+  ForceSupport support;          ///< training vs test ranges
+  std::vector<dd::SupportCheck> test_support;  ///< per test sample (bin -1: not checked)
+  double palpation_s = 0;                      ///< wall time of the palpation (estimated proxy), s
+  std::size_t reference_points = 0;            ///< palpated reference points (estimated proxy)
   /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
   /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.
   double proxy_rms_mm = 0, contact_agreement = 0;

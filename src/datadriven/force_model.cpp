@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -83,8 +84,8 @@ std::uint64_t bin_seed(std::uint64_t seed, int bin) {
 }
 
 void normalise(Eigen::MatrixXd& x, BinModel& bm, const TrainParams& prm) {
-  const double margin = prm.box_margin;
   const Eigen::Index n = x.rows();
+  const double margin = prm.box_margin;
   for (int d = 0; d < kFeatureDim; ++d) {
     const double mean = x.col(d).mean();
     const double sd = std::sqrt((x.col(d).array() - mean).square().sum() / static_cast<double>(n));
@@ -278,15 +279,22 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     const auto b = static_cast<std::size_t>(bi);
     const std::size_t s0 = start[b], s1 = start[b + 1];
     const auto m = static_cast<Eigen::Index>(s1 - s0);
-    Eigen::MatrixXd x(m, kFeatureDim), f(m, 3);
+    const bool local = params.features == FeatureSet::kLocalFrame;
+    const bool mirror = local && params.tangent_mirror;
+    Eigen::MatrixXd x(mirror ? 2 * m : m, kFeatureDim), f(mirror ? 2 * m : m, 3);
     double row[kFeatureDim];
     for (Eigen::Index i = 0; i < m; ++i) {
       const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
       const SurfaceFrame fr = data.n.empty() ? SurfaceFrame{} : surface_frame(data.n[k]);
       make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-      const bool local = params.features == FeatureSet::kLocalFrame;
       f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
+    }
+    if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
+      x.bottomRows(m) = x.topRows(m);
+      f.bottomRows(m) = f.topRows(m);
+      for (int d : {0, 1, 6, 7}) x.col(d).tail(m) *= -1.0;
+      for (int a : {0, 1}) f.col(a).tail(m) *= -1.0;
     }
     results[b] = train_bin(std::move(x), f, params, bi);
     results[b].model.key_min = key[order[s0]];
@@ -441,6 +449,42 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;
   return f;
+}
+
+}  // namespace inhap::dd
+
+namespace inhap::dd {
+
+SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                           const Vec3& normal) {
+  SupportCheck out;
+  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return out;
+  out.bin = model.bin_of((q - p).norm());
+  const BinModel& bm = model.bins[static_cast<std::size_t>(out.bin)];
+  const SurfaceFrame fr =
+      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
+  double z[kFeatureDim];
+  make_features(model.features, p, v, q, fr, z);
+  // The box is the training range [lo, hi] widened by margin * (hi - lo) on both sides.
+  const double m = model.params.box_margin;
+  for (int d = 0; d < kFeatureDim; ++d) {
+    const auto ud = static_cast<std::size_t>(d);
+    z[d] = (z[d] - bm.offset[ud]) / bm.scale[ud];
+    const double range = (bm.box_max[ud] - bm.box_min[ud]) / (1 + 2 * m);
+    const double lo = bm.box_min[ud] + m * range, hi = bm.box_max[ud] - m * range;
+    const double e = std::max({lo - z[d], z[d] - hi, 0.0}) / std::max(range, 1e-12);
+    out.excess[ud / 3] = std::max(out.excess[ud / 3], e);
+  }
+  double best = std::numeric_limits<double>::infinity();
+  const Eigen::Index k = bm.union_centres.rows();
+  for (Eigen::Index j = 0; j < k; ++j) {
+    double r2 = 0;
+    for (int d = 0; d < kFeatureDim; ++d)
+      r2 += (z[d] - bm.union_centres(j, d)) * (z[d] - bm.union_centres(j, d));
+    best = std::min(best, r2);
+  }
+  out.nearest = std::sqrt(best);
+  return out;
 }
 
 }  // namespace inhap::dd

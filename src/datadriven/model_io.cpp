@@ -187,6 +187,7 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"sparsa_max_iterations", p.sparsa_iterations},
                 {"kmeans_iterations", p.kmeans_iterations},
                 {"box_margin", p.box_margin},
+                {"tangent_mirror", p.tangent_mirror},
                 {"samples", m.stats.samples},
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
@@ -278,6 +279,7 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
             t["sparsa_stop"] == "step" ? SparsaStop::kStep : SparsaStop::kObjective;
       get("kmeans_iterations", m.params.kmeans_iterations);
       get("box_margin", m.params.box_margin);
+      if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
       get("samples", m.stats.samples);
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);

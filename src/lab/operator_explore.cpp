@@ -250,7 +250,7 @@ class ExploreOperator final : public HandOperator {
   void plan_coverage() {
     if (next_spot_ >= spots_.size()) make_spots(++passes_ & 1);
     const Vec2 xy = spots_[next_spot_++];
-    const double f_slide = rng_.uniform(0.7, 2.5);
+    const double f_slide = rng_.uniform(opt_.coverage_force_min, opt_.coverage_force_max);
     if (!touching_ || coverage_count_++ % 4 == 0) {
       add_approach(f_slide, rng_.uniform(0.3, 0.5), xy);
     } else {
@@ -268,7 +268,8 @@ class ExploreOperator final : public HandOperator {
         {Segment::press, std::max(0.2, s * rng_.uniform(0.25, 0.4)), Vec2::Zero(), f_slide});
     // Now and then a long stroke at the usual random speed (8-35 mm/s mean: the random
     // exploration's strokes cross the region fast), from which the next spot is reached.
-    if (rng_.uniform() < opt_.stroke_probability) add_slide(rng_.uniform(0.7, 2.5));
+    if (rng_.uniform() < opt_.stroke_probability)
+      add_slide(rng_.uniform(opt_.coverage_force_min, opt_.coverage_force_max));
   }
 
   void plan(double t) {

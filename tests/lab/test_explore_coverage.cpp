@@ -4,8 +4,10 @@
 // passage) after coverage_share of the run, and it is deterministic.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "inhap/lab/operators.hpp"
 
@@ -95,6 +97,35 @@ TEST(ExploreCoverage, HandsOverToTheRandomExplorationAndItsSlidingPassage) {
               deep_first, sum_last / n_last);
   EXPECT_LT(sum_last / n_last, 0.75 * deep_first);
   EXPECT_TRUE(always_late);
+}
+
+// Coverage mode slides and strokes at coverage_force_min..max (default 0.5-3 N, the random
+// exploration's strokes): with both set to 2.8 N the normal force while the proxy slides is
+// about 2.8 N (the earlier fixed 0.7-2.5 N range gives a median near 1.6 N).
+TEST(ExploreCoverage, SlidesAtTheGivenForces) {
+  const Scene scene = builtin_scene("planar");
+  const double seconds = 25;
+  DeviceParams dp;
+  dp.seed = 7;
+  SimDevice dev(scene.object, dp);
+  ExploreOptions o;
+  o.coverage = true;
+  o.coverage_share = 1.0;
+  o.coverage_force_min = o.coverage_force_max = 2.8;
+  auto op = make_explore_operator(scene, 3, seconds, o);
+  const TruthTable tr = record(dev, *op, seconds).truth;
+  std::vector<double> fz;  // planar top: normal = +z
+  for (std::size_t k = 1; k < tr.size(); ++k) {
+    const double dt = tr.t[k] - tr.t[k - 1];
+    if (tr.contact[k] && tr.contact[k - 1] && tr.tap[k] == tr.tap[k - 1] && dt > 0 &&
+        (tr.anchor[k] - tr.anchor[k - 1]).norm() / dt > 5.0)  // proxy slides > 5 mm/s
+      fz.push_back(tr.force[k].z());
+  }
+  ASSERT_GT(fz.size(), 1000u);
+  std::nth_element(fz.begin(), fz.begin() + fz.size() / 2, fz.end());
+  const double median = fz[fz.size() / 2];
+  std::printf("sliding samples %zu, median normal force %.2f N (set 2.8 N)\n", fz.size(), median);
+  EXPECT_NEAR(median, 2.8, 0.4);
 }
 
 TEST(ExploreCoverage, SameSeedSameRecording) {

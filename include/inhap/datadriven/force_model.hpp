@@ -128,6 +128,11 @@ struct TrainParams {
   /// forces are blended (smoothstep weights), so the rendered force has no jump at the edge.
   /// 0 = hard switch (thesis).
   double bin_blend = 0.0;
+  /// Local-frame features only: also train on every sample turned by 180 deg about the normal
+  /// (tangential displacement, velocity and force negated), i.e. assume the material responds
+  /// alike in every tangential direction; a push straight along the normal then gets no
+  /// tangential force from its neighbours' shear. Doubles the training rows.
+  bool tangent_mirror = false;
   int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
@@ -194,6 +199,18 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
 /// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame).
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
                  const Vec3& normal);
+
+/// Where an input lies relative to the training data of its bin (a diagnostic, not for the
+/// servo loop).
+struct SupportCheck {
+  int bin = -1;  ///< bin of ||q - p|| (-1: non-finite input or no bins)
+  /// Per feature group (q - p, q, pdot): the largest excess of a normalised coordinate beyond
+  /// the bin's training range [min, max], as a fraction of that range (0 = inside).
+  std::array<double, 3> excess{};
+  double nearest = 0;  ///< distance from the normalised input to the bin's nearest centre (z units)
+};
+SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                           const Vec3& normal);
 
 /// Checks a model's internal consistency (sizes, finiteness, ordering). Throws inhap::Error
 /// naming what is wrong, prefixed with `where`.

@@ -56,13 +56,17 @@ struct ExploreOptions {
   /// the first coverage_share of the duration a hexagonal grid of spots over the region, spaced
   /// so that one pass fills that time, is visited row by row (serpentine; rim included); at each
   /// spot the operator loads to a deep push (0.8-0.95 max_force) and back, so every spot gets
-  /// every depth; between spots it slides at 0.7-2.5 N or (every fourth spot, and at the start)
-  /// lifts and approaches from the air; after a spot, now and then a long random stroke. After that
-  /// the ordinary random exploration follows (its sliding-only passage included).
+  /// every depth; between spots it slides at coverage_force_min..max or (every fourth spot, and
+  /// at the start) lifts and approaches from the air; after a spot, now and then a long random
+  /// stroke at those forces. After that the ordinary random exploration follows (its
+  /// sliding-only passage included).
   bool coverage = false;
   double coverage_share = 0.65;     ///< coverage mode: share of the duration spent on the grid
   double seconds_per_spot = 1.5;    ///< coverage mode: planned time per spot (sets the spacing), s
   double stroke_probability = 0.3;  ///< coverage mode: chance of a long stroke after a spot
+  /// Coverage mode: force range of the slides between spots and of the strokes, N (default: the
+  /// random exploration's strokes and circles, 0.5-3 N).
+  double coverage_force_min = 0.5, coverage_force_max = 3.0;
 };
 
 /// The operator names make_operator() accepts: tap, explore, air.
