@@ -216,6 +216,9 @@ void register_model(CLI::App& app) {
       ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
   ct->add_flag("--tail,!--no-tail", tr->params.linear_tail,
                "Linear polynomial tail on every expansion (default on; the thesis has none)");
+  ct->add_flag("--tangent-mirror,!--no-tangent-mirror", tr->params.tangent_mirror,
+               "Local features: also train on every sample turned 180 deg about the normal "
+               "(assumes a tangentially isotropic material; default off)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
   ct->add_option("--bin-blend", tr->params.bin_blend,

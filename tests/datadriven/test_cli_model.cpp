@@ -96,6 +96,14 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
   const auto el = nlohmann::json::parse(read_file(dir.path("l-eval.json")));
   const auto ew = nlohmann::json::parse(read_file(dir.path("w-eval.json")));
   EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("l.json")))["features"], "local");
+  // The tangent mirror is off unless asked for (it assumes a tangentially isotropic material).
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("l.json")))["train"]["tangent_mirror"], false);
+  ASSERT_EQ(
+      run("model train" + common + " --features local --tangent-mirror --out " + dir.path("m.json"),
+          log),
+      0)
+      << read_file(log);
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("m.json")))["train"]["tangent_mirror"], true);
   for (const char* a : {"x", "y", "z"})
     EXPECT_NEAR(el["errors"]["rmse_n"][a].get<double>(), ew["errors"]["rmse_n"][a].get<double>(),
                 1e-9);
