@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "../../src/geometry/bvh_build.hpp"
@@ -85,6 +86,18 @@ std::vector<Case> hard_cases() {
            translated(test::make_grid_mesh(31, 31, 0.25, bumpy), Vec3(1.0e4, -3.0e3, 2.0e3))}};
 }
 
+// The hierarchy MeshIndex builds over m, and the oriented box of every node.
+std::pair<detail::BvhBuild, std::vector<detail::BvhObb>> build_with_obbs(const TriMesh& m) {
+  std::vector<detail::BvhBox> boxes(m.num_triangles());
+  for (std::size_t f = 0; f < m.num_triangles(); ++f)
+    for (int k = 0; k < 3; ++k) boxes[f].grow(m.positions[m.triangles[f][k]]);
+  detail::BvhBuild bvh = detail::build_bvh(boxes);
+  std::vector<Vec3> verts;
+  for (const std::int32_t f : bvh.order)
+    for (int k = 0; k < 3; ++k) verts.push_back(m.positions[m.triangles[f][k]]);
+  std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
+  return {std::move(bvh), std::move(obb)};
+}
 }  // namespace
 
 // Every node's oriented box bounds the distance to every triangle below it from below.
@@ -92,14 +105,7 @@ TEST(MeshIndexBounds, OrientedBoxesAreLowerBounds) {
   for (const auto& c : hard_cases()) {
     SCOPED_TRACE(c.name);
     const TriMesh& m = c.mesh;
-    std::vector<detail::BvhBox> boxes(m.num_triangles());
-    for (std::size_t f = 0; f < m.num_triangles(); ++f)
-      for (int k = 0; k < 3; ++k) boxes[f].grow(m.positions[m.triangles[f][k]]);
-    const detail::BvhBuild bvh = detail::build_bvh(boxes);
-    std::vector<Vec3> verts;
-    for (const std::int32_t f : bvh.order)
-      for (int k = 0; k < 3; ++k) verts.push_back(m.positions[m.triangles[f][k]]);
-    const std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
+    const auto [bvh, obb] = build_with_obbs(m);
     ASSERT_EQ(obb.size(), bvh.nodes.size());
     // Slot range of every node (children follow their parent).
     const std::size_t n = bvh.nodes.size();
@@ -144,14 +150,7 @@ TEST(MeshIndexBounds, OrientedBoxesAreTightOnATiltedPlane) {
   TriMesh m = test::make_grid_mesh(41, 41, 0.5);
   const Mat3 rot = (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
   for (auto& p : m.positions) p = rot * p + Vec3(3, -2, 5);
-  std::vector<detail::BvhBox> boxes(m.num_triangles());
-  for (std::size_t f = 0; f < m.num_triangles(); ++f)
-    for (int k = 0; k < 3; ++k) boxes[f].grow(m.positions[m.triangles[f][k]]);
-  const detail::BvhBuild bvh = detail::build_bvh(boxes);
-  std::vector<Vec3> verts;
-  for (const std::int32_t f : bvh.order)
-    for (int k = 0; k < 3; ++k) verts.push_back(m.positions[m.triangles[f][k]]);
-  const std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
+  const auto [bvh, obb] = build_with_obbs(m);
   const Vec3 normal = rot * Vec3::UnitZ();
   const double h = 5.0;
   const Vec3 p = rot * Vec3(10.2, 9.9, 0) + Vec3(3, -2, 5) + h * normal;
