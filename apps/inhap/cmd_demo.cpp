@@ -50,6 +50,16 @@ nlohmann::json series(const std::vector<double>& v, std::size_t stride, int digi
   return j;
 }
 
+nlohmann::json line_trace(const nlohmann::json& x, const nlohmann::json& y, const std::string& name,
+                          const std::string& colour, double width, const std::string& dash) {
+  return {{"type", "scatter"},
+          {"mode", "lines"},
+          {"x", x},
+          {"y", y},
+          {"name", name},
+          {"line", {{"color", colour}, {"width", width}, {"dash", dash}}}};
+}
+
 std::string fmt_num(double v, int digits) {
   return fmt::format("{:.{}f}", v, digits);
 }

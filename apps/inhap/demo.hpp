@@ -103,6 +103,10 @@ double rnd(double v, int digits = 3);
 /// Every `stride`-th element of v, rounded.
 nlohmann::json series(const std::vector<double>& v, std::size_t stride = 1, int digits = 3);
 std::string fmt_num(double v, int digits = 2);
+/// A plotly line trace (x, y already series()).
+nlohmann::json line_trace(const nlohmann::json& x, const nlohmann::json& y, const std::string& name,
+                          const std::string& colour, double width = 1.5,
+                          const std::string& dash = "solid");
 
 // Report (demo_report.cpp).
 struct StepRecord {

@@ -26,14 +26,10 @@ const char* kAxisColour[] = {"#1f77b4", "#ff7f0e", "#2ca02c"};
 nlohmann::json line(const nlohmann::json& x, const nlohmann::json& y, const std::string& name,
                     const std::string& colour, const std::string& yaxis, bool legend,
                     const std::string& dash = "solid") {
-  return {{"type", "scatter"},
-          {"mode", "lines"},
-          {"x", x},
-          {"y", y},
-          {"name", name},
-          {"yaxis", yaxis},
-          {"showlegend", legend},
-          {"line", {{"color", colour}, {"width", 1.2}, {"dash", dash}}}};
+  nlohmann::json t = line_trace(x, y, name, colour, 1.2, dash);
+  t["yaxis"] = yaxis;
+  t["showlegend"] = legend;
+  return t;
 }
 
 // Fig. 4.11-4.12: measured and rendered force per axis over the test recording (three stacked

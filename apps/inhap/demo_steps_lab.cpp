@@ -27,17 +27,6 @@ lab::LabRecording record_dome(const Context& c, const std::string& op, double se
   });
 }
 
-nlohmann::json line(const nlohmann::json& x, const nlohmann::json& y, const std::string& name,
-                    const std::string& color, double width = 1.5,
-                    const std::string& dash = "solid") {
-  return {{"type", "scatter"},
-          {"mode", "lines"},
-          {"x", x},
-          {"y", y},
-          {"name", name},
-          {"line", {{"color", color}, {"width", width}, {"dash", dash}}}};
-}
-
 // The chapter-3 contact estimator on the first tap (thesis sec. 3.2.2): threshold detection at
 // 0.5 N, then the two-segment (knee) fit over the 100 ms before it. t is relative to the true
 // contact instant.
@@ -51,9 +40,9 @@ void add_knee_fit(Figure& f, StepResult& r, const std::vector<double>& t,
   const std::span<const double> tw(t.data() + b, d - b + 1), fw(fm.data() + b, d - b + 1);
   const KneeFit k = fit_knee(tw, fw);
   if (!k.valid) return;
-  f.spec["data"].push_back(line({rnd(tw.front(), 4), rnd(k.tc, 4), rnd(tw.back(), 4)},
-                                {rnd(k.g0), rnd(k.gc), rnd(k.gd)}, "two-segment fit", "#9467bd",
-                                2.5));
+  f.spec["data"].push_back(line_trace({rnd(tw.front(), 4), rnd(k.tc, 4), rnd(tw.back(), 4)},
+                                      {rnd(k.g0), rnd(k.gc), rnd(k.gd)}, "two-segment fit",
+                                      "#9467bd", 2.5));
   f.spec["layout"]["shapes"].push_back({{"type", "line"},
                                         {"x0", rnd(k.tc, 4)},
                                         {"x1", rnd(k.tc, 4)},
@@ -112,8 +101,8 @@ StepResult step_tap(const Context& c) {
            "plotly",
            {}};
   f.spec["data"] = {
-      line(series(t, stride), series(fm, stride), "measured |f| (compensated)", "#1f77b4"),
-      line(series(t, stride), series(ft, stride), "true contact |f|", "#2ca02c", 2, "dot")};
+      line_trace(series(t, stride), series(fm, stride), "measured |f| (compensated)", "#1f77b4"),
+      line_trace(series(t, stride), series(ft, stride), "true contact |f|", "#2ca02c", 2, "dot")};
   f.spec["layout"] = {{"xaxis", {{"title", {{"text", "time from true contact (s)"}}}}},
                       {"yaxis", {{"title", {{"text", "force (N)"}}}}},
                       {"shapes",
@@ -173,10 +162,10 @@ StepResult step_explore(const Context& c) {
            {}};
   f.spec["data"] = nlohmann::json::array();
   for (int a = 0; a < 3; ++a) {
-    f.spec["data"].push_back(line(series(t, stride), series(meas[a], stride),
-                                  fmt::format("f{} measured", axes[a]), colors[a], 1.2));
-    f.spec["data"].push_back(line(series(t, stride), series(truth[a], stride),
-                                  fmt::format("f{} true", axes[a]), colors[a], 1.5, "dot"));
+    f.spec["data"].push_back(line_trace(series(t, stride), series(meas[a], stride),
+                                        fmt::format("f{} measured", axes[a]), colors[a], 1.2));
+    f.spec["data"].push_back(line_trace(series(t, stride), series(truth[a], stride),
+                                        fmt::format("f{} true", axes[a]), colors[a], 1.5, "dot"));
   }
   f.spec["layout"] = {{"xaxis", {{"title", {{"text", "time (s)"}}}}},
                       {"yaxis", {{"title", {{"text", "force (N)"}}}}}};
