@@ -166,6 +166,25 @@ void level_plane(Grid& grid) {
     for (int x = 0; x < grid.width; ++x) grid.at(x, y) -= c[0] * (x - cx) + c[1] * (y - cy) + c[2];
 }
 
+Grid downsample(const Grid& grid, int factor) {
+  if (factor < 1) throw Error(fmt::format("downsample factor must be >= 1, got {}", factor));
+  const int w = grid.width / factor, h = grid.height / factor;
+  if (w < 2 || h < 2)
+    throw Error(
+        fmt::format("downsampling a {}x{} grid by {} leaves {}x{} pixels: need at least 2x2",
+                    grid.width, grid.height, factor, w, h));
+  Grid out(w, h);
+  const double inv = 1.0 / (double(factor) * factor);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double sum = 0;
+      for (int j = 0; j < factor; ++j)
+        for (int i = 0; i < factor; ++i) sum += grid.at(x * factor + i, y * factor + j);
+      out.at(x, y) = sum * inv;
+    }
+  return out;
+}
+
 TriMesh grid_to_mesh(const Grid& height, double spacing_mm, const Grid* stiffness) {
   if (height.width < 2 || height.height < 2)
     throw Error(

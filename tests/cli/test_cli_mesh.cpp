@@ -35,6 +35,20 @@ TEST(CliMesh, ConvertScalesCentresAndMapsStiffness) {
   EXPECT_DOUBLE_EQ(h.property("stiffness")[8], 1.0);
   EXPECT_DOUBLE_EQ(h.property("stiffness")[0], 0.2);
 
+  // --downsample 2 on a 5x4 grid: 2x2 blocks -> 2x2 pixels, 2 triangles, spacing 2 * 2 mm.
+  {
+    std::ofstream f(dir.path("big.csv"));
+    f << "0,0,2,2,9\n0,0,2,2,9\n4,4,6,6,9\n4,4,6,6,9\n";
+  }
+  r = run_cli("mesh heightmap " + dir.path("big.csv") + " --spacing 2 --downsample 2 --out " +
+              dir.path("d.ply"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  TriMesh d = read_mesh(dir.path("d.ply"));
+  EXPECT_EQ(d.num_triangles(), 2u);
+  EXPECT_DOUBLE_EQ(d.bbox().size().x(), 4.0);
+  EXPECT_DOUBLE_EQ(d.bbox().max.z(), 6.0);
+  EXPECT_DOUBLE_EQ(d.bbox().min.z(), 0.0);
+
   r = run_cli("mesh convert " + dir.path("h.ply") + " " + dir.path("c.ply") +
               " --scale-to 100 --center --stiffness-from z_missing --k-range 0 1");
   EXPECT_EQ(r.status, 1);

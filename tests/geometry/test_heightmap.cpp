@@ -39,6 +39,37 @@ TEST(Heightmap, GridGives2WHTrianglesAndStiffness) {
   }
 }
 
+// The mean of a linear function over a block is its value at the block centre. Column 4 carries
+// +100 (inside a block for every factor: adds 100 / f to it); column 10 carries +1000 (in the
+// partial last block for f = 2 and 3, which is dropped).
+TEST(Heightmap, DownsampleAveragesBlocksOfALinearRamp) {
+  auto ramp = [](double x, double y) { return 0.3 * x - 0.2 * y + 1.0; };
+  for (int f : {1, 2, 3}) {
+    Grid g(11, 8);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x)
+        g.at(x, y) = ramp(x, y) + (x == 4 ? 100.0 : 0.0) + (x == 10 ? 1000.0 : 0.0);
+    const Grid d = downsample(g, f);
+    EXPECT_EQ(d.width, 11 / f);
+    EXPECT_EQ(d.height, 8 / f);
+    const double c = 0.5 * (f - 1);
+    for (int y = 0; y < d.height; ++y)
+      for (int x = 0; x < d.width; ++x) {
+        auto covers = [&](int column) { return x * f <= column && column < (x + 1) * f; };
+        const double spikes = (covers(4) ? 100.0 : 0.0) + (covers(10) ? 1000.0 : 0.0);
+        EXPECT_NEAR(d.at(x, y), ramp(x * f + c, y * f + c) + spikes / f, 1e-12)
+            << "f " << f << " at " << x << "," << y;
+      }
+  }
+}
+
+TEST(Heightmap, DownsampleRejectsBadFactors) {
+  Grid g(6, 6, 1.0);
+  EXPECT_THROW(downsample(g, 0), Error);
+  EXPECT_THROW(downsample(g, 4), Error);  // 1x1 left
+  EXPECT_EQ(downsample(g, 3).width, 2);
+}
+
 TEST(Heightmap, StiffnessSizeMismatchIsAnError) {
   Grid hg(4, 4), kg(4, 3);
   EXPECT_THROW(grid_to_mesh(hg, 1.0, &kg), Error);

@@ -36,6 +36,13 @@ Grid read_wsxm_top(const std::string& path);
 /// Removes the best-fitting plane z = a x + b y + c (least squares), "levelling the tilt".
 void level_plane(Grid& grid);
 
+/// Block average: each output pixel is the mean of a factor x factor block of input pixels,
+/// output size floor(W / factor) x floor(H / factor) (a partial last row or column of blocks is
+/// dropped). Use pixel spacing x factor for the result; its pixel (x, y) is the centre of input
+/// block (x f + (f - 1) / 2, y f + (f - 1) / 2). Factor 1 returns a copy. Throws Error when the
+/// factor is below 1 or leaves fewer than 2 x 2 pixels.
+Grid downsample(const Grid& grid, int factor);
+
 /// Grid -> mesh: vertex (x * spacing, y * spacing, height(x, y)); two triangles per cell,
 /// 2 (W-1)(H-1) in all, counter-clockwise seen from +z (normals point up). With a stiffness
 /// grid (same size, N/mm) the mesh gets a `stiffness` vertex property. Vertex normals computed.
