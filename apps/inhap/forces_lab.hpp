@@ -14,6 +14,7 @@
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
+#include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 
 namespace inhap::cli {
@@ -47,6 +48,9 @@ struct ForceLabOptions {
   std::string train_operator = "coverage";
   double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
   double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
+  /// lab::ExploreOptions::coverage_force_min/max (slides between spots and strokes), N
+  double coverage_force_min = lab::ExploreOptions{}.coverage_force_min;
+  double coverage_force_max = lab::ExploreOptions{}.coverage_force_max;
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.

@@ -58,6 +58,9 @@ void TrainParams::validate() const {
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
+  if (stiffness_prior && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the stiffness prior (it needs the normal)");
+  if (stiffness_prior) stiffness.validate();
 }
 
 int ForceModel::bin_of(double key) const {
@@ -270,6 +273,20 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (std::size_t b = 1; b < nb; ++b)
     model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
+  // Local stiffness prior (fitted on every sample), subtracted from the normal force the RBFs
+  // learn; base[i] = its normal force at sample i.
+  std::vector<double> base(n, 0.0);
+  if (params.stiffness_prior && params.features == FeatureSet::kLocalFrame) {
+    std::vector<double> depth(n), fn(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 nn = surface_frame(data.n[i]).n;
+      depth[i] = nn.dot(data.q[i] - data.p[i]);
+      fn[i] = nn.dot(data.f[i]);
+    }
+    model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
+    for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
+  }
+
   std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
   int finished = 0;
@@ -289,6 +306,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
       make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
       f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
+      f(i, 2) -= base[k];  // 0 unless the stiffness prior is on (local frame: z = normal)
     }
     if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
       x.bottomRows(m) = x.topRows(m);
@@ -445,6 +463,7 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
       f = lo == b ? Vec3((1 - s) * f + s * other) : Vec3((1 - s) * other + s * f);
     }
   }
+  if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;
