@@ -141,6 +141,7 @@ json object_json(const ForceLabResult& d) {
                      : json{{"exponent", v.model.prior.exponent},
                             {"fitted_samples", v.model.prior.fitted_samples},
                             {"dims", v.model.prior.dims}}},
+                {"friction_cone", v.model.friction_cone},
                 {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
                 {"edges_mm", v.model.edges},
@@ -219,6 +220,7 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
   if (!cmd.count("--tangent-mirror")) o.params.tangent_mirror = false;
   if (!cmd.count("--stiffness-prior")) o.params.stiffness_prior = false;
+  if (!cmd.count("--friction-cone")) o.params.friction_cone = false;
 }
 
 void register_eval_forces(CLI::App& app) {
@@ -273,6 +275,9 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_flag("--stiffness-prior,!--no-stiffness-prior", o->params.stiffness_prior,
                 "Local features: fit a local stiffness prior f_n = k(q) d^alpha first and let the "
                 "RBFs learn the rest (carries shallow stiffness to deep pushes)");
+  cmd->add_flag("--friction-cone,!--no-friction-cone", o->params.friction_cone,
+                "Local features: keep the rendered force inside the friction cone of the training "
+                "data (|f_t| <= c max(f_n, 0.3 N))");
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,

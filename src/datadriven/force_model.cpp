@@ -58,6 +58,8 @@ void TrainParams::validate() const {
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
+  if (friction_cone && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
   if (stiffness_prior && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the stiffness prior (it needs the normal)");
   if (stiffness_prior) stiffness.validate();
@@ -287,6 +289,22 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
     for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
   }
 
+  if (params.friction_cone && params.features == FeatureSet::kLocalFrame) {
+    // |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise
+    // and onset transients); the cone is their 99.5 % quantile.
+    std::vector<double> ratio;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 nn = surface_frame(data.n[i]).n;
+      const double fn = nn.dot(data.f[i]);
+      if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
+    }
+    if (ratio.size() >= 10) {
+      const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
+      std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
+      model.friction_cone = ratio[static_cast<std::size_t>(k)];
+    }
+  }
+
   std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
   int finished = 0;
@@ -464,6 +482,12 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     }
   }
   if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
+  if (model.friction_cone > 0) {  // keep the force inside the friction cone seen in training
+    const double fn = fr.n.dot(f);
+    const Vec3 ft = f - fn * fr.n;
+    const double lim = model.friction_cone * std::max(fn, kConeFloorN), len = ft.norm();
+    if (len > lim) f = fn * fr.n + ft * (lim / len);
+  }
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();
   if (mag > model.force_limit) f *= model.force_limit / mag;

@@ -160,6 +160,7 @@ std::string force_model_to_json(const ForceModel& m) {
   j["rbf"] = "r^3";
   j["force_limit_n"] = m.force_limit;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
+  if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
   j["foaw"] = {{"dt_s", m.foaw.dt},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound}};
@@ -189,6 +190,7 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
                 {"stiffness_prior", p.stiffness_prior},
+                {"friction_cone", p.friction_cone},
                 {"samples", m.stats.samples},
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
@@ -256,6 +258,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     m.bin_blend = r.num(j["bin_blend_mm"], "bin_blend_mm");
     if (!(m.bin_blend >= 0)) r.fail("bin_blend_mm", "expected >= 0");
   }
+  if (j.contains("friction_cone")) {
+    m.friction_cone = r.num(j["friction_cone"], "friction_cone");
+    if (!(m.friction_cone >= 0)) r.fail("friction_cone", "expected >= 0");
+  }
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(
@@ -293,6 +299,7 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
       if (t.contains("stiffness_prior"))
         m.params.stiffness_prior = t["stiffness_prior"].get<bool>();
+      if (t.contains("friction_cone")) m.params.friction_cone = t["friction_cone"].get<bool>();
       get("samples", m.stats.samples);
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);
@@ -357,6 +364,8 @@ void validate_model(const ForceModel& m, const std::string& where) {
   if (!(m.force_limit > 0) || !std::isfinite(m.force_limit))
     fail(fmt::format("force_limit_n: expected a positive force, got {}", m.force_limit));
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
+  if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
+    fail("friction_cone: expected local-frame features (the cone is about the normal)");
   if (!m.prior.log_k.empty()) {
     if (m.features != FeatureSet::kLocalFrame)
       fail("stiffness_prior: expected local-frame features (the prior acts along the normal)");

@@ -136,31 +136,42 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
   double sxy = 0, sxx = 0;
   for (std::size_t i = 0; i < n; ++i) sxy += (lu[i] - mu) * (lf[i] - mf), sxx += (lu[i] - mu) * (lu[i] - mu);
   m.exponent = std::clamp(sxx > 0 ? sxy / sxx : 1.0, 0.5, 3.0);
-  std::vector<double> sum(nodes), count(nodes), lk(n), first(nodes);
-  // Gaussian-weighted mean of values v_i over q, shrunk towards `to` (prior_weight samples).
-  auto smooth = [&](const std::vector<double>& v, double to, std::vector<double>& out) {
+  std::vector<double> sum(nodes), count(nodes), lk(n), first(nodes), coarse(nodes);
+  // Gaussian-weighted mean (radius sigma_mm) of values v_i over q, shrunk towards to[j] with
+  // the weight of prior_weight samples.
+  auto smooth = [&](const std::vector<double>& v, double sigma_mm, const std::vector<double>& to,
+                    std::vector<double>& out) {
     std::fill(sum.begin(), sum.end(), 0.0);
     std::fill(count.begin(), count.end(), 0.0);
     for (std::size_t i = 0; i < n; ++i) splat(m, qs[i], v[i], sum, count);
-    blur(sum, m.dims, prm.sigma / m.cell);
-    blur(count, m.dims, prm.sigma / m.cell);
+    blur(sum, m.dims, sigma_mm / m.cell);
+    blur(count, m.dims, sigma_mm / m.cell);
     out.resize(nodes);
     for (std::size_t j = 0; j < nodes; ++j)
-      out[j] = (sum[j] + prm.prior_weight * to) / (count[j] + prm.prior_weight);
+      out[j] = (sum[j] + prm.prior_weight * to[j]) / (count[j] + prm.prior_weight);
   };
   for (int it = 0; it < prm.iterations; ++it) {
-    // ln k map given the exponent: smooth, then smooth the residuals and add them ("twicing",
-    // Tukey), which removes most of the smoothing's bias where ln k is curved.
+    // ln k map given the exponent: a pyramid of smoothing radii (9, 3.75, 1.5 mm at sigma =
+    // 1.5), each level shrunk towards the next coarser one (the coarsest towards the global
+    // mean), so that a gap in the data is filled from the data around it, not from the whole
+    // object; then the residuals are smoothed and added ("twicing", Tukey), which removes
+    // most of the smoothing's bias where ln k is curved.
     double global = 0;
     for (std::size_t i = 0; i < n; ++i) {
       lk[i] = lf[i] - m.exponent * lu[i];
       global += lk[i];
     }
     global /= static_cast<double>(n);
-    smooth(lk, global, first);
+    std::fill(coarse.begin(), coarse.end(), global);
+    for (double f : {6.0, 2.5}) {
+      smooth(lk, f * prm.sigma, coarse, first);
+      coarse.swap(first);
+    }
+    smooth(lk, prm.sigma, coarse, first);
     m.log_k = first;
     for (std::size_t i = 0; i < n; ++i) lk[i] -= m.log_stiffness(qs[i]);
-    smooth(lk, 0.0, m.log_k);
+    std::fill(coarse.begin(), coarse.end(), 0.0);
+    smooth(lk, prm.sigma, coarse, m.log_k);
     // Rounded to 1e-6 (0.0001 % of k): short in a model file, bit-identical when read back.
     for (std::size_t j = 0; j < nodes; ++j)
       m.log_k[j] = std::round(1e6 * (first[j] + m.log_k[j])) / 1e6;

@@ -11,8 +11,10 @@
 // by backfitting (alternating least squares) on the in-contact training samples:
 //   * given alpha, log k on a regular 3-D grid over q (cell `cell`) = Gaussian-weighted (sigma)
 //     mean of log f_n,i - alpha log d_i of the samples near the node (splatted trilinearly, then
-//     blurred separably), shrunk towards the global mean with the weight of `prior_weight`
-//     samples (so nodes far from any data fall back to it);
+//     blurred separably), shrunk with the weight of `prior_weight` samples towards the same
+//     mean at 2.5 sigma, itself shrunk towards the mean at 6 sigma and that towards the global
+//     mean (so a gap in the data is filled from the data around it); then the residuals are
+//     smoothed (sigma) and added ("twicing", which removes most of the smoothing bias);
 //   * given the map, alpha = the least-squares slope (through the origin) of
 //     log f_n,i - log k(q_i) against log d_i, clamped to [0.5, 3].
 // Samples with d < min_depth or f_n < min_force are left out of the fit (log of noise).
@@ -34,7 +36,7 @@ struct StiffnessMapParams {
   double sigma = 1.5;         ///< Gaussian smoothing radius over q, mm
   double min_depth = 0.5;     ///< samples shallower than this are not fitted, mm
   double min_force = 0.2;     ///< samples with a smaller normal force are not fitted, N
-  double prior_weight = 1.0;  ///< shrinkage towards the global mean, in samples
+  double prior_weight = 1.0;  ///< shrinkage towards the coarser level, in samples
   int iterations = 6;         ///< backfitting rounds
   void validate() const;      ///< throws inhap::Error on out-of-range values
 };
