@@ -135,12 +135,11 @@ json object_json(const ForceLabResult& d) {
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
-                {"stiffness_prior",
-                 v.model.prior.empty()
-                     ? json(nullptr)
-                     : json{{"exponent", v.model.prior.exponent},
-                            {"fitted_samples", v.model.prior.fitted_samples},
-                            {"dims", v.model.prior.dims}}},
+                {"stiffness_prior", v.model.prior.empty()
+                                        ? json(nullptr)
+                                        : json{{"exponent", v.model.prior.exponent},
+                                               {"fitted_samples", v.model.prior.fitted_samples},
+                                               {"dims", v.model.prior.dims}}},
                 {"friction_cone", v.model.friction_cone},
                 {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},

@@ -21,13 +21,16 @@ namespace inhap::cli {
 
 /// Model settings measured best on the lab (docs/force-model.md): local-frame features,
 /// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
-/// training samples (TrainParams defaults otherwise).
+/// training samples, the local stiffness prior and the friction-cone guard (TrainParams
+/// defaults otherwise).
 inline dd::TrainParams lab_train_params() {
   dd::TrainParams p;
   p.features = dd::FeatureSet::kLocalFrame;
   p.feature_weights = {1.0, 5.0, 0.5};
   p.bin_blend = 1.0;
   p.tangent_mirror = true;
+  p.stiffness_prior = true;
+  p.friction_cone = true;
   return p;
 }
 

@@ -248,6 +248,38 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
 
 }  // namespace
 
+namespace {
+
+void fit_prior(const TrainingSet& data, const TrainParams& params, ForceModel& model,
+               std::vector<double>& base) {
+  const std::size_t n = data.size();
+  std::vector<double> depth(n), fn(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 nn = surface_frame(data.n[i]).n;
+    depth[i] = nn.dot(data.q[i] - data.p[i]);
+    fn[i] = nn.dot(data.f[i]);
+  }
+  model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
+  for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
+}
+
+// |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise and
+// onset transients); the cone is their 99.5 % quantile (0 with fewer than 10 such samples).
+double fit_friction_cone(const TrainingSet& data) {
+  std::vector<double> ratio;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const Vec3 nn = surface_frame(data.n[i]).n;
+    const double fn = nn.dot(data.f[i]);
+    if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
+  }
+  if (ratio.size() < 10) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
+  std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
+  return ratio[static_cast<std::size_t>(k)];
+}
+
+}  // namespace
+
 ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
                              const FoawParams& foaw) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -275,34 +307,12 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (std::size_t b = 1; b < nb; ++b)
     model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
-  // Local stiffness prior (fitted on every sample), subtracted from the normal force the RBFs
-  // learn; base[i] = its normal force at sample i.
+  // Local stiffness prior (subtracted from the normal force the RBFs learn; base[i] = its
+  // normal force at sample i) and friction cone.
   std::vector<double> base(n, 0.0);
-  if (params.stiffness_prior && params.features == FeatureSet::kLocalFrame) {
-    std::vector<double> depth(n), fn(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 nn = surface_frame(data.n[i]).n;
-      depth[i] = nn.dot(data.q[i] - data.p[i]);
-      fn[i] = nn.dot(data.f[i]);
-    }
-    model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
-    for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
-  }
-
-  if (params.friction_cone && params.features == FeatureSet::kLocalFrame) {
-    // |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise
-    // and onset transients); the cone is their 99.5 % quantile.
-    std::vector<double> ratio;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 nn = surface_frame(data.n[i]).n;
-      const double fn = nn.dot(data.f[i]);
-      if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
-    }
-    if (ratio.size() >= 10) {
-      const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
-      std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
-      model.friction_cone = ratio[static_cast<std::size_t>(k)];
-    }
+  if (params.features == FeatureSet::kLocalFrame) {
+    if (params.stiffness_prior) fit_prior(data, params, model, base);
+    if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
   }
 
   std::vector<BinResult> results(nb);

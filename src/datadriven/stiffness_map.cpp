@@ -134,7 +134,8 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
   for (std::size_t i = 0; i < n; ++i) mu += lu[i], mf += lf[i];
   mu /= static_cast<double>(n), mf /= static_cast<double>(n);
   double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < n; ++i) sxy += (lu[i] - mu) * (lf[i] - mf), sxx += (lu[i] - mu) * (lu[i] - mu);
+  for (std::size_t i = 0; i < n; ++i)
+    sxy += (lu[i] - mu) * (lf[i] - mf), sxx += (lu[i] - mu) * (lu[i] - mu);
   m.exponent = std::clamp(sxx > 0 ? sxy / sxx : 1.0, 0.5, 3.0);
   std::vector<double> sum(nodes), count(nodes), lk(n), first(nodes), coarse(nodes);
   // Gaussian-weighted mean (radius sigma_mm) of values v_i over q, shrunk towards to[j] with
@@ -195,8 +196,8 @@ void validate_stiffness_map(const StiffnessMap& m, const std::string& where) {
     throw Error(fmt::format("{}: expected {} x {} x {} = {} ln k values, got {}", where, m.dims[0],
                             m.dims[1], m.dims[2], nodes, m.log_k.size()));
   if (!(m.exponent > 0 && m.exponent <= 3) || !(m.cell > 0) || !m.origin.allFinite())
-    throw Error(fmt::format("{}: expected an exponent in (0, 3], a cell > 0 and a finite origin",
-                            where));
+    throw Error(
+        fmt::format("{}: expected an exponent in (0, 3], a cell > 0 and a finite origin", where));
   for (double v : m.log_k)
     if (!std::isfinite(v)) throw Error(fmt::format("{}: expected finite ln k values", where));
 }

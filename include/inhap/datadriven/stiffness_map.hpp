@@ -42,12 +42,12 @@ struct StiffnessMapParams {
 };
 
 struct StiffnessMap {
-  double exponent = 0;                ///< alpha (0: empty map, normal_force() = 0)
-  Vec3 origin = Vec3::Zero();         ///< position of node (0, 0, 0), mm
-  double cell = 1.0;                  ///< grid spacing, mm
-  std::array<int, 3> dims{0, 0, 0};   ///< nodes per axis
-  std::vector<double> log_k;          ///< ln k per node (x fastest), k in N/mm^alpha
-  std::size_t fitted_samples = 0;     ///< samples used by the fit (diagnostic)
+  double exponent = 0;               ///< alpha (0: empty map, normal_force() = 0)
+  Vec3 origin = Vec3::Zero();        ///< position of node (0, 0, 0), mm
+  double cell = 1.0;                 ///< grid spacing, mm
+  std::array<int, 3> dims{0, 0, 0};  ///< nodes per axis
+  std::vector<double> log_k;         ///< ln k per node (x fastest), k in N/mm^alpha
+  std::size_t fitted_samples = 0;    ///< samples used by the fit (diagnostic)
 
   bool empty() const { return log_k.empty() || !(exponent > 0); }
 
@@ -68,8 +68,7 @@ struct StiffnessMap {
     const std::size_t nxy = nx * static_cast<std::size_t>(dims[1]);
     const std::size_t sx = dims[0] > 1 ? 1 : 0, sy = dims[1] > 1 ? nx : 0,
                       sz = dims[2] > 1 ? nxy : 0;
-    const std::size_t b = static_cast<std::size_t>(i0[0]) +
-                          nx * static_cast<std::size_t>(i0[1]) +
+    const std::size_t b = static_cast<std::size_t>(i0[0]) + nx * static_cast<std::size_t>(i0[1]) +
                           nxy * static_cast<std::size_t>(i0[2]);
     auto lerp = [](double u, double v, double s) { return u + s * (v - u); };
     const double c00 = lerp(log_k[b], log_k[b + sx], t[0]);
