@@ -2,7 +2,8 @@
 // size) and the servo step latency (p50/p99, us) on a held-out trajectory; variants: thesis
 // design, regression design, regression design with local-frame features (normal given), and
 // the settings of `inhap eval forces` (local frame, weights 1 5 0.5, bins blended over +-1 mm)
-// without and with tangentially mirrored training samples.
+// without and with tangentially mirrored training samples, and with the local stiffness prior
+// and the friction-cone guard.
 // Units: time s / us; forces N.
 #include <benchmark/benchmark.h>
 
@@ -33,7 +34,8 @@ TrainingSet training_set() {
 }
 
 /// 0: thesis design, 1: regression design, 2: regression design with local-frame features,
-/// 3: eval forces' settings without the tangent mirror, 4: with it (eval forces' default).
+/// 3: eval forces' settings without the tangent mirror, 4: with it, 5: with it and the local
+/// stiffness prior and the friction-cone guard (eval forces' defaults).
 TrainParams params_for(int variant) {
   TrainParams p;
   p.design = variant == 0 ? Design::kThesis : Design::kRegression;
@@ -41,12 +43,15 @@ TrainParams params_for(int variant) {
   if (variant >= 3) {
     p.feature_weights = {1.0, 5.0, 0.5};
     p.bin_blend = 1.0;
-    p.tangent_mirror = variant == 4;
+    p.tangent_mirror = variant >= 4;
+    p.stiffness_prior = variant == 5;
+    p.friction_cone = variant == 5;
   }
   return p;
 }
 const char* label(int variant) {
-  static const char* names[] = {"thesis", "regression", "regression+local", "lab", "lab+mirror"};
+  static const char* names[] = {"thesis", "regression", "regression+local",
+                                "lab",    "lab+mirror", "lab+mirror+prior+cone"};
   return names[variant];
 }
 
@@ -78,6 +83,7 @@ BENCHMARK(BM_Train)
     ->Arg(2)
     ->Arg(3)
     ->Arg(4)
+    ->Arg(5)
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
@@ -110,7 +116,7 @@ void BM_ServoStep(benchmark::State& state) {
   }
   state.SetLabel(label(variant));
 }
-BENCHMARK(BM_ServoStep)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4);
+BENCHMARK(BM_ServoStep)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5);
 
 }  // namespace
 

@@ -48,6 +48,8 @@ struct EvalForcesOptions {
   TrainParams params = lab_train_params();
   bool quick = false, baselines = true;
   double coverage_share = 0.65, seconds_per_spot = 1.5;
+  std::vector<double> coverage_force{lab::ExploreOptions{}.coverage_force_min,
+                                     lab::ExploreOptions{}.coverage_force_max};
   std::string proxy = "estimated", train_operator = "coverage";
 };
 
@@ -133,6 +135,12 @@ json object_json(const ForceLabResult& d) {
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
+                {"stiffness_prior", v.model.prior.empty()
+                                        ? json(nullptr)
+                                        : json{{"exponent", v.model.prior.exponent},
+                                               {"fitted_samples", v.model.prior.fitted_samples},
+                                               {"dims", v.model.prior.dims}}},
+                {"friction_cone", v.model.friction_cone},
                 {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
                 {"edges_mm", v.model.edges},
@@ -156,6 +164,8 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.baselines = o.baselines;
   fo.coverage_share = o.coverage_share;
   fo.seconds_per_spot = o.seconds_per_spot;
+  fo.coverage_force_min = o.coverage_force[0];
+  fo.coverage_force_max = o.coverage_force[1];
   fo.train_operator = o.train_operator;
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
@@ -208,6 +218,8 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
   if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
   if (!cmd.count("--tangent-mirror")) o.params.tangent_mirror = false;
+  if (!cmd.count("--stiffness-prior")) o.params.stiffness_prior = false;
+  if (!cmd.count("--friction-cone")) o.params.friction_cone = false;
 }
 
 void register_eval_forces(CLI::App& app) {
@@ -259,6 +271,12 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_flag("--tangent-mirror,!--no-tangent-mirror", o->params.tangent_mirror,
                 "Local features: also train on every sample turned 180 deg about the normal "
                 "(tangentially isotropic material; default on)");
+  cmd->add_flag("--stiffness-prior,!--no-stiffness-prior", o->params.stiffness_prior,
+                "Local features: fit a local stiffness prior f_n = k(q) d^alpha first and let the "
+                "RBFs learn the rest (carries shallow stiffness to deep pushes)");
+  cmd->add_flag("--friction-cone,!--no-friction-cone", o->params.friction_cone,
+                "Local features: keep the rendered force inside the friction cone of the training "
+                "data (|f_t| <= c max(f_n, 0.3 N))");
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,
@@ -285,6 +303,12 @@ void register_eval_forces(CLI::App& app) {
                   "Coverage training run: planned seconds per spot (sets the grid spacing)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 10.0));
+  cmd->add_option("--coverage-force", o->coverage_force,
+                  "Coverage training run: force range of the slides between spots and of the "
+                  "strokes, N (min max)")
+      ->capture_default_str()
+      ->expected(2)
+      ->check(CLI::Range(0.1, 6.0));
   cmd->add_flag("--baselines,!--no-baselines", o->baselines,
                 "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
                 "null)");

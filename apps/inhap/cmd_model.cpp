@@ -219,6 +219,9 @@ void register_model(CLI::App& app) {
   ct->add_flag("--tangent-mirror,!--no-tangent-mirror", tr->params.tangent_mirror,
                "Local features: also train on every sample turned 180 deg about the normal "
                "(assumes a tangentially isotropic material; default off)");
+  ct->add_flag("--stiffness-prior,!--no-stiffness-prior", tr->params.stiffness_prior,
+               "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first, "
+               "the RBFs learn the rest (default off)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
   ct->add_option("--bin-blend", tr->params.bin_blend,

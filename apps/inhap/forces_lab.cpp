@@ -115,6 +115,8 @@ lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::
   eo.coverage = true;
   eo.coverage_share = o.coverage_share;
   eo.seconds_per_spot = o.seconds_per_spot;
+  eo.coverage_force_min = o.coverage_force_min;
+  eo.coverage_force_max = o.coverage_force_max;
   auto op = lab::make_explore_operator(scene, derive_seed(seed, 1), seconds, eo);
   lab::LabRecording r = lab::record(device, *op, seconds, prog);
   r.comments = {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}", scene.name,

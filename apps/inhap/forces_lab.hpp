@@ -14,19 +14,23 @@
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
+#include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 
 namespace inhap::cli {
 
 /// Model settings measured best on the lab (docs/force-model.md): local-frame features,
 /// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
-/// training samples (TrainParams defaults otherwise).
+/// training samples, the local stiffness prior and the friction-cone guard (TrainParams
+/// defaults otherwise).
 inline dd::TrainParams lab_train_params() {
   dd::TrainParams p;
   p.features = dd::FeatureSet::kLocalFrame;
   p.feature_weights = {1.0, 5.0, 0.5};
   p.bin_blend = 1.0;
   p.tangent_mirror = true;
+  p.stiffness_prior = true;
+  p.friction_cone = true;
   return p;
 }
 
@@ -47,6 +51,9 @@ struct ForceLabOptions {
   std::string train_operator = "coverage";
   double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
   double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
+  /// lab::ExploreOptions::coverage_force_min/max (slides between spots and strokes), N
+  double coverage_force_min = lab::ExploreOptions{}.coverage_force_min;
+  double coverage_force_max = lab::ExploreOptions{}.coverage_force_max;
 };
 
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.

@@ -58,6 +58,11 @@ void TrainParams::validate() const {
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
+  if (friction_cone && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
+  if (stiffness_prior && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the stiffness prior (it needs the normal)");
+  if (stiffness_prior) stiffness.validate();
 }
 
 int ForceModel::bin_of(double key) const {
@@ -243,6 +248,38 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
 
 }  // namespace
 
+namespace {
+
+void fit_prior(const TrainingSet& data, const TrainParams& params, ForceModel& model,
+               std::vector<double>& base) {
+  const std::size_t n = data.size();
+  std::vector<double> depth(n), fn(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 nn = surface_frame(data.n[i]).n;
+    depth[i] = nn.dot(data.q[i] - data.p[i]);
+    fn[i] = nn.dot(data.f[i]);
+  }
+  model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
+  for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
+}
+
+// |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise and
+// onset transients); the cone is their 99.5 % quantile (0 with fewer than 10 such samples).
+double fit_friction_cone(const TrainingSet& data) {
+  std::vector<double> ratio;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const Vec3 nn = surface_frame(data.n[i]).n;
+    const double fn = nn.dot(data.f[i]);
+    if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
+  }
+  if (ratio.size() < 10) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
+  std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
+  return ratio[static_cast<std::size_t>(k)];
+}
+
+}  // namespace
+
 ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
                              const FoawParams& foaw) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -270,6 +307,14 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (std::size_t b = 1; b < nb; ++b)
     model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
+  // Local stiffness prior (subtracted from the normal force the RBFs learn; base[i] = its
+  // normal force at sample i) and friction cone.
+  std::vector<double> base(n, 0.0);
+  if (params.features == FeatureSet::kLocalFrame) {
+    if (params.stiffness_prior) fit_prior(data, params, model, base);
+    if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
+  }
+
   std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
   int finished = 0;
@@ -289,6 +334,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
       make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
       f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
+      f(i, 2) -= base[k];  // 0 unless the stiffness prior is on (local frame: z = normal)
     }
     if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
       x.bottomRows(m) = x.topRows(m);
@@ -444,6 +490,13 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
       const Vec3 other = bin_force(model, model.bins[lo == b ? b + 1 : b - 1], p, v, q, fr);
       f = lo == b ? Vec3((1 - s) * f + s * other) : Vec3((1 - s) * other + s * f);
     }
+  }
+  if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
+  if (model.friction_cone > 0) {  // keep the force inside the friction cone seen in training
+    const double fn = fr.n.dot(f);
+    const Vec3 ft = f - fn * fr.n;
+    const double lim = model.friction_cone * std::max(fn, kConeFloorN), len = ft.norm();
+    if (len > lim) f = fn * fr.n + ft * (lim / len);
   }
   if (!f.allFinite()) return Vec3::Zero();
   const double mag = f.norm();

@@ -160,6 +160,7 @@ std::string force_model_to_json(const ForceModel& m) {
   j["rbf"] = "r^3";
   j["force_limit_n"] = m.force_limit;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
+  if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
   j["foaw"] = {{"dt_s", m.foaw.dt},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound}};
@@ -188,6 +189,8 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"kmeans_iterations", p.kmeans_iterations},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
+                {"stiffness_prior", p.stiffness_prior},
+                {"friction_cone", p.friction_cone},
                 {"samples", m.stats.samples},
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
@@ -209,6 +212,16 @@ std::string force_model_to_json(const ForceModel& m) {
                                           axis_json(b.axes[2])})}});
   }
   j["bins"] = std::move(bins);
+  if (!m.prior.empty()) {
+    const StiffnessMap& s = m.prior;
+    j["stiffness_prior"] = {{"model", "f_n = k(q) d^alpha, ln k trilinear on a grid over q"},
+                            {"exponent", s.exponent},
+                            {"origin_mm", {s.origin.x(), s.origin.y(), s.origin.z()}},
+                            {"cell_mm", s.cell},
+                            {"dims", s.dims},
+                            {"fitted_samples", s.fitted_samples},
+                            {"ln_k", s.log_k}};
+  }
   return j.dump(1) + "\n";
 }
 
@@ -245,6 +258,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     m.bin_blend = r.num(j["bin_blend_mm"], "bin_blend_mm");
     if (!(m.bin_blend >= 0)) r.fail("bin_blend_mm", "expected >= 0");
   }
+  if (j.contains("friction_cone")) {
+    m.friction_cone = r.num(j["friction_cone"], "friction_cone");
+    if (!(m.friction_cone >= 0)) r.fail("friction_cone", "expected >= 0");
+  }
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(
@@ -280,6 +297,9 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("kmeans_iterations", m.params.kmeans_iterations);
       get("box_margin", m.params.box_margin);
       if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
+      if (t.contains("stiffness_prior"))
+        m.params.stiffness_prior = t["stiffness_prior"].get<bool>();
+      if (t.contains("friction_cone")) m.params.friction_cone = t["friction_cone"].get<bool>();
       get("samples", m.stats.samples);
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);
@@ -293,6 +313,28 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       r.fail("train", e.what());
     }
     m.params.features = m.features;
+  }
+  if (j.contains("stiffness_prior") && !j["stiffness_prior"].is_null()) {
+    const json& sp = j["stiffness_prior"];
+    const std::string w = "stiffness_prior";
+    m.prior.exponent = r.num(r.need(sp, "exponent", w), w + "/exponent");
+    const std::vector<double> o = r.nums(r.need(sp, "origin_mm", w), w + "/origin_mm", 3);
+    m.prior.origin = Vec3(o[0], o[1], o[2]);
+    m.prior.cell = r.num(r.need(sp, "cell_mm", w), w + "/cell_mm");
+    const json& dims = r.need(sp, "dims", w);
+    if (!dims.is_array() || dims.size() != 3) r.fail(w + "/dims", "expected 3 integers");
+    for (std::size_t a = 0; a < 3; ++a)
+      m.prior.dims[a] =
+          static_cast<int>(r.integer(dims[a], fmt::format("{}/dims/{}", w, a), 1, 100000));
+    m.prior.log_k = r.nums(r.need(sp, "ln_k", w), w + "/ln_k");
+    if (sp.contains("fitted_samples"))
+      m.prior.fitted_samples = static_cast<std::size_t>(
+          r.integer(sp["fitted_samples"], w + "/fitted_samples", 0, 1L << 50));
+    try {
+      validate_stiffness_map(m.prior, w);
+    } catch (const Error& e) {
+      r.fail(w, e.what());
+    }
   }
   m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
   const json& bins = r.need(j, "bins", "(root)");
@@ -322,6 +364,17 @@ void validate_model(const ForceModel& m, const std::string& where) {
   if (!(m.force_limit > 0) || !std::isfinite(m.force_limit))
     fail(fmt::format("force_limit_n: expected a positive force, got {}", m.force_limit));
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
+  if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
+    fail("friction_cone: expected local-frame features (the cone is about the normal)");
+  if (!m.prior.log_k.empty()) {
+    if (m.features != FeatureSet::kLocalFrame)
+      fail("stiffness_prior: expected local-frame features (the prior acts along the normal)");
+    try {
+      validate_stiffness_map(m.prior, "stiffness_prior");
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
   if (m.edges.size() + 1 != m.bins.size())
     fail(fmt::format("edges_mm: expected {} edges for {} bins, got {}", m.bins.size() - 1,
                      m.bins.size(), m.edges.size()));

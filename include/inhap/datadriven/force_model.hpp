@@ -28,10 +28,13 @@
 #include "inhap/datadriven/foaw.hpp"
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/sparsa.hpp"
+#include "inhap/datadriven/stiffness_map.hpp"
 
 namespace inhap::dd {
 
 inline constexpr int kFeatureDim = 9;
+/// Normal force below which the friction-cone guard uses this value instead, N.
+inline constexpr double kConeFloorN = 0.3;
 
 /// Which 9-D vector the RBFs see.
 enum class FeatureSet {
@@ -133,6 +136,16 @@ struct TrainParams {
   /// alike in every tangential direction; a push straight along the normal then gets no
   /// tangential force from its neighbours' shear. Doubles the training rows.
   bool tangent_mirror = false;
+  /// Local-frame features only: fit a local stiffness prior f_n = k(q) d^alpha (d = n . (q - p),
+  /// see stiffness_map.hpp) to all training samples first; the RBFs learn the rest and the prior
+  /// is added back when rendering, so the stiffness seen at shallow depth carries to deep pushes.
+  bool stiffness_prior = false;
+  StiffnessMapParams stiffness;  ///< settings of the prior's fit
+  /// Local-frame features only: keep the rendered force inside the friction cone seen in
+  /// training, |f_t| <= c max(f_n, 0.3 N) with c the 99.5 % quantile of |f_t| / f_n over the
+  /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
+  /// tangential force).
+  bool friction_cone = false;
   int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
@@ -178,6 +191,8 @@ struct ForceModel {
   std::string sys_path, mesh_path;       ///< references (may be empty)
   std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
   std::string proxy_source = "columns";  ///< where q came from when training
+  StiffnessMap prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
+  double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
 
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;
