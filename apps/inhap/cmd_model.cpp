@@ -222,6 +222,9 @@ void register_model(CLI::App& app) {
   ct->add_flag("--stiffness-prior,!--no-stiffness-prior", tr->params.stiffness_prior,
                "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first, "
                "the RBFs learn the rest (default off)");
+  ct->add_flag("--friction-cone,!--no-friction-cone", tr->params.friction_cone,
+               "Local features: keep the rendered force inside the training data's friction "
+               "cone, |f_t| <= c max(f_n, 0.3 N) (default off)");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
   ct->add_option("--bin-blend", tr->params.bin_blend,
