@@ -1,6 +1,10 @@
 // Shared helpers of the data-driven tests: small synthetic data sets and models.
 #pragma once
 
+#include <array>
+#include <utility>
+
+#include "inhap/core/random.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/synthetic.hpp"
@@ -35,6 +39,35 @@ inline TrainingSet take(const TrainingSet& s, std::size_t offset, std::size_t st
     o.f.push_back(s.f[i]);
   }
   return o;
+}
+
+/// n samples on a flat surface (normal +z, at rest): draw(rng) gives the proxy q and the elastic
+/// displacement u = q - p, law(q, u) the force (N).
+template <class Draw, class Law>
+TrainingSet flat_set(std::uint64_t seed, std::size_t n, Draw&& draw, Law&& law) {
+  Rng rng(seed);
+  TrainingSet s;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [q, u] = draw(rng);
+    s.p.push_back(q - u);
+    s.v.push_back(Vec3::Zero());
+    s.q.push_back(q);
+    s.f.push_back(law(q, u));
+    s.n.push_back(Vec3::UnitZ());
+  }
+  return s;
+}
+
+/// Local-frame features, 2 bins, one thread (deterministic and quick).
+inline TrainParams local_params(int centers, std::array<double, 3> weights, std::uint64_t seed) {
+  TrainParams p;
+  p.features = FeatureSet::kLocalFrame;
+  p.bins = 2;
+  p.centers = centers;
+  p.feature_weights = {weights[0], weights[1], weights[2]};
+  p.seed = seed;
+  p.threads = 1;
+  return p;
 }
 
 inline TrainParams small_params() {

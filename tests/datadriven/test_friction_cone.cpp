@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dd_fixtures.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/force_model.hpp"
@@ -26,30 +27,19 @@ Vec3 law(const Vec3& u) {  // u = q - p in the surface frame (+z = depth)
 }
 
 TrainingSet drag_set(std::uint64_t seed, std::size_t n) {
-  Rng rng(seed);
-  TrainingSet s;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 q(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
-    const double a = rng.uniform(0.0, 2 * M_PI), ut = rng.uniform(0.0, 2.0);
-    const Vec3 u(ut * std::cos(a), ut * std::sin(a), rng.uniform(0.5, 5.0));
-    s.p.push_back(q - u);
-    s.v.push_back(Vec3::Zero());
-    s.q.push_back(q);
-    s.f.push_back(law(u));
-    s.n.push_back(Vec3::UnitZ());
-  }
-  return s;
+  return test::flat_set(
+      seed, n,
+      [](Rng& rng) {
+        const Vec3 q(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
+        const double a = rng.uniform(0.0, 2 * M_PI), ut = rng.uniform(0.0, 2.0);
+        return std::pair{q, Vec3(ut * std::cos(a), ut * std::sin(a), rng.uniform(0.5, 5.0))};
+      },
+      [](const Vec3&, const Vec3& u) { return law(u); });
 }
 
 TrainParams cone_params(bool cone) {
-  TrainParams p;
-  p.features = FeatureSet::kLocalFrame;
-  p.bins = 2;
-  p.centers = 120;
-  p.feature_weights = {1.0, 0.3, 0.5};
+  TrainParams p = test::local_params(120, {1.0, 0.3, 0.5}, 5);
   p.box_margin = 1.0;  // let the expansions extrapolate far
-  p.seed = 5;
-  p.threads = 1;
   p.friction_cone = cone;
   return p;
 }

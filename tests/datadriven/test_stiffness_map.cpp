@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dd_fixtures.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/force_model.hpp"
@@ -23,20 +24,17 @@ double stiffness(const Vec3& q) {
 
 /// Samples over [-25, 25]^2; within `shallow_radius` of the soft spot only d <= 2 mm.
 TrainingSet law_set(std::uint64_t seed, std::size_t n, double shallow_radius) {
-  Rng rng(seed);
-  TrainingSet s;
-  while (s.size() < n) {
-    const Vec3 q(rng.uniform(-25, 25), rng.uniform(-25, 25), 0.0);
-    const double dmax = (q - kSoft).norm() < shallow_radius ? 2.0 : 6.0;
-    const double d = rng.uniform(0.3, dmax);
-    const Vec3 u(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), d);
-    s.p.push_back(q - u);
-    s.v.push_back(Vec3::Zero());
-    s.q.push_back(q);
-    s.f.emplace_back(0.0, 0.0, stiffness(q) * std::pow(d, 1.5));
-    s.n.push_back(Vec3::UnitZ());
-  }
-  return s;
+  return test::flat_set(
+      seed, n,
+      [&](Rng& rng) {
+        const Vec3 q(rng.uniform(-25, 25), rng.uniform(-25, 25), 0.0);
+        const double dmax = (q - kSoft).norm() < shallow_radius ? 2.0 : 6.0;
+        const double d = rng.uniform(0.3, dmax);
+        return std::pair{q, Vec3(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), d)};
+      },
+      [](const Vec3& q, const Vec3& u) {
+        return Vec3(0.0, 0.0, stiffness(q) * std::pow(u.z(), 1.5));
+      });
 }
 
 TEST(StiffnessMap, RecoversTheExponentAndTheLocalStiffness) {
@@ -73,13 +71,7 @@ TEST(StiffnessMap, TooFewSamplesGiveAnEmptyMap) {
 }
 
 TrainParams prior_params(bool prior) {
-  TrainParams p;
-  p.features = FeatureSet::kLocalFrame;
-  p.bins = 2;
-  p.centers = 120;
-  p.feature_weights = {1.0, 5.0, 0.5};
-  p.seed = 3;
-  p.threads = 1;
+  TrainParams p = test::local_params(120, {1.0, 5.0, 0.5}, 3);
   p.stiffness_prior = prior;
   return p;
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dd_fixtures.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/force_model.hpp"
 
@@ -32,28 +33,19 @@ Vec3 law(const Vec3& u) {  // u = q - p in the surface frame (+z = depth)
 }
 
 TrainingSet one_sided_set(std::uint64_t seed, std::size_t n) {
-  Rng rng(seed);
-  TrainingSet s;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 q(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
-    const Vec3 u(rng.uniform(0.0, 2.0), rng.uniform(-0.2, 0.2), rng.uniform(0.5, 5.0));
-    s.p.push_back(q - u);
-    s.v.push_back(Vec3::Zero());
-    s.q.push_back(q);
-    s.f.push_back(law(u));
-    s.n.push_back(Vec3::UnitZ());
-  }
-  return s;
+  return test::flat_set(
+      seed, n,
+      [](Rng& rng) {
+        const Vec3 q(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
+        return std::pair{
+            q, Vec3(rng.uniform(0.0, 2.0), rng.uniform(-0.2, 0.2), rng.uniform(0.5, 5.0))};
+      },
+      [](const Vec3&, const Vec3& u) { return law(u); });
 }
 
 TrainParams mirror_params(bool mirror) {
-  TrainParams p;
-  p.features = FeatureSet::kLocalFrame;
-  p.bins = 2;
-  p.centers = 150;
-  p.feature_weights = {1.0, 0.3, 0.5};  // the law does not depend on the location
-  p.seed = 3;
-  p.threads = 1;
+  // Location weight 0.3: the law does not depend on the location.
+  TrainParams p = test::local_params(150, {1.0, 0.3, 0.5}, 3);
   p.tangent_mirror = mirror;
   return p;
 }
