@@ -1,7 +1,9 @@
 // Shared helpers of the data-driven tests: small synthetic data sets and models.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <utility>
 
 #include "inhap/core/random.hpp"
@@ -39,6 +41,21 @@ inline TrainingSet take(const TrainingSet& s, std::size_t offset, std::size_t st
     o.f.push_back(s.f[i]);
   }
   return o;
+}
+
+/// A saturating friction law in the surface frame (u = q - p, +z = depth, mm -> N):
+/// f_n = kLawK d^1.5, |f_t| = kLawMu f_n tanh(|u_t| / 0.5 mm) along u_t.
+inline constexpr double kLawK = 0.4, kLawMu = 0.8;
+inline Vec3 friction_law(const Vec3& u) {
+  const double fn = kLawK * std::pow(std::max(u.z(), 0.0), 1.5);
+  const double ut = std::hypot(u.x(), u.y());
+  Vec3 f(0, 0, fn);
+  if (ut > 1e-12) {
+    const double ft = kLawMu * fn * std::tanh(ut / 0.5);
+    f.x() = ft * u.x() / ut;
+    f.y() = ft * u.y() / ut;
+  }
+  return f;
 }
 
 /// n samples on a flat surface (normal +z, at rest): draw(rng) gives the proxy q and the elastic

@@ -16,15 +16,8 @@
 namespace inhap::dd {
 namespace {
 
-constexpr double kK = 0.4, kMu = 0.8;
-
-Vec3 law(const Vec3& u) {  // u = q - p in the surface frame (+z = depth)
-  const double fn = kK * std::pow(std::max(u.z(), 0.0), 1.5);
-  const double ut = std::hypot(u.x(), u.y());
-  Vec3 f(0, 0, fn);
-  if (ut > 1e-12) f.head<2>() = kMu * fn * std::tanh(ut / 0.5) * u.head<2>() / ut;
-  return f;
-}
+using test::friction_law;
+constexpr double kMu = test::kLawMu;
 
 TrainingSet drag_set(std::uint64_t seed, std::size_t n) {
   return test::flat_set(
@@ -34,7 +27,7 @@ TrainingSet drag_set(std::uint64_t seed, std::size_t n) {
         const double a = rng.uniform(0.0, 2 * M_PI), ut = rng.uniform(0.0, 2.0);
         return std::pair{q, Vec3(ut * std::cos(a), ut * std::sin(a), rng.uniform(0.5, 5.0))};
       },
-      [](const Vec3&, const Vec3& u) { return law(u); });
+      [](const Vec3&, const Vec3& u) { return friction_law(u); });
 }
 
 TrainParams cone_params(bool cone) {
@@ -62,8 +55,8 @@ TEST(FrictionCone, IsTheLawsFrictionCoefficientAndBoundsExtrapolation) {
     const Vec3 f1 = model_force(guarded, q - u, Vec3::Zero(), q, Vec3::UnitZ());
     EXPECT_LE(f1.head<2>().norm(),
               guarded.friction_cone * std::max(f1.z(), kConeFloorN) * (1 + 1e-12));
-    sq0 += (f0 - law(u)).head<2>().squaredNorm();
-    sq1 += (f1 - law(u)).head<2>().squaredNorm();
+    sq0 += (f0 - friction_law(u)).head<2>().squaredNorm();
+    sq1 += (f1 - friction_law(u)).head<2>().squaredNorm();
   }
   const double e0 = std::sqrt(sq0 / n), e1 = std::sqrt(sq1 / n);
   std::printf("long drags, tangential RMS error: %.3f N plain, %.3f N with the cone\n", e0, e1);

@@ -18,19 +18,7 @@
 namespace inhap::dd {
 namespace {
 
-constexpr double kK = 0.4, kMu = 0.8;
-
-Vec3 law(const Vec3& u) {  // u = q - p in the surface frame (+z = depth)
-  const double fn = kK * std::pow(std::max(u.z(), 0.0), 1.5);
-  const double ut = std::hypot(u.x(), u.y());
-  Vec3 f(0, 0, fn);
-  if (ut > 1e-12) {
-    const double ft = kMu * fn * std::tanh(ut / 0.5);
-    f.x() = ft * u.x() / ut;
-    f.y() = ft * u.y() / ut;
-  }
-  return f;
-}
+using test::friction_law;  // k = 0.4 N/mm^1.5, mu = 0.8
 
 TrainingSet one_sided_set(std::uint64_t seed, std::size_t n) {
   return test::flat_set(
@@ -40,7 +28,7 @@ TrainingSet one_sided_set(std::uint64_t seed, std::size_t n) {
         return std::pair{
             q, Vec3(rng.uniform(0.0, 2.0), rng.uniform(-0.2, 0.2), rng.uniform(0.5, 5.0))};
       },
-      [](const Vec3&, const Vec3& u) { return law(u); });
+      [](const Vec3&, const Vec3& u) { return friction_law(u); });
 }
 
 TrainParams mirror_params(bool mirror) {
@@ -59,7 +47,7 @@ double reversed_drag_error(const ForceModel& m) {
     const Vec3 q(rng.uniform(-15, 15), rng.uniform(-15, 15), 0.0);
     const Vec3 u(-rng.uniform(0.3, 1.8), 0.0, rng.uniform(1.0, 4.5));
     const Vec3 f = model_force(m, q - u, Vec3::Zero(), q, Vec3::UnitZ());
-    sq += (f - law(u)).head<2>().squaredNorm();
+    sq += (f - friction_law(u)).head<2>().squaredNorm();
   }
   return std::sqrt(sq / n);
 }
