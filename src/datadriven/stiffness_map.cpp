@@ -88,6 +88,42 @@ void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& 
   }
 }
 
+// Grid over the samples' bounding box padded by 2 sigma, coarser cells if it would exceed
+// 500,000 nodes: sets origin, cell and dims, and sizes log_k.
+void place_grid(const std::vector<Vec3>& qs, const StiffnessMapParams& prm, StiffnessMap& m) {
+  Vec3 lo = qs[0], hi = qs[0];
+  for (const Vec3& x : qs) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  lo.array() -= 2 * prm.sigma;
+  hi.array() += 2 * prm.sigma;
+  m.cell = prm.cell;
+  auto count_nodes = [&] {
+    std::size_t total = 1;
+    for (int a = 0; a < 3; ++a) {
+      m.dims[static_cast<std::size_t>(a)] =
+          static_cast<int>(std::ceil((hi[a] - lo[a]) / m.cell)) + 1;
+      total *= static_cast<std::size_t>(m.dims[static_cast<std::size_t>(a)]);
+    }
+    return total;
+  };
+  while (count_nodes() > 500'000) m.cell *= 1.25;
+  m.origin = lo;
+  m.log_k.assign(static_cast<std::size_t>(m.dims[0]) * static_cast<std::size_t>(m.dims[1]) *
+                     static_cast<std::size_t>(m.dims[2]),
+                 0.0);
+}
+
+// Initial exponent: the pooled slope of ln f against ln d (with an intercept), in [0.5, 3].
+double initial_exponent(const std::vector<double>& lu, const std::vector<double>& lf) {
+  const auto n = static_cast<double>(lu.size());
+  double mu = 0, mf = 0;
+  for (std::size_t i = 0; i < lu.size(); ++i) mu += lu[i], mf += lf[i];
+  mu /= n, mf /= n;
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < lu.size(); ++i)
+    sxy += (lu[i] - mu) * (lf[i] - mf), sxx += (lu[i] - mu) * (lu[i] - mu);
+  return std::clamp(sxx > 0 ? sxy / sxx : 1.0, 0.5, 3.0);
+}
+
 }  // namespace
 
 StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<double>& depth,
@@ -109,34 +145,9 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
   const std::size_t n = qs.size();
   if (n < 10) return m;
   m.fitted_samples = n;
-  // Grid over the samples' bounding box padded by 2 sigma; coarser cells if it gets huge.
-  Vec3 lo = qs[0], hi = qs[0];
-  for (const Vec3& x : qs) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
-  lo.array() -= 2 * prm.sigma;
-  hi.array() += 2 * prm.sigma;
-  m.cell = prm.cell;
-  auto count_nodes = [&] {
-    std::size_t total = 1;
-    for (int a = 0; a < 3; ++a) {
-      m.dims[static_cast<std::size_t>(a)] =
-          static_cast<int>(std::ceil((hi[a] - lo[a]) / m.cell)) + 1;
-      total *= static_cast<std::size_t>(m.dims[static_cast<std::size_t>(a)]);
-    }
-    return total;
-  };
-  while (count_nodes() > 500'000) m.cell *= 1.25;
-  m.origin = lo;
-  const std::size_t nodes = static_cast<std::size_t>(m.dims[0]) *
-                            static_cast<std::size_t>(m.dims[1]) *
-                            static_cast<std::size_t>(m.dims[2]);
-  // Initial exponent: the pooled slope of ln f against ln d (with an intercept).
-  double mu = 0, mf = 0;
-  for (std::size_t i = 0; i < n; ++i) mu += lu[i], mf += lf[i];
-  mu /= static_cast<double>(n), mf /= static_cast<double>(n);
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    sxy += (lu[i] - mu) * (lf[i] - mf), sxx += (lu[i] - mu) * (lu[i] - mu);
-  m.exponent = std::clamp(sxx > 0 ? sxy / sxx : 1.0, 0.5, 3.0);
+  place_grid(qs, prm, m);
+  const std::size_t nodes = m.log_k.size();
+  m.exponent = initial_exponent(lu, lf);
   std::vector<double> sum(nodes), count(nodes), lk(n), first(nodes), coarse(nodes);
   // Gaussian-weighted mean (radius sigma_mm) of values v_i over q, shrunk towards to[j] with
   // the weight of prior_weight samples.
