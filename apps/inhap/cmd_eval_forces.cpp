@@ -32,6 +32,7 @@
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
+#include "model_flags.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -268,15 +269,7 @@ void register_eval_forces(CLI::App& app) {
                   "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--tangent-mirror,!--no-tangent-mirror", o->params.tangent_mirror,
-                "Local features: also train on every sample turned 180 deg about the normal "
-                "(tangentially isotropic material; default on)");
-  cmd->add_flag("--stiffness-prior,!--no-stiffness-prior", o->params.stiffness_prior,
-                "Local features: fit a local stiffness prior f_n = k(q) d^alpha first and let the "
-                "RBFs learn the rest (carries shallow stiffness to deep pushes)");
-  cmd->add_flag("--friction-cone,!--no-friction-cone", o->params.friction_cone,
-                "Local features: keep the rendered force inside the friction cone of the training "
-                "data (|f_t| <= c max(f_n, 0.3 N))");
+  add_local_training_flags(*cmd, o->params, "default on");
   cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
   cmd->add_option("--box-margin", o->params.box_margin,

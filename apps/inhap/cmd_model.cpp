@@ -15,6 +15,7 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/friction/mesh_surface.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "model_flags.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -216,15 +217,7 @@ void register_model(CLI::App& app) {
       ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
   ct->add_flag("--tail,!--no-tail", tr->params.linear_tail,
                "Linear polynomial tail on every expansion (default on; the thesis has none)");
-  ct->add_flag("--tangent-mirror,!--no-tangent-mirror", tr->params.tangent_mirror,
-               "Local features: also train on every sample turned 180 deg about the normal "
-               "(assumes a tangentially isotropic material; default off)");
-  ct->add_flag("--stiffness-prior,!--no-stiffness-prior", tr->params.stiffness_prior,
-               "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first, "
-               "the RBFs learn the rest (default off)");
-  ct->add_flag("--friction-cone,!--no-friction-cone", tr->params.friction_cone,
-               "Local features: keep the rendered force inside the training data's friction "
-               "cone, |f_t| <= c max(f_n, 0.3 N) (default off)");
+  add_local_training_flags(*ct, tr->params, "default off");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
   ct->add_option("--bin-blend", tr->params.bin_blend,

@@ -1,0 +1,31 @@
+// Flags shared by `inhap model train` and `inhap eval forces`: the local-frame training options
+// (tangent mirror, stiffness prior, friction cone) of dd::TrainParams. Units: mm, N.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "inhap/datadriven/force_model.hpp"
+
+namespace inhap::cli {
+
+/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior and --[no-]friction-cone bound to `p`;
+/// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
+inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
+                                     const std::string& defaults) {
+  cmd.add_flag("--tangent-mirror,!--no-tangent-mirror", p.tangent_mirror,
+               "Local features: also train on every sample turned 180 deg about the normal "
+               "(assumes a tangentially isotropic material; " +
+                   defaults + ")");
+  cmd.add_flag("--stiffness-prior,!--no-stiffness-prior", p.stiffness_prior,
+               "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and "
+               "let the RBFs learn the rest; carries shallow stiffness to deep pushes (" +
+                   defaults + ")");
+  cmd.add_flag("--friction-cone,!--no-friction-cone", p.friction_cone,
+               "Local features: keep the rendered force inside the training data's friction "
+               "cone, |f_t| <= c max(f_n, 0.3 N) (" +
+                   defaults + ")");
+}
+
+}  // namespace inhap::cli
