@@ -3,6 +3,7 @@
 #include "inhap/datadriven/stiffness_map.hpp"
 
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <limits>
@@ -58,9 +59,9 @@ void blur(std::vector<double>& g, const std::array<int, 3>& dims, double sigma_c
   }
 }
 
-// Trilinear splat of value v (weight 1) at q into sum / count.
-void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& sum,
-           std::vector<double>& count) {
+// The 8 nodes around q (clamped into the grid) and their trilinear weights; returns how many
+// (nodes along a single-node axis are skipped).
+int trilinear(const StiffnessMap& m, const Vec3& q, std::size_t idx[8], double wt[8]) {
   double t[3];
   std::size_t i0[3];
   for (int a = 0; a < 3; ++a) {
@@ -72,19 +73,108 @@ void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& 
   }
   const auto nx = static_cast<std::size_t>(m.dims[0]);
   const std::size_t nxy = nx * static_cast<std::size_t>(m.dims[1]);
+  int k = 0;
   for (int c = 0; c < 8; ++c) {
     double w = 1;
-    std::size_t idx = 0;
+    std::size_t id = 0;
     bool ok = true;
     for (int a = 0; a < 3; ++a) {
       const int bit = (c >> a) & 1;
       if (bit && m.dims[static_cast<std::size_t>(a)] < 2) ok = false;
       w *= bit ? t[a] : 1 - t[a];
-      idx += (i0[a] + static_cast<std::size_t>(bit)) * (a == 0 ? 1 : a == 1 ? nx : nxy);
+      id += (i0[a] + static_cast<std::size_t>(bit)) * (a == 0 ? 1 : a == 1 ? nx : nxy);
     }
     if (!ok || w == 0) continue;
-    sum[idx] += w * v;
-    count[idx] += w;
+    idx[k] = id;
+    wt[k++] = w;
+  }
+  return k;
+}
+
+// Trilinear splat of value v (weight 1) at q into sum / count.
+void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& sum,
+           std::vector<double>& count) {
+  std::size_t idx[8];
+  double wt[8];
+  const int k = trilinear(m, q, idx, wt);
+  for (int c = 0; c < k; ++c) {
+    sum[idx[c]] += wt[c] * v;
+    count[idx[c]] += wt[c];
+  }
+}
+
+// Gaussian-weighted local-linear fit (radius sigma_mm) of values v_i over q at every node,
+// shrunk towards to[j] with the weight of prior_weight samples: where the data lie on one side
+// of a node (a gap at the rim of the explored region) the value follows their trend instead of
+// their mean. The slope is ridge-regularised (so a direction the data do not span, e.g. z on a
+// flat object, keeps the local mean) and the result is clamped to the range of v widened by half
+// its span.
+void smooth_linear(const StiffnessMap& m, const std::vector<Vec3>& qs, const std::vector<double>& v,
+                   double sigma_mm, double prior_weight, const std::vector<double>& to,
+                   std::vector<double>& out) {
+  // Moments about the grid's centre: 1, x (3), x x^T (6), v, v x (3).
+  constexpr int kMoments = 14;
+  const std::size_t nodes = to.size();
+  const Vec3 centre =
+      m.origin + 0.5 * m.cell * Vec3(m.dims[0] - 1.0, m.dims[1] - 1.0, m.dims[2] - 1.0);
+  std::vector<std::vector<double>> g(kMoments, std::vector<double>(nodes, 0.0));
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < qs.size(); ++i) {
+    const Vec3 x = qs[i] - centre;
+    const double mom[kMoments] = {1,
+                                  x.x(),
+                                  x.y(),
+                                  x.z(),
+                                  x.x() * x.x(),
+                                  x.x() * x.y(),
+                                  x.x() * x.z(),
+                                  x.y() * x.y(),
+                                  x.y() * x.z(),
+                                  x.z() * x.z(),
+                                  v[i],
+                                  v[i] * x.x(),
+                                  v[i] * x.y(),
+                                  v[i] * x.z()};
+    std::size_t idx[8];
+    double wt[8];
+    const int k = trilinear(m, qs[i], idx, wt);
+    for (int c = 0; c < k; ++c)
+      for (int a = 0; a < kMoments; ++a) g[static_cast<std::size_t>(a)][idx[c]] += wt[c] * mom[a];
+    lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+  }
+  const double margin = 0.5 * (hi - lo);  // how far beyond the data's range a trend may go
+  for (auto& grid : g) blur(grid, m.dims, sigma_mm / m.cell);
+  out.resize(nodes);
+  const auto nx = static_cast<std::size_t>(m.dims[0]), ny = static_cast<std::size_t>(m.dims[1]);
+  for (std::size_t j = 0; j < nodes; ++j) {
+    const Vec3 node =
+        m.origin + m.cell * Vec3(static_cast<double>(j % nx), static_cast<double>((j / nx) % ny),
+                                 static_cast<double>(j / (nx * ny)));
+    const Vec3 c = node - centre;
+    auto at = [&](int a) { return g[static_cast<std::size_t>(a)][j]; };
+    // Moments about the node: S0, S1 = sum w (x - c), S2 = sum w (x - c)(x - c)^T, T0, T1.
+    const double s0 = at(0);
+    const Vec3 m1(at(1), at(2), at(3));
+    Eigen::Matrix3d m2;
+    m2 << at(4), at(5), at(6), at(5), at(7), at(8), at(6), at(8), at(9);
+    const Vec3 s1 = m1 - s0 * c;
+    const Eigen::Matrix3d s2 =
+        m2 - m1 * c.transpose() - c * m1.transpose() + s0 * c * c.transpose();
+    const double t0 = at(10);
+    const Vec3 t1 = Vec3(at(11), at(12), at(13)) - t0 * c;
+    Eigen::Matrix4d a;
+    Eigen::Vector4d b;
+    a(0, 0) = s0 + prior_weight;
+    a.block<1, 3>(0, 1) = s1.transpose();
+    a.block<3, 1>(1, 0) = s1;
+    // Ridge on the slope, small against the spread of the data a node sees even through the
+    // kernel's tail ((sigma / 7)^2 per sample; at a rim the data within reach lie in a strip).
+    a.block<3, 3>(1, 1) =
+        s2 + Eigen::Matrix3d::Identity() * (0.02 * (s0 + prior_weight) * sigma_mm * sigma_mm);
+    b(0) = t0 + prior_weight * to[j];
+    b.tail<3>() = t1;
+    const double value = a.ldlt().solve(b)(0);
+    out[j] = std::isfinite(value) ? std::clamp(value, lo - margin, hi + margin) : to[j];
   }
 }
 
@@ -163,11 +253,12 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
       out[j] = (sum[j] + prm.prior_weight * to[j]) / (count[j] + prm.prior_weight);
   };
   for (int it = 0; it < prm.iterations; ++it) {
-    // ln k map given the exponent: a pyramid of smoothing radii (9, 3.75, 1.5 mm at sigma =
-    // 1.5), each level shrunk towards the next coarser one (the coarsest towards the global
-    // mean), so that a gap in the data is filled from the data around it, not from the whole
-    // object; then the residuals are smoothed and added ("twicing", Tukey), which removes
-    // most of the smoothing's bias where ln k is curved.
+    // ln k map given the exponent: a pyramid of local-linear fits with smoothing radii (9,
+    // 3.75, 1.5 mm at sigma = 1.5), each level shrunk towards the next coarser one (the
+    // coarsest towards the global mean), so that a gap in the data is filled from the data
+    // around it along their trend, not from the whole object; then the residuals are smoothed
+    // and added ("twicing", Tukey), which removes most of the smoothing's bias where ln k is
+    // curved.
     double global = 0;
     for (std::size_t i = 0; i < n; ++i) {
       lk[i] = lf[i] - m.exponent * lu[i];
@@ -176,7 +267,7 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
     global /= static_cast<double>(n);
     std::fill(coarse.begin(), coarse.end(), global);
     for (double f : {6.0, 2.5}) {
-      smooth(lk, f * prm.sigma, coarse, first);
+      smooth_linear(m, qs, lk, f * prm.sigma, prm.prior_weight, coarse, first);
       coarse.swap(first);
     }
     smooth(lk, prm.sigma, coarse, first);

@@ -10,14 +10,18 @@
 // log k(q) a smooth map over the proxy's location and one exponent alpha for the object, fitted
 // by backfitting (alternating least squares) on the in-contact training samples:
 //   * given alpha, log k on a regular 3-D grid over q (cell `cell`) = Gaussian-weighted (sigma)
-//     mean of log f_n,i - alpha log d_i of the samples near the node (splatted trilinearly, then
-//     blurred separably), shrunk with the weight of `prior_weight` samples towards the same
-//     mean at 2.5 sigma, itself shrunk towards the mean at 6 sigma and that towards the global
-//     mean (so a gap in the data is filled from the data around it); then the residuals are
-//     smoothed (sigma) and added ("twicing", which removes most of the smoothing bias);
+//     local-linear fit of log f_n,i - alpha log d_i over the samples near the node (moments
+//     splatted trilinearly, then blurred separably; the slope lightly ridge-regularised), shrunk
+//     with the weight of `prior_weight` samples towards the same fit at 2.5 sigma, itself shrunk
+//     towards the fit at 6 sigma and that towards the global mean (so a gap in the data is
+//     filled from the data around it, following their trend: at the rim of the explored region
+//     the stiffness keeps falling or rising as it did, instead of taking the mean of the data
+//     behind it); then the residuals are smoothed (sigma) and added ("twicing");
 //   * given the map, alpha = the least-squares slope (through the origin) of
 //     log f_n,i - log k(q_i) against log d_i, clamped to [0.5, 3].
 // Samples with d < min_depth or f_n < min_force are left out of the fit (log of noise).
+// The same fit serves the shear prior (TrainParams::shear_prior): |f_t| = k_t(q) |u_t|^beta, with
+// the tangential displacement |u_t| in the place of d.
 // Rendering: k(q) by trilinear interpolation (q clamped into the grid), d^alpha for d > 0, 0
 // otherwise: a handful of flops, no allocation.
 #pragma once
@@ -78,12 +82,15 @@ struct StiffnessMap {
     return lerp(lerp(c00, c10, t[1]), lerp(c01, c11, t[1]), t[2]);
   }
 
-  /// Prior normal force k(q) d^alpha at depth d (mm), N; 0 for d <= 0, an empty map or a
-  /// non-finite input. Servo-safe.
-  double normal_force(const Vec3& q, double depth) const {
-    if (empty() || !(depth > 0) || !q.allFinite()) return 0.0;
-    return std::exp(log_stiffness(q) + exponent * std::log(depth));
+  /// Prior force magnitude k(q) x^alpha for a displacement x (mm): the normal force at depth x
+  /// for the stiffness prior, the tangential force at a tangential displacement x for the shear
+  /// prior; N. 0 for x <= 0, an empty map or a non-finite input. Servo-safe.
+  double force(const Vec3& q, double x) const {
+    if (empty() || !(x > 0) || !q.allFinite()) return 0.0;
+    return std::exp(log_stiffness(q) + exponent * std::log(x));
   }
+  /// The same, named for the stiffness prior: normal force at depth d (mm), N.
+  double normal_force(const Vec3& q, double depth) const { return force(q, depth); }
 };
 
 /// Fits the map to in-contact samples: proxy q (mm), depth d = n . (q - p) (mm) and normal force
