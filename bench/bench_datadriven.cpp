@@ -34,8 +34,8 @@ TrainingSet training_set() {
 }
 
 /// 0: thesis design, 1: regression design, 2: regression design with local-frame features,
-/// 3: eval forces' settings without the tangent mirror, 4: with it, 5: with it and the local
-/// stiffness prior and the friction-cone guard (eval forces' defaults).
+/// 3: eval forces' settings without the tangent mirror, 4: with it, 5: with it, the local
+/// stiffness and shear priors and the friction-cone guard (eval forces' defaults).
 TrainParams params_for(int variant) {
   TrainParams p;
   p.design = variant == 0 ? Design::kThesis : Design::kRegression;
@@ -45,13 +45,14 @@ TrainParams params_for(int variant) {
     p.bin_blend = 1.0;
     p.tangent_mirror = variant >= 4;
     p.stiffness_prior = variant == 5;
+    p.shear_prior = variant == 5;
     p.friction_cone = variant == 5;
   }
   return p;
 }
 const char* label(int variant) {
   static const char* names[] = {"thesis", "regression", "regression+local",
-                                "lab",    "lab+mirror", "lab+mirror+prior+cone"};
+                                "lab",    "lab+mirror", "lab+mirror+priors+cone"};
   return names[variant];
 }
 

@@ -61,6 +61,12 @@ json mean_median(double mean, double median) {
   return {{"mean", mean}, {"median", median}};
 }
 
+/// Exponent, fitted samples and grid size of a prior's map (null when the prior is off).
+json map_summary(const dd::StiffnessMap& m) {
+  if (m.empty()) return nullptr;
+  return {{"exponent", m.exponent}, {"fitted_samples", m.fitted_samples}, {"dims", m.dims}};
+}
+
 json object_json(const ForceLabResult& d) {
   const ForceVariant& v = d.proxy;
   const ForceVariant& v0 = d.no_proxy;
@@ -136,11 +142,8 @@ json object_json(const ForceLabResult& d) {
                 {"ridge", p.ridge},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
-                {"stiffness_prior", v.model.prior.empty()
-                                        ? json(nullptr)
-                                        : json{{"exponent", v.model.prior.exponent},
-                                               {"fitted_samples", v.model.prior.fitted_samples},
-                                               {"dims", v.model.prior.dims}}},
+                {"stiffness_prior", map_summary(v.model.prior)},
+                {"shear_prior", map_summary(v.model.shear)},
                 {"friction_cone", v.model.friction_cone},
                 {"bin_blend_mm", v.model.bin_blend},
                 {"seed", p.seed},
@@ -220,6 +223,7 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
   if (!cmd.count("--tangent-mirror")) o.params.tangent_mirror = false;
   if (!cmd.count("--stiffness-prior")) o.params.stiffness_prior = false;
+  if (!cmd.count("--shear-prior")) o.params.shear_prior = false;
   if (!cmd.count("--friction-cone")) o.params.friction_cone = false;
 }
 

@@ -21,7 +21,7 @@ namespace inhap::cli {
 
 /// Model settings measured best on the lab (docs/force-model.md): local-frame features,
 /// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
-/// training samples, the local stiffness prior and the friction-cone guard (TrainParams
+/// training samples, the local stiffness and shear priors and the friction-cone guard (TrainParams
 /// defaults otherwise).
 inline dd::TrainParams lab_train_params() {
   dd::TrainParams p;
@@ -30,6 +30,7 @@ inline dd::TrainParams lab_train_params() {
   p.bin_blend = 1.0;
   p.tangent_mirror = true;
   p.stiffness_prior = true;
+  p.shear_prior = true;
   p.friction_cone = true;
   return p;
 }

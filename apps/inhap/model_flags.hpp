@@ -1,5 +1,5 @@
 // Flags shared by `inhap model train` and `inhap eval forces`: the local-frame training options
-// (tangent mirror, stiffness prior, friction cone) of dd::TrainParams. Units: mm, N.
+// (tangent mirror, stiffness and shear priors, friction cone) of dd::TrainParams. Units: mm, N.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,7 +10,8 @@
 
 namespace inhap::cli {
 
-/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior and --[no-]friction-cone bound to `p`;
+/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior and
+/// --[no-]friction-cone bound to `p`;
 /// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
                                      const std::string& defaults) {
@@ -21,6 +22,10 @@ inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
   cmd.add_flag("--stiffness-prior,!--no-stiffness-prior", p.stiffness_prior,
                "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and "
                "let the RBFs learn the rest; carries shallow stiffness to deep pushes (" +
+                   defaults + ")");
+  cmd.add_flag("--shear-prior,!--no-shear-prior", p.shear_prior,
+               "Local features: fit a local shear prior f_t = -k_t(q) |u_t|^beta u_t/|u_t| (N, "
+               "mm; u_t = tangential part of p - q) first and let the RBFs learn the rest (" +
                    defaults + ")");
   cmd.add_flag("--friction-cone,!--no-friction-cone", p.friction_cone,
                "Local features: keep the rendered force inside the training data's friction "

@@ -63,6 +63,9 @@ void TrainParams::validate() const {
   if (stiffness_prior && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the stiffness prior (it needs the normal)");
   if (stiffness_prior) stiffness.validate();
+  if (shear_prior && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the shear prior (it needs the normal)");
+  if (shear_prior) shear.validate();
 }
 
 int ForceModel::bin_of(double key) const {
@@ -250,17 +253,52 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
 
 namespace {
 
-void fit_prior(const TrainingSet& data, const TrainParams& params, ForceModel& model,
-               std::vector<double>& base) {
+// Tangential part of p - q (mm) in world axes, given the unit normal n.
+Vec3 tangential_displacement(const Vec3& p, const Vec3& q, const Vec3& n) {
+  const Vec3 u = p - q;
+  return u - n.dot(u) * n;
+}
+
+// Shear prior force (N, world axes): -k_t(q) |u_t|^(beta - 1) u_t.
+Vec3 shear_force(const StiffnessMap& shear, const Vec3& p, const Vec3& q, const Vec3& n) {
+  const Vec3 ut = tangential_displacement(p, q, n);
+  const double len = ut.norm();
+  return len > 0 ? Vec3(-shear.force(q, len) / len * ut) : Vec3::Zero();
+}
+
+// Fits the stiffness and shear priors that are asked for; base[i] = their force at sample i in
+// the sample's local frame (t0, t1, n), which the RBFs do not learn.
+void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& model,
+                std::vector<Vec3>& base) {
   const std::size_t n = data.size();
-  std::vector<double> depth(n), fn(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 nn = surface_frame(data.n[i]).n;
-    depth[i] = nn.dot(data.q[i] - data.p[i]);
-    fn[i] = nn.dot(data.f[i]);
+  std::vector<SurfaceFrame> frame(n);
+  for (std::size_t i = 0; i < n; ++i) frame[i] = surface_frame(data.n[i]);
+  if (params.stiffness_prior) {
+    std::vector<double> depth(n), fn(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      depth[i] = frame[i].n.dot(data.q[i] - data.p[i]);
+      fn[i] = frame[i].n.dot(data.f[i]);
+    }
+    model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
+    for (std::size_t i = 0; i < n; ++i) base[i].z() = model.prior.normal_force(data.q[i], depth[i]);
   }
-  model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
-  for (std::size_t i = 0; i < n; ++i) base[i] = model.prior.normal_force(data.q[i], depth[i]);
+  if (params.shear_prior) {
+    // |u_t| and |f_t| of the samples whose tangential force opposes u_t (within ~25 deg); the
+    // others get |u_t| = 0, which the fit leaves out.
+    std::vector<double> ut_len(n, 0.0), ft_len(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3& nn = frame[i].n;
+      const Vec3 ut = tangential_displacement(data.p[i], data.q[i], nn);
+      const Vec3 ft = data.f[i] - nn.dot(data.f[i]) * nn;
+      const double lu = ut.norm(), lf = ft.norm();
+      if (lu > 0 && lf > 0 && -ut.dot(ft) >= 0.9 * lu * lf) ut_len[i] = lu, ft_len[i] = lf;
+    }
+    model.shear = fit_stiffness_map(data.q, ut_len, ft_len, params.shear);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 t = frame[i].to_local(shear_force(model.shear, data.p[i], data.q[i], frame[i].n));
+      base[i].x() += t.x(), base[i].y() += t.y();
+    }
+  }
 }
 
 // |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise and
@@ -307,11 +345,11 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (std::size_t b = 1; b < nb; ++b)
     model.edges.push_back(0.5 * (key[order[start[b] - 1]] + key[order[start[b]]]));
 
-  // Local stiffness prior (subtracted from the normal force the RBFs learn; base[i] = its
-  // normal force at sample i) and friction cone.
-  std::vector<double> base(n, 0.0);
+  // Local stiffness and shear priors (subtracted from the force the RBFs learn; base[i] = their
+  // force at sample i, local frame) and friction cone.
+  std::vector<Vec3> base(n, Vec3::Zero());
   if (params.features == FeatureSet::kLocalFrame) {
-    if (params.stiffness_prior) fit_prior(data, params, model, base);
+    if (params.stiffness_prior || params.shear_prior) fit_priors(data, params, model, base);
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
   }
 
@@ -334,7 +372,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
       make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
       for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
       f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
-      f(i, 2) -= base[k];  // 0 unless the stiffness prior is on (local frame: z = normal)
+      f.row(i) -= base[k].transpose();  // 0 unless a prior is on (local frame: z = normal)
     }
     if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
       x.bottomRows(m) = x.topRows(m);
@@ -492,6 +530,7 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     }
   }
   if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
+  if (!model.shear.empty()) f += shear_force(model.shear, p, q, fr.n);
   if (model.friction_cone > 0) {  // keep the force inside the friction cone seen in training
     const double fn = fr.n.dot(f);
     const Vec3 ft = f - fn * fr.n;

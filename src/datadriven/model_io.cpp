@@ -138,6 +138,38 @@ void read_reference(const Reader& r, const json& refs, const char* key, std::str
   digest = r.str(r.need(*it, "fnv1a64", where), where + "/fnv1a64");
 }
 
+json map_json(const StiffnessMap& s, const char* model) {
+  return {{"model", model},
+          {"exponent", s.exponent},
+          {"origin_mm", {s.origin.x(), s.origin.y(), s.origin.z()}},
+          {"cell_mm", s.cell},
+          {"dims", s.dims},
+          {"fitted_samples", s.fitted_samples},
+          {"ln_k", s.log_k}};
+}
+
+StiffnessMap read_map(const Reader& r, const json& sp, const std::string& w) {
+  StiffnessMap m;
+  m.exponent = r.num(r.need(sp, "exponent", w), w + "/exponent");
+  const std::vector<double> o = r.nums(r.need(sp, "origin_mm", w), w + "/origin_mm", 3);
+  m.origin = Vec3(o[0], o[1], o[2]);
+  m.cell = r.num(r.need(sp, "cell_mm", w), w + "/cell_mm");
+  const json& dims = r.need(sp, "dims", w);
+  if (!dims.is_array() || dims.size() != 3) r.fail(w + "/dims", "expected 3 integers");
+  for (std::size_t a = 0; a < 3; ++a)
+    m.dims[a] = static_cast<int>(r.integer(dims[a], fmt::format("{}/dims/{}", w, a), 1, 100000));
+  m.log_k = r.nums(r.need(sp, "ln_k", w), w + "/ln_k");
+  if (sp.contains("fitted_samples"))
+    m.fitted_samples = static_cast<std::size_t>(
+        r.integer(sp["fitted_samples"], w + "/fitted_samples", 0, 1L << 50));
+  try {
+    validate_stiffness_map(m, w);
+  } catch (const Error& e) {
+    r.fail(w, e.what());
+  }
+  return m;
+}
+
 }  // namespace
 
 std::string file_digest(const std::string& path) {
@@ -190,6 +222,7 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
                 {"stiffness_prior", p.stiffness_prior},
+                {"shear_prior", p.shear_prior},
                 {"friction_cone", p.friction_cone},
                 {"samples", m.stats.samples},
                 {"seconds", m.stats.seconds},
@@ -212,16 +245,13 @@ std::string force_model_to_json(const ForceModel& m) {
                                           axis_json(b.axes[2])})}});
   }
   j["bins"] = std::move(bins);
-  if (!m.prior.empty()) {
-    const StiffnessMap& s = m.prior;
-    j["stiffness_prior"] = {{"model", "f_n = k(q) d^alpha, ln k trilinear on a grid over q"},
-                            {"exponent", s.exponent},
-                            {"origin_mm", {s.origin.x(), s.origin.y(), s.origin.z()}},
-                            {"cell_mm", s.cell},
-                            {"dims", s.dims},
-                            {"fitted_samples", s.fitted_samples},
-                            {"ln_k", s.log_k}};
-  }
+  if (!m.prior.empty())
+    j["stiffness_prior"] = map_json(m.prior, "f_n = k(q) d^alpha, ln k trilinear on a grid over q");
+  if (!m.shear.empty())
+    j["shear_prior"] =
+        map_json(m.shear,
+                 "f_t = -k(q) |u_t|^alpha u_t / |u_t|, u_t = tangential part of p - q, ln k "
+                 "trilinear on a grid over q");
   return j.dump(1) + "\n";
 }
 
@@ -299,6 +329,7 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
       if (t.contains("stiffness_prior"))
         m.params.stiffness_prior = t["stiffness_prior"].get<bool>();
+      if (t.contains("shear_prior")) m.params.shear_prior = t["shear_prior"].get<bool>();
       if (t.contains("friction_cone")) m.params.friction_cone = t["friction_cone"].get<bool>();
       get("samples", m.stats.samples);
       get("seconds", m.stats.seconds);
@@ -314,28 +345,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     }
     m.params.features = m.features;
   }
-  if (j.contains("stiffness_prior") && !j["stiffness_prior"].is_null()) {
-    const json& sp = j["stiffness_prior"];
-    const std::string w = "stiffness_prior";
-    m.prior.exponent = r.num(r.need(sp, "exponent", w), w + "/exponent");
-    const std::vector<double> o = r.nums(r.need(sp, "origin_mm", w), w + "/origin_mm", 3);
-    m.prior.origin = Vec3(o[0], o[1], o[2]);
-    m.prior.cell = r.num(r.need(sp, "cell_mm", w), w + "/cell_mm");
-    const json& dims = r.need(sp, "dims", w);
-    if (!dims.is_array() || dims.size() != 3) r.fail(w + "/dims", "expected 3 integers");
-    for (std::size_t a = 0; a < 3; ++a)
-      m.prior.dims[a] =
-          static_cast<int>(r.integer(dims[a], fmt::format("{}/dims/{}", w, a), 1, 100000));
-    m.prior.log_k = r.nums(r.need(sp, "ln_k", w), w + "/ln_k");
-    if (sp.contains("fitted_samples"))
-      m.prior.fitted_samples = static_cast<std::size_t>(
-          r.integer(sp["fitted_samples"], w + "/fitted_samples", 0, 1L << 50));
-    try {
-      validate_stiffness_map(m.prior, w);
-    } catch (const Error& e) {
-      r.fail(w, e.what());
-    }
-  }
+  if (j.contains("stiffness_prior") && !j["stiffness_prior"].is_null())
+    m.prior = read_map(r, j["stiffness_prior"], "stiffness_prior");
+  if (j.contains("shear_prior") && !j["shear_prior"].is_null())
+    m.shear = read_map(r, j["shear_prior"], "shear_prior");
   m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
   const json& bins = r.need(j, "bins", "(root)");
   if (!bins.is_array()) r.fail("bins", "expected an array");
@@ -366,11 +379,13 @@ void validate_model(const ForceModel& m, const std::string& where) {
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");
-  if (!m.prior.log_k.empty()) {
+  for (const auto& [map, name] :
+       {std::pair{&m.prior, "stiffness_prior"}, {&m.shear, "shear_prior"}}) {
+    if (map->log_k.empty()) continue;
     if (m.features != FeatureSet::kLocalFrame)
-      fail("stiffness_prior: expected local-frame features (the prior acts along the normal)");
+      fail(fmt::format("{}: expected local-frame features (the prior needs the normal)", name));
     try {
-      validate_stiffness_map(m.prior, "stiffness_prior");
+      validate_stiffness_map(*map, name);
     } catch (const Error& e) {
       fail(e.what());
     }

@@ -104,20 +104,24 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
       0)
       << read_file(log);
   EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("m.json")))["train"]["tangent_mirror"], true);
-  // The stiffness prior and the friction cone are off unless asked for; asked for, both reach
-  // the model file (the synthetic object's normal force grows with depth: a prior is fitted).
+  // The stiffness and shear priors and the friction cone are off unless asked for; asked for, all
+  // reach the model file (the synthetic object's normal force grows with depth and its
+  // tangential force with the shear: both priors are fitted).
   EXPECT_FALSE(nlohmann::json::parse(read_file(dir.path("l.json"))).contains("stiffness_prior"));
+  EXPECT_FALSE(nlohmann::json::parse(read_file(dir.path("l.json"))).contains("shear_prior"));
   EXPECT_FALSE(nlohmann::json::parse(read_file(dir.path("l.json"))).contains("friction_cone"));
-  ASSERT_EQ(
-      run("model train" + common + " --features local --stiffness-prior --friction-cone --out " +
-              dir.path("p.json"),
-          log),
-      0)
+  ASSERT_EQ(run("model train" + common +
+                    " --features local --stiffness-prior --shear-prior --friction-cone --out " +
+                    dir.path("p.json"),
+                log),
+            0)
       << read_file(log);
   const auto pj = nlohmann::json::parse(read_file(dir.path("p.json")));
   EXPECT_EQ(pj["train"]["stiffness_prior"], true);
   EXPECT_EQ(pj["train"]["friction_cone"], true);
+  EXPECT_EQ(pj["train"]["shear_prior"], true);
   EXPECT_GT(pj["stiffness_prior"]["exponent"].get<double>(), 0.0);
+  EXPECT_GT(pj["shear_prior"]["exponent"].get<double>(), 0.0);
   EXPECT_GT(pj["friction_cone"].get<double>(), 0.0);
   for (const char* a : {"x", "y", "z"})
     EXPECT_NEAR(el["errors"]["rmse_n"][a].get<double>(), ew["errors"]["rmse_n"][a].get<double>(),

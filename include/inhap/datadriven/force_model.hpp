@@ -141,6 +141,15 @@ struct TrainParams {
   /// is added back when rendering, so the stiffness seen at shallow depth carries to deep pushes.
   bool stiffness_prior = false;
   StiffnessMapParams stiffness;  ///< settings of the prior's fit
+  /// Local-frame features only: fit a local shear prior f_t = -k_t(q) |u_t|^(beta - 1) u_t
+  /// (u_t = tangential part of p - q, mm; k_t in N/mm^beta; the same map fit as the stiffness
+  /// prior, on |f_t| against |u_t| of the samples whose tangential force opposes u_t) first;
+  /// the RBFs learn the rest. The tangential spring then extrapolates along the law the data
+  /// show instead of the RBFs' tail, and the shear stiffness seen at a spot is kept there.
+  bool shear_prior = false;
+  /// Settings of the shear prior's fit (min_depth = the smallest |u_t| fitted, mm; min_force =
+  /// the smallest |f_t|, N).
+  StiffnessMapParams shear{.min_depth = 0.2, .min_force = 0.1};
   /// Local-frame features only: keep the rendered force inside the friction cone seen in
   /// training, |f_t| <= c max(f_n, 0.3 N) with c the 99.5 % quantile of |f_t| / f_n over the
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
@@ -192,6 +201,7 @@ struct ForceModel {
   std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
   std::string proxy_source = "columns";  ///< where q came from when training
   StiffnessMap prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
+  StiffnessMap shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
 
   /// Bin index for a displacement magnitude (mm).
