@@ -75,6 +75,20 @@ TrainingSet flat_set(std::uint64_t seed, std::size_t n, Draw&& draw, Law&& law) 
   return s;
 }
 
+/// RMS over n proxies q drawn uniformly in angle and radius on a disc (centre, radius; z of the
+/// centre) of sqrt(err(rng, q)), where err draws the rest of the query and returns its squared
+/// error.
+template <class Err>
+double rms_on_disc(std::uint64_t seed, int n, const Vec3& centre, double radius, Err&& err) {
+  Rng rng(seed);
+  double sq = 0;
+  for (int i = 0; i < n; ++i) {
+    const double a = rng.uniform(0.0, 2 * M_PI), r = rng.uniform(0.0, radius);
+    sq += err(rng, Vec3(centre + Vec3(r * std::cos(a), r * std::sin(a), 0.0)));
+  }
+  return std::sqrt(sq / n);
+}
+
 /// Local-frame features, 2 bins, one thread (deterministic and quick).
 inline TrainParams local_params(int centers, std::array<double, 3> weights, std::uint64_t seed) {
   TrainParams p;

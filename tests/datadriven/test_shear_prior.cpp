@@ -58,18 +58,12 @@ TEST(ShearPrior, RecoversTheLocalShearStiffness) {
 
 /// RMS error of the tangential force of drags 2.5-4 mm long within 4 mm of the soft spot.
 double long_drag_error(const ForceModel& m) {
-  Rng rng(11);
-  double sq = 0;
-  const int n = 300;
-  for (int i = 0; i < n; ++i) {
-    const double a = rng.uniform(0.0, 2 * M_PI), r = rng.uniform(0.0, 4.0);
-    const Vec3 q = kSoft + Vec3(r * std::cos(a), r * std::sin(a), 0.0);
+  return test::rms_on_disc(11, 300, kSoft, 4.0, [&](Rng& rng, const Vec3& q) {
     const double b = rng.uniform(0.0, 2 * M_PI), ut = rng.uniform(2.5, 4.0);
     const Vec3 u(ut * std::cos(b), ut * std::sin(b), rng.uniform(1.0, 4.0));
     const Vec3 f = model_force(m, q - u, Vec3::Zero(), q, Vec3::UnitZ());
-    sq += (f - law(q, u)).head<2>().squaredNorm();
-  }
-  return std::sqrt(sq / n);
+    return (f - law(q, u)).head<2>().squaredNorm();
+  });
 }
 
 TEST(ShearPrior, ExtrapolatesTheSpringToLongerDrags) {
@@ -79,8 +73,8 @@ TEST(ShearPrior, ExtrapolatesTheSpringToLongerDrags) {
   const ForceModel prior = train_force_model(s, shear_params(true));
   ASSERT_TRUE(plain.shear.empty());
   const double e0 = long_drag_error(plain), e1 = long_drag_error(prior);
-  std::printf("long drags on the soft spot, tangential RMS error: %.3f N plain, %.3f N prior\n",
-              e0, e1);
+  std::printf("long drags on the soft spot, tangential RMS error: %.3f N plain, %.3f N prior\n", e0,
+              e1);
   EXPECT_LT(e1, 0.1);
   EXPECT_GT(e0, 3 * e1);
   // Saved and loaded, the prior renders the same forces.

@@ -113,18 +113,12 @@ TrainParams prior_params(bool prior) {
 
 /// RMS error of the normal force of deep pushes (d = 4.5..5.5 mm) within 3 mm of the soft spot.
 double deep_push_error(const ForceModel& m) {
-  Rng rng(7);
-  double sq = 0;
-  const int n = 200;
-  for (int i = 0; i < n; ++i) {
-    const double a = rng.uniform(0.0, 2 * M_PI), r = rng.uniform(0.0, 3.0);
-    const Vec3 q = kSoft + Vec3(r * std::cos(a), r * std::sin(a), 0.0);
+  return test::rms_on_disc(7, 200, kSoft, 3.0, [&](Rng& rng, const Vec3& q) {
     const double d = rng.uniform(4.5, 5.5);
     const Vec3 f = model_force(m, q - Vec3(0, 0, d), Vec3::Zero(), q, Vec3::UnitZ());
     const double e = f.z() - stiffness(q) * std::pow(d, 1.5);
-    sq += e * e;
-  }
-  return std::sqrt(sq / n);
+    return e * e;
+  });
 }
 
 TEST(StiffnessPrior, CarriesShallowStiffnessToDeepPushes) {
