@@ -253,12 +253,12 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
       out[j] = (sum[j] + prm.prior_weight * to[j]) / (count[j] + prm.prior_weight);
   };
   for (int it = 0; it < prm.iterations; ++it) {
-    // ln k map given the exponent: a pyramid of local-linear fits with smoothing radii (9,
-    // 3.75, 1.5 mm at sigma = 1.5), each level shrunk towards the next coarser one (the
-    // coarsest towards the global mean), so that a gap in the data is filled from the data
-    // around it along their trend, not from the whole object; then the residuals are smoothed
-    // and added ("twicing", Tukey), which removes most of the smoothing's bias where ln k is
-    // curved.
+    // ln k map given the exponent: a pyramid of smoothing radii (9, 3.75, 1.5 mm at sigma =
+    // 1.5; local-linear fits at the two coarse levels, a local mean at the finest), each level
+    // shrunk towards the next coarser one (the coarsest towards the global mean), so that a gap
+    // in the data is filled from the data around it along their trend, not from the whole
+    // object; then the residuals are smoothed and added ("twicing", Tukey), which removes most
+    // of the smoothing's bias where ln k is curved.
     double global = 0;
     for (std::size_t i = 0; i < n; ++i) {
       lk[i] = lf[i] - m.exponent * lu[i];

@@ -10,13 +10,14 @@
 // log k(q) a smooth map over the proxy's location and one exponent alpha for the object, fitted
 // by backfitting (alternating least squares) on the in-contact training samples:
 //   * given alpha, log k on a regular 3-D grid over q (cell `cell`) = Gaussian-weighted (sigma)
-//     local-linear fit of log f_n,i - alpha log d_i over the samples near the node (moments
-//     splatted trilinearly, then blurred separably; the slope lightly ridge-regularised), shrunk
-//     with the weight of `prior_weight` samples towards the same fit at 2.5 sigma, itself shrunk
-//     towards the fit at 6 sigma and that towards the global mean (so a gap in the data is
-//     filled from the data around it, following their trend: at the rim of the explored region
-//     the stiffness keeps falling or rising as it did, instead of taking the mean of the data
-//     behind it); then the residuals are smoothed (sigma) and added ("twicing");
+//     mean of log f_n,i - alpha log d_i of the samples near the node (splatted trilinearly, then
+//     blurred separably), shrunk with the weight of `prior_weight` samples towards a
+//     Gaussian-weighted local-linear fit at 2.5 sigma (moments splatted and blurred the same
+//     way; the slope lightly ridge-regularised), itself shrunk towards the local-linear fit at
+//     6 sigma and that towards the global mean. So a gap in the data is filled from the data
+//     around it, following their trend: at the rim of the explored region the stiffness keeps
+//     falling or rising as it did, instead of taking the mean of the data behind it. Then the
+//     residuals are smoothed (sigma) and added ("twicing");
 //   * given the map, alpha = the least-squares slope (through the origin) of
 //     log f_n,i - log k(q_i) against log d_i, clamped to [0.5, 3].
 // Samples with d < min_depth or f_n < min_force are left out of the fit (log of noise).
