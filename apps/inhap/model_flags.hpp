@@ -15,22 +15,26 @@ namespace inhap::cli {
 /// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
                                      const std::string& defaults) {
-  cmd.add_flag("--tangent-mirror,!--no-tangent-mirror", p.tangent_mirror,
-               "Local features: also train on every sample turned 180 deg about the normal "
-               "(assumes a tangentially isotropic material; " +
-                   defaults + ")");
-  cmd.add_flag("--stiffness-prior,!--no-stiffness-prior", p.stiffness_prior,
-               "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and "
-               "let the RBFs learn the rest; carries shallow stiffness to deep pushes (" +
-                   defaults + ")");
-  cmd.add_flag("--shear-prior,!--no-shear-prior", p.shear_prior,
-               "Local features: fit a local shear prior f_t = -k_t(q) |u_t|^beta u_t/|u_t| (N, "
-               "mm; u_t = tangential part of p - q) first and let the RBFs learn the rest (" +
-                   defaults + ")");
-  cmd.add_flag("--friction-cone,!--no-friction-cone", p.friction_cone,
-               "Local features: keep the rendered force inside the training data's friction "
-               "cone, |f_t| <= c max(f_n, 0.3 N) (" +
-                   defaults + ")");
+  struct Flag {
+    const char* names;
+    bool dd::TrainParams::*value;
+    const char* help;  // completed by defaults + ")"
+  };
+  static constexpr Flag kFlags[] = {
+      {"--tangent-mirror,!--no-tangent-mirror", &dd::TrainParams::tangent_mirror,
+       "Local features: also train on every sample turned 180 deg about the normal (assumes a "
+       "tangentially isotropic material; "},
+      {"--stiffness-prior,!--no-stiffness-prior", &dd::TrainParams::stiffness_prior,
+       "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and let the "
+       "RBFs learn the rest; carries shallow stiffness to deep pushes ("},
+      {"--shear-prior,!--no-shear-prior", &dd::TrainParams::shear_prior,
+       "Local features: fit a local shear prior f_t = -k_t(q) |u_t|^beta u_t/|u_t| (N, mm; u_t = "
+       "tangential part of p - q) first and let the RBFs learn the rest ("},
+      {"--friction-cone,!--no-friction-cone", &dd::TrainParams::friction_cone,
+       "Local features: keep the rendered force inside the training data's friction cone, "
+       "|f_t| <= c max(f_n, 0.3 N) ("},
+  };
+  for (const Flag& f : kFlags) cmd.add_flag(f.names, p.*f.value, f.help + defaults + ")");
 }
 
 }  // namespace inhap::cli
