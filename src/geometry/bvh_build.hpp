@@ -15,6 +15,9 @@ inline constexpr int kBvhMaxLeaf = 4;    ///< leaves hold 1..4 triangles
 inline constexpr int kBvhSahDepth = 40;  ///< deeper: object-median splits (halve the count)
 /// Depth bound: SAH levels plus at most 31 halvings of a count below 2^31.
 inline constexpr int kBvhMaxDepth = kBvhSahDepth + 32;
+/// Seed grid: a cell lists at most this many clusters (a fuller cell is left uncovered, its
+/// queries descend the tree); a seeded closest-point search holds no more on its stack.
+inline constexpr int kSeedMaxClusters = 120;
 
 struct BvhBox {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());

@@ -448,6 +448,7 @@ TEST(MeshIndex, QueriesDoNotAllocate) {
   { std::vector<double> probe(100); }
   ASSERT_GT(test::heap_allocations(), before_probe);
 
+  MeshIndex::QueryStats stats;
   const long before = test::heap_allocations();
   int hits = 0, any = 0, near = 0;
   double sum = 0;
@@ -462,8 +463,10 @@ TEST(MeshIndex, QueriesDoNotAllocate) {
     sum += index.closest_point(a).distance2;
     near += index.closest_point(b, 1.0).valid();
     near += index.closest_point(b, 1.0, i % 100).valid();  // warm-started
+    index.closest_point_counted(b, std::numeric_limits<double>::infinity(), stats);
   }
   EXPECT_EQ(test::heap_allocations() - before, 0);
+  EXPECT_GT(stats.seeded, 1000);  // the seed grid's path was taken too
   EXPECT_GT(hits, 0);
   EXPECT_EQ(any, hits);
   EXPECT_GT(near, 0);

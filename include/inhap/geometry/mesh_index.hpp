@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "inhap/geometry/trimesh.hpp"
@@ -31,6 +32,7 @@ struct IndexAllocator {
 };
 template <class T>
 using IndexVector = std::vector<T, IndexAllocator<T>>;
+struct SeedGridBuilder;
 }  // namespace detail
 
 /// A point on the surface: triangle id and barycentric weights of its vertices t[0], t[1], t[2]
@@ -51,16 +53,27 @@ struct ClosestPoint : SurfacePoint {
   double distance2 = std::numeric_limits<double>::infinity();  ///< squared distance, mm^2
 };
 
+/// Build options of MeshIndex (distances in mm).
+struct MeshIndexOptions {
+  /// Closest-point queries at most this far from the surface start from a seed grid: cubes near
+  /// the surface that list the few clusters of triangles which can hold the answer, instead of a
+  /// descent from the root (about half the latency of a cold query; docs/spatial-queries.md,
+  /// "Seed grid"). Costs memory and build time of the order of the tree's own. 0: no grid.
+  double seed_shell = 5.0;
+  /// Meshes with fewer triangles get no grid (their tree is shallow and stays in cache).
+  std::size_t seed_min_triangles = 4096;
+};
+
 /// Bounding-volume hierarchy over the triangles of a mesh (binned SAH build, flat node array,
 /// triangle data stored in leaf order for cache locality). Keeps its own copy of the geometry;
 /// the mesh may be destroyed afterwards.
 class MeshIndex {
  public:
   MeshIndex() = default;
-  /// Builds the index (allocates; not for the servo loop). Throws Error on an out-of-range
-  /// vertex index or a non-finite vertex used by a triangle. Zero-area triangles are kept but
-  /// never hit by segments.
-  explicit MeshIndex(const TriMesh& mesh);
+  /// Builds the index (allocates, may use several threads; not for the servo loop). Throws Error
+  /// on an out-of-range vertex index, a non-finite vertex used by a triangle or a negative or NaN
+  /// seed_shell. Zero-area triangles are kept but never hit by segments.
+  explicit MeshIndex(const TriMesh& mesh, const MeshIndexOptions& options = {});
 
   /// First intersection of the closed segment a->b with the surface (smallest t), any face
   /// orientation. Degenerate segments (a == b) return nullopt.
@@ -83,19 +96,38 @@ class MeshIndex {
     std::int64_t nodes = 0;      ///< inner nodes visited
     std::int64_t triangles = 0;  ///< triangles loaded from leaves
     std::int64_t exact = 0;      ///< triangles that needed the full point-triangle test
+    std::int64_t seeded = 0;     ///< queries that started from the seed grid
   };
   /// closest_point() that also adds its work to `stats` (same result, a little slower).
   ClosestPoint closest_point_counted(const Vec3& p, double max_distance, QueryStats& stats,
                                      std::int32_t hint_triangle = -1) const;
+
+  /// The seed grid (all zero without one). A cell is covered when a surface point lies within
+  /// seed_shell of it and at most 120 clusters can hold its points' nearest triangles.
+  struct SeedGridInfo {
+    Vec3 origin = Vec3::Zero();  ///< corner of cell (0, 0, 0), mm
+    double cell = 0;             ///< side of a cell, mm
+    std::int64_t cells = 0, covered = 0;
+    std::int64_t clusters = 0;  ///< clusters of at most 16 triangles
+    double seeds_per_cell = 0;  ///< mean number of clusters listed by a covered cell
+    std::size_t bytes = 0;      ///< grid and prism bounds (included in memory_bytes())
+  };
+  SeedGridInfo seed_grid_info() const;
 
   std::size_t num_triangles() const { return tri_ids_.size(); }
   Box3 bounds() const;
   std::size_t memory_bytes() const;
 
  private:
+  friend struct detail::SeedGridBuilder;
   template <class Stats>
   ClosestPoint closest_impl(const Vec3& p, double max_distance, std::int32_t hint,
                             Stats& stats) const;
+  template <class Search, class Stats>
+  void exact_test(const Vec3& p, std::int32_t slot, Search& search, Stats& stats) const;
+  template <class Search, class Stats>
+  void seed_search(const Vec3& p, const std::int32_t* seeds, int num_seeds, double eq,
+                   Search& search, Stats& stats) const;
 
   // Inner node with the bounds of both children: one 64-byte cache line per visited node.
   struct alignas(64) Node {
@@ -122,11 +154,46 @@ class MeshIndex {
     Node node;
     NodeObb obb;
   };
+  // Per triangle, in leaf order: a cheap, nearly exact lower bound of the squared distance from
+  // a point (the "prism bound", docs/spatial-queries.md): the plane's unit normal and offset,
+  // and the outward unit normals and offsets of the three edges' half-planes, in float, offsets
+  // rounded so that the bound never exceeds the true distance. All zero: bound 0.
+  struct alignas(64) TriBound {
+    float n[3], o;  // plane: |n.x - o| <= plane_slack_ for every point x of the triangle
+    float m[3][4];  // edge j: m[j].x <= m[j][3] for every point x of the triangle
+  };
+  // A cluster of the seed grid: a subtree of at most kSeedCluster triangles flattened to its
+  // slot range, with its boxes (one cache line).
+  struct alignas(64) Cluster {
+    float lo[3], hi[3];         // axis-aligned box, as in Node
+    NodeObb::Child obb;         // oriented box, as in NodeObb
+    std::int32_t first, count;  // triangle slots [first, first + count)
+  };
+  // Seed grid (docs/spatial-queries.md, "Seed grid"): cubes of side 1 / inv_cell from origin,
+  // n[0] x n[1] x n[2], x fastest. A covered cell lists the slot of the triangle nearest its
+  // centre, then the clusters that can hold the nearest triangle of any point of the cell.
+  struct SeedGrid {
+    Vec3 origin = Vec3::Zero();
+    double inv_cell = 0;
+    std::int64_t n[3] = {0, 0, 0};
+    detail::IndexVector<std::uint32_t> start;  // cell -> offset in seeds; cells + 1 entries
+    detail::IndexVector<std::int32_t> seeds;   // per covered cell: slot, then cluster ids
+    detail::IndexVector<Cluster> clusters;
+  };
+  void build_seed_grid(const MeshIndexOptions& options);
+  void build_tri_bounds();
+  // The seeds of the cell holding p: {first, count}; count 0 outside the grid or its shell.
+  std::pair<const std::int32_t*, int> grid_seeds(const Vec3& p) const;
+
   detail::IndexVector<NodeRec> nodes_;  // root = nodes_[0]; empty when all triangles fit a leaf
   detail::IndexVector<TriData> tris_;   // leaf order
-  std::vector<std::int32_t> tri_ids_;   // leaf slot -> original triangle id
-  std::vector<std::int32_t> slots_;     // original triangle id -> leaf slot (for hints)
-  Box3 bounds_;                         // exact bounds of all vertices
+  detail::IndexVector<TriBound> tri_bounds_;  // leaf order; empty without a seed grid
+  double plane_slack_ = 0;                    // mm, see TriBound
+  double prism_scale_ = 0;  // largest |offset| of a TriBound (mm), for the rounding bound
+  std::vector<std::int32_t> tri_ids_;  // leaf slot -> original triangle id
+  std::vector<std::int32_t> slots_;    // original triangle id -> leaf slot (for hints)
+  Box3 bounds_;                        // exact bounds of all vertices
+  SeedGrid grid_;                      // empty: no seed grid
 };
 
 }  // namespace inhap
