@@ -2,7 +2,8 @@
 // Meshes: (a) a 257 x 257 AFM-like height field (131,072 triangles, 0.39 mm spacing, 100 mm
 // wide), (b) a closed torus of 1,000,000 triangles (R = 40 mm, r = 15 mm). For each: build time
 // and heap bytes, then per-query latency p50/p99 of servo-like segments (0.5-2 mm near the
-// surface, about half crossing it) and of closest-point queries within 5 mm of the surface.
+// surface, about half crossing it) and of closest-point queries within 5 mm of the surface,
+// with the default index (seed grid) and with the tree alone ("inhap tree only").
 // Every query is timed on its own with steady_clock into a preallocated vector.
 //   build/bench/bench_queries --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
@@ -95,6 +96,7 @@ void operator delete[](void* p, std::size_t) noexcept {
 namespace {
 
 using inhap::MeshIndex;
+using inhap::MeshIndexOptions;
 using inhap::Rng;
 using inhap::TriMesh;
 using inhap::Vec3;
@@ -175,7 +177,8 @@ struct Scene {
   std::vector<Vec3> points;                     // within 5 mm of the surface
   std::vector<Vec3> near_points;                // within 0.5 mm (contact regime)
   std::vector<Vec3> path;  // servo path: 0.1 mm per query (100 mm/s at 1 kHz), -5..5 mm off
-  std::unique_ptr<MeshIndex> ours;
+  std::unique_ptr<MeshIndex> ours;       // default options (seed grid)
+  std::unique_ptr<MeshIndex> ours_tree;  // seed_shell = 0: the tree alone
   std::unique_ptr<CgalIndex> cgal;
 };
 
@@ -268,9 +271,15 @@ Scene& scene(int which) {
   return *scenes[which];
 }
 
-const MeshIndex& ours(Scene& s) {
-  if (!s.ours) s.ours = std::make_unique<MeshIndex>(s.mesh);
-  return *s.ours;
+MeshIndexOptions tree_only() {
+  MeshIndexOptions o;
+  o.seed_shell = 0;
+  return o;
+}
+const MeshIndex& ours(Scene& s, bool tree = false) {
+  auto& slot = tree ? s.ours_tree : s.ours;
+  if (!slot) slot = std::make_unique<MeshIndex>(s.mesh, tree ? tree_only() : MeshIndexOptions{});
+  return *slot;
 }
 const CTree& cgal(Scene& s) {
   if (!s.cgal) s.cgal = build_cgal(s.mesh);
@@ -326,13 +335,24 @@ void bm_build(benchmark::State& state, int which, const char* method, Build&& bu
   state.counters["heap_MB"] = row.mbytes;
   state.counters["triangles"] = static_cast<double>(s.mesh.num_triangles());
   if (s.ours && std::string(method) == "inhap")
-    state.counters["memory_bytes_MB"] = s.ours->memory_bytes() / 1e6;
+    state.counters["memory_bytes_MB"] = static_cast<double>(s.ours->memory_bytes()) / 1e6;
 }
 
 void bm_build_ours(benchmark::State& state, int which) {
   bm_build(state, which, "inhap", [](Scene& s) {
     s.ours.reset();
     s.ours = std::make_unique<MeshIndex>(s.mesh);
+  });
+  const auto g = scene(which).ours->seed_grid_info();
+  state.counters["grid_cell_mm"] = g.cell;
+  state.counters["grid_covered"] = static_cast<double>(g.covered);
+  state.counters["grid_seeds_per_cell"] = g.seeds_per_cell;
+  state.counters["grid_MB"] = static_cast<double>(g.bytes) / 1e6;
+}
+void bm_build_ours_tree(benchmark::State& state, int which) {
+  bm_build(state, which, "inhap tree only", [](Scene& s) {
+    s.ours_tree.reset();
+    s.ours_tree = std::make_unique<MeshIndex>(s.mesh, tree_only());
   });
 }
 void bm_build_cgal(benchmark::State& state, int which, const char* method) {
@@ -413,11 +433,11 @@ std::pair<double*, double*> row_slots(Row& row, int kind) {
   return {&row.path_p50, &row.path_p99};
 }
 
-void bm_closest_ours(benchmark::State& state, int which, int kind) {
+void bm_closest_ours(benchmark::State& state, int which, int kind, bool tree) {
   Scene& s = scene(which);
-  const MeshIndex& index = ours(s);
+  const MeshIndex& index = ours(s, tree);
   const auto& pts = points_of(s, kind);
-  const auto slots = row_slots(g_rows[s.name + " / inhap"], kind);
+  const auto slots = row_slots(g_rows[s.name + (tree ? " / inhap tree only" : " / inhap")], kind);
   time_queries(
       state, [&](std::size_t i) { return index.closest_point(pts[i]).distance2; }, *slots.first,
       *slots.second);
@@ -428,14 +448,15 @@ void bm_closest_ours(benchmark::State& state, int which, int kind) {
   state.counters["nodes"] = static_cast<double>(st.nodes) / kChecked;
   state.counters["tris"] = static_cast<double>(st.triangles) / kChecked;
   state.counters["exact"] = static_cast<double>(st.exact) / kChecked;
+  state.counters["seeded"] = static_cast<double>(st.seeded) / kChecked;
 }
 
 // The servo path as a servo loop queries it: each query hinted with the previous answer's
 // triangle (MeshIndex::closest_point(p, max_distance, hint)).
-void bm_closest_path_hint(benchmark::State& state, int which) {
+void bm_closest_path_hint(benchmark::State& state, int which, bool tree) {
   Scene& s = scene(which);
-  const MeshIndex& index = ours(s);
-  Row& row = g_rows[s.name + " / inhap"];
+  const MeshIndex& index = ours(s, tree);
+  Row& row = g_rows[s.name + (tree ? " / inhap tree only" : " / inhap")];
   std::int32_t prev = -1;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   time_queries(
@@ -485,6 +506,7 @@ void register_all() {
           ->Unit(benchmark::kMicrosecond);
     };
     reg("build/inhap", bm_build_ours)->Iterations(1);
+    reg("build/inhap_tree", bm_build_ours_tree)->Iterations(1);
     benchmark::RegisterBenchmark(("build/cgal/" + n).c_str(), bm_build_cgal, w, "CGAL ray")
         ->Unit(benchmark::kMillisecond)
         ->Iterations(1);
@@ -495,12 +517,19 @@ void register_all() {
       const std::string what = kind == kFar    ? "closest_5mm/"
                                : kind == kNear ? "closest_0.5mm/"
                                                : "closest_path/";
-      for (const bool ours : {true, false})
-        benchmark::RegisterBenchmark((what + (ours ? "inhap/" : "cgal/") + n).c_str(),
-                                     ours ? bm_closest_ours : bm_closest_cgal, w, kind)
-            ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark((what + "inhap/" + n).c_str(), bm_closest_ours, w, kind, false)
+          ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark((what + "inhap_tree/" + n).c_str(), bm_closest_ours, w, kind,
+                                   true)
+          ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark((what + "cgal/" + n).c_str(), bm_closest_cgal, w, kind)
+          ->Unit(benchmark::kMicrosecond);
     }
-    reg("closest_path_hint/inhap", bm_closest_path_hint);
+    for (const bool tree : {false, true})
+      benchmark::RegisterBenchmark(
+          ((tree ? "closest_path_hint/inhap_tree/" : "closest_path_hint/inhap/") + n).c_str(),
+          bm_closest_path_hint, w, tree)
+          ->Unit(benchmark::kMicrosecond);
   }
 }
 
