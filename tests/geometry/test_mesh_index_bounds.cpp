@@ -13,7 +13,7 @@
 
 #include "../../src/geometry/bvh_build.hpp"
 #include "../../src/geometry/bvh_obb.hpp"
-#include "geometry/reference_distance.hpp"
+#include "geometry/index_test_meshes.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
 #include "support/meshes.hpp"
@@ -22,43 +22,11 @@ using namespace inhap;
 
 namespace {
 
-using test::ref_distance2;
-
-double ref_d2(const TriMesh& m, std::size_t f, const Vec3& p) {
-  const auto& t = m.triangles[f];
-  return ref_distance2(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
-}
-
-double brute_force_d2(const TriMesh& m, const Vec3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < m.num_triangles(); ++f) best = std::min(best, ref_d2(m, f, p));
-  return best;
-}
-
-double bumpy(double x, double y) {
-  return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y) + 0.05 * x;
-}
-
-// A soup with zero-area triangles mixed in: repeated vertices and collinear vertices.
-TriMesh soup_with_degenerates(std::uint64_t seed) {
-  TriMesh m = test::random_soup(600, seed);
-  Rng rng(seed + 1);
-  for (int i = 0; i < 150; ++i) {
-    const auto base = static_cast<std::int32_t>(m.positions.size());
-    const Vec3 a(rng.uniform(), rng.uniform(), rng.uniform());
-    const Vec3 d = 0.05 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
-    m.positions.push_back(a);
-    m.positions.push_back(a + d);
-    m.positions.push_back(i % 3 == 0 ? a : a + rng.uniform(-2, 2) * d);  // repeated / collinear
-    m.triangles.push_back({base, base + 1, base + 2});
-  }
-  return m;
-}
-
-TriMesh translated(TriMesh m, const Vec3& t) {
-  for (auto& p : m.positions) p += t;
-  return m;
-}
+using test::brute_force_d2;
+using test::bumpy;
+using test::ref_d2;
+using test::soup_with_degenerates;
+using test::translated;
 
 // A point on triangle f at barycentrics (1 - u - v, u, v), or a vertex / edge midpoint.
 Vec3 surface_point(const TriMesh& m, std::size_t f, int kind, Rng& rng) {

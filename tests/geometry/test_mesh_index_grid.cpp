@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "../../src/geometry/bvh_closest.hpp"
-#include "geometry/reference_distance.hpp"
+#include "geometry/index_test_meshes.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
@@ -24,41 +24,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double ref_d2(const TriMesh& m, std::size_t f, const Vec3& p) {
-  const auto& t = m.triangles[f];
-  return test::ref_distance2(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
-}
-
-double brute_force_d2(const TriMesh& m, const Vec3& p) {
-  double best = kInf;
-  for (std::size_t f = 0; f < m.num_triangles(); ++f) best = std::min(best, ref_d2(m, f, p));
-  return best;
-}
-
-double bumpy(double x, double y) {
-  return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y) + 0.05 * x;
-}
-
-TriMesh translated(TriMesh m, const Vec3& t) {
-  for (auto& p : m.positions) p += t;
-  return m;
-}
-
-// A soup with zero-area triangles (repeated and collinear vertices) mixed in.
-TriMesh soup_with_degenerates(std::uint64_t seed) {
-  TriMesh m = test::random_soup(1500, seed);
-  Rng rng(seed + 1);
-  for (int i = 0; i < 300; ++i) {
-    const auto base = static_cast<std::int32_t>(m.positions.size());
-    const Vec3 a(rng.uniform(), rng.uniform(), rng.uniform());
-    const Vec3 d = 0.05 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
-    m.positions.push_back(a);
-    m.positions.push_back(a + d);
-    m.positions.push_back(i % 3 == 0 ? a : a + rng.uniform(-2, 2) * d);
-    m.triangles.push_back({base, base + 1, base + 2});
-  }
-  return m;
-}
+using test::brute_force_d2;
+using test::bumpy;
+using test::ref_d2;
+using test::translated;
 
 struct Case {
   std::string name;
@@ -71,7 +40,7 @@ std::vector<Case> grid_cases() {
           {"bumpy_grid", test::make_grid_mesh(41, 41, 0.25, bumpy), 1.0},
           {"bumpy_grid_far_away",
            translated(test::make_grid_mesh(41, 41, 0.25, bumpy), Vec3(1.0e4, -3.0e3, 2.0e3)), 1.0},
-          {"soup_with_degenerates", soup_with_degenerates(5), 0.2},
+          {"soup_with_degenerates", test::soup_with_degenerates(5, 1500, 300), 0.2},
           {"sphere", test::make_sphere(2.0, 4), 3.0}};
 }
 
