@@ -20,6 +20,7 @@ constexpr int kSeedCluster = 16;  // clusters: maximal subtrees of at most this 
 // Cell side = factor * sqrt(kSeedCluster * mean triangle area): ~25 clusters per covered cell.
 constexpr double kSeedCellFactor = 1.2;
 constexpr int kMaxSeeds = detail::kSeedMaxClusters;  // see there
+constexpr std::size_t kMaxBlockCandidates = 16 * kMaxSeeds;
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -74,7 +75,7 @@ struct SeedGridBuilder {
   bool make_cube(const Vec3& c, double half, std::int32_t hint, Cube& cube) const;
   double box_lb(const float* lo, const float* hi, const NodeChild& obb, const Cube& k) const;
   bool may_hold_nearest(std::int32_t slot, const Cube& k) const;
-  void block_candidates(const Cube& k, std::vector<std::int32_t>& out) const;
+  bool block_candidates(const Cube& k, std::vector<std::int32_t>& out) const;
   void cell_seeds(const Cube& k, const std::vector<std::int32_t>& cand,
                   std::vector<std::int32_t>& out) const;
   void run_blocks(std::int64_t first, std::int64_t step);
@@ -216,8 +217,11 @@ bool SeedGridBuilder::may_hold_nearest(std::int32_t slot, const Cube& k) const {
   return (k.c - (w[0] * t.v0 + w[1] * t.v1 + w[2] * t.v2)).squaredNorm() <= rest;
 }
 
-// Clusters whose boxes pass the certificate for cube k (a tree descent).
-void SeedGridBuilder::block_candidates(const Cube& k, std::vector<std::int32_t>& out) const {
+// Clusters whose boxes pass the certificate for cube k (a tree descent). False when there are
+// more than kMaxBlockCandidates: the block's cells would overflow anyway (a block sees about
+// four times what a cell keeps), and the descent stops there, which bounds the build's time
+// where every cluster is about equally near (a small, fine sphere in a wide shell).
+bool SeedGridBuilder::block_candidates(const Cube& k, std::vector<std::int32_t>& out) const {
   out.clear();
   std::vector<std::int32_t> st{0, 1};  // 2 * node + child
   while (!st.empty()) {
@@ -230,11 +234,13 @@ void SeedGridBuilder::block_candidates(const Cube& k, std::vector<std::int32_t>&
     if (box_lb(lo, hi, rec.obb.child[ch], k) > k.margin) continue;
     if (cluster_of[code] >= 0) {
       out.push_back(cluster_of[code]);
+      if (out.size() > kMaxBlockCandidates) return false;
     } else {
       st.push_back(2 * rec.node.child[ch]);
       st.push_back(2 * rec.node.child[ch] + 1);
     }
   }
+  return true;
 }
 
 // A cell's seeds: the slot of the triangle nearest its centre, then the clusters among `cand`
@@ -268,8 +274,7 @@ void SeedGridBuilder::run_blocks(std::int64_t first, std::int64_t step) {
     const std::int64_t bi[3] = {b % nb[0], (b / nb[0]) % nb[1], b / (nb[0] * nb[1])};
     const Vec3 bc = origin + cell * Vec3(2.0 * double(bi[0]) + 1, 2.0 * double(bi[1]) + 1,
                                          2.0 * double(bi[2]) + 1);
-    if (!make_cube(bc, cell, -1, block)) continue;
-    block_candidates(block, cand);
+    if (!make_cube(bc, cell, -1, block) || !block_candidates(block, cand)) continue;
     for (int d = 0; d < 8; ++d) {
       const std::int64_t i = 2 * bi[0] + (d & 1), j = 2 * bi[1] + ((d >> 1) & 1),
                          l = 2 * bi[2] + (d >> 2);
