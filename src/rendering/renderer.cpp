@@ -52,7 +52,7 @@ TriMesh checked(TriMesh mesh, const Params& params) {
 Model::Model(TriMesh mesh, Params params)
     : mesh_(checked(std::move(mesh), params)),
       params_(params),
-      index_(mesh_),
+      index_(mesh_, params.index),
       adjacency_(build_adjacency(mesh_)) {
   if (mesh_.has_property("stiffness"))
     stiffness_ = mesh_.property("stiffness");

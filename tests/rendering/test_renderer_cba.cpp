@@ -59,6 +59,19 @@ TEST(RendererModel, RejectsEmptyMeshAndBadParams) {
   EXPECT_THROW(render::Model(test::flat_plane(2, 2, 1, 0, 0), nan), Error);
 }
 
+// The model's spatial index follows Params::index: no seed grid by default (the renderer's
+// queries are segments and local walks), one when asked for; a bad shell is refused.
+TEST(RendererModel, IndexOptionsReachTheSpatialIndex) {
+  const TriMesh plane = test::make_grid_mesh(81, 81, 0.25);  // 12,800 triangles
+  EXPECT_EQ(render::Model(plane).index().seed_grid_info().cells, 0);
+  render::Params seeded;
+  seeded.index.seed_shell = 2.0;
+  EXPECT_GT(render::Model(plane, seeded).index().seed_grid_info().covered, 0);
+  render::Params bad;
+  bad.index.seed_shell = -1;
+  EXPECT_THROW(render::Model(plane, bad), Error);
+}
+
 TEST(RendererCba, PlaneProxyIsFootOfPerpendicularAndForceIsKTimesDepth) {
   const double k = 0.5;
   render::Model m(test::flat_plane(20, 20, 1.0, -10, -10, k));

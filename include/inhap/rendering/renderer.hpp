@@ -30,6 +30,11 @@ struct Params {
   /// Budget of triangle moves of the local surface search per tick before the global
   /// closest-point fallback (bounds the worst-case step time).
   std::uint32_t max_walk_steps = 1024;
+  /// Options of the model's spatial index. The renderer finds contacts with segment queries and
+  /// closest points with a local walk from the previous answer (its closest-point fallback is
+  /// bounded by the walk's distance), so the seed grid, which only speeds up unrelated
+  /// closest-point queries and costs build time per model, is off by default.
+  MeshIndexOptions index{.seed_shell = 0};
 };
 
 /// Immutable rendering model: mesh with per-vertex stiffness and normals, adjacency, index.
