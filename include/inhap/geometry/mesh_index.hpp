@@ -65,14 +65,15 @@ struct MeshIndexOptions {
 };
 
 /// Bounding-volume hierarchy over the triangles of a mesh (binned SAH build, flat node array,
-/// triangle data stored in leaf order for cache locality). Keeps its own copy of the geometry;
-/// the mesh may be destroyed afterwards.
+/// triangle data stored in leaf order for cache locality), with a seed grid near the surface for
+/// closest-point queries (MeshIndexOptions). Keeps its own copy of the geometry; the mesh may be
+/// destroyed afterwards.
 class MeshIndex {
  public:
   MeshIndex() = default;
   /// Builds the index (allocates, may use several threads; not for the servo loop). Throws Error
-  /// on an out-of-range vertex index, a non-finite vertex used by a triangle or a negative or NaN
-  /// seed_shell. Zero-area triangles are kept but never hit by segments.
+  /// on an out-of-range vertex index, a non-finite vertex used by a triangle or a seed_shell that
+  /// is negative or not finite. Zero-area triangles are kept but never hit by segments.
   explicit MeshIndex(const TriMesh& mesh, const MeshIndexOptions& options = {});
 
   /// First intersection of the closed segment a->b with the surface (smallest t), any face
