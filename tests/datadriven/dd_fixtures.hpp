@@ -4,11 +4,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <utility>
+
+#include <gtest/gtest.h>
 
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
+#include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/synthetic.hpp"
 
 namespace inhap::dd::test {
@@ -107,6 +111,23 @@ inline TrainParams small_params() {
   p.centers = 60;
   p.seed = 5;
   return p;
+}
+
+/// A prior's gain on a case it was made for: prints both errors (N), expects the model with the
+/// prior below `limit` and at least 3x better than the plain one.
+inline void expect_prior_gain(const char* what, double plain, double prior, double limit) {
+  std::printf("%s: %.3f N plain, %.3f N prior\n", what, plain, prior);
+  EXPECT_LT(prior, limit);
+  EXPECT_GT(plain, 3 * prior);
+}
+
+/// Saves m as JSON and reads it back: the copy renders the same force at HIP p, proxy q (normal
+/// +z, hand still). Returns the copy for further checks.
+inline ForceModel expect_same_force_after_save(const ForceModel& m, const Vec3& p, const Vec3& q) {
+  ForceModel back = force_model_from_json(force_model_to_json(m), "mem");
+  EXPECT_EQ(model_force(back, p, Vec3::Zero(), q, Vec3::UnitZ()),
+            model_force(m, p, Vec3::Zero(), q, Vec3::UnitZ()));
+  return back;
 }
 
 }  // namespace inhap::dd::test

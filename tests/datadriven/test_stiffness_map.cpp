@@ -130,16 +130,10 @@ TEST(StiffnessPrior, CarriesShallowStiffnessToDeepPushes) {
   ASSERT_TRUE(plain.prior.empty());
   ASSERT_FALSE(prior.prior.empty());
   EXPECT_NEAR(prior.prior.exponent, 1.5, 0.05);
-  const double e0 = deep_push_error(plain), e1 = deep_push_error(prior);
-  std::printf("deep pushes on the soft spot, normal RMS error: %.3f N plain, %.3f N prior\n", e0,
-              e1);
-  EXPECT_LT(e1, 0.15);
-  EXPECT_GT(e0, 3 * e1);
+  test::expect_prior_gain("deep pushes on the soft spot, normal RMS error", deep_push_error(plain),
+                          deep_push_error(prior), 0.15);
   // Saved and loaded, the prior renders the same forces.
-  const ForceModel back = force_model_from_json(force_model_to_json(prior), "mem");
-  const Vec3 q = kSoft, p = q - Vec3(0.2, 0, 4.0);
-  EXPECT_EQ(model_force(back, p, Vec3::Zero(), q, Vec3::UnitZ()),
-            model_force(prior, p, Vec3::Zero(), q, Vec3::UnitZ()));
+  test::expect_same_force_after_save(prior, kSoft - Vec3(0.2, 0, 4.0), kSoft);
 }
 
 TEST(StiffnessPrior, NeedsLocalFeatures) {

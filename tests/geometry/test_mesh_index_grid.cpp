@@ -44,6 +44,12 @@ std::vector<Case> grid_cases() {
           {"sphere", test::make_sphere(2.0, 4), 3.0}};
 }
 
+// A prism bound record with the fields make_prism_bound fills (as MeshIndex::TriBound).
+struct Bound {
+  float n[3], o;
+  float m[3][4];
+};
+
 MeshIndexOptions grid_options(double shell) {
   MeshIndexOptions o;
   o.seed_shell = shell;
@@ -86,10 +92,6 @@ std::vector<Vec3> query_points(const TriMesh& m, const MeshIndex::SeedGridInfo& 
 }  // namespace
 
 TEST(MeshIndexGrid, PrismBoundIsALowerBoundAndExactAboveTheInterior) {
-  struct Bound {
-    float n[3], o;
-    float m[3][4];
-  };
   for (const auto& c : grid_cases()) {
     SCOPED_TRACE(c.name);
     const TriMesh& m = c.mesh;
@@ -141,10 +143,7 @@ TEST(MeshIndexGrid, PrismBoundIsALowerBoundAndExactAboveTheInterior) {
 }
 
 TEST(MeshIndexGrid, PrismBoundOfDegenerateTrianglesIsZero) {
-  struct Bound {
-    float n[3], o;
-    float m[3][4];
-  } b;
+  Bound b;
   double s = -1, k = -1;
   const Vec3 a(1, 2, 3), d(0.1, 0.2, 0.3);
   EXPECT_FALSE(detail::make_prism_bound(a, a, a + d, b, s, k));
