@@ -300,6 +300,7 @@ void SeedGridBuilder::store() {
   std::size_t at = 0;
   for (std::size_t id = 0; id < lists.size(); ++id) {
     g.start[id] = static_cast<std::uint32_t>(at);
+    g.covered += !lists[id].empty();
     std::copy(lists[id].begin(), lists[id].end(),
               g.seeds.begin() + static_cast<std::ptrdiff_t>(at));
     at += lists[id].size();
@@ -358,7 +359,7 @@ MeshIndex::SeedGridInfo MeshIndex::seed_grid_info() const {
   info.origin = grid_.origin;
   info.cell = 1.0 / grid_.inv_cell;
   info.cells = static_cast<std::int64_t>(grid_.start.size()) - 1;
-  for (std::int64_t c = 0; c < info.cells; ++c) info.covered += grid_.start[c + 1] > grid_.start[c];
+  info.covered = grid_.covered;
   info.clusters = static_cast<std::int64_t>(grid_.clusters.size());
   if (info.covered > 0)
     info.seeds_per_cell = double(grid_.seeds.size() - info.covered) / double(info.covered);

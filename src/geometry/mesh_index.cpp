@@ -513,7 +513,7 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
   // Warm start: the hint's distance bounds the search from the first node on.
   if (hint >= 0 && static_cast<std::size_t>(hint) < slots_.size())
     exact_test(p, slots_[hint], search, stats);
-  const double eq = detail::obb_project_error(p), eqb = detail::prism_error(p, prism_scale_);
+  const double eq = detail::obb_project_error(p);
   auto open = [&](double d2) { return search.open(d2); };
   Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
   auto pop = [&] {  // next subtree that can still hold a nearer point
@@ -528,6 +528,7 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
   };
   const auto [seeds, num_seeds] = grid_seeds(p);
   const bool seeded = num_seeds > 0;
+  const double eqb = seeded ? detail::prism_error(p, prism_scale_) : 0.0;  // for prism_bound
   if (seeded) seed_search(p, seeds, num_seeds, eq, search, stats);
   bool run = !seeded || pop();
   while (run) {

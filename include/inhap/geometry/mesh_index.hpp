@@ -177,6 +177,7 @@ class MeshIndex {
     Vec3 origin = Vec3::Zero();
     double inv_cell = 0;
     std::int64_t n[3] = {0, 0, 0};
+    std::int64_t covered = 0;                  // cells with a list
     detail::IndexVector<std::uint32_t> start;  // cell -> offset in seeds; cells + 1 entries
     detail::IndexVector<std::int32_t> seeds;   // per covered cell: slot, then cluster ids
     detail::IndexVector<Cluster> clusters;
