@@ -235,22 +235,31 @@ inline void prefetch_lines(const T* first, std::int32_t n) {
   for (std::int32_t k = 0; k < n; ++k) prefetch_line(first + k);
 }
 
+// Starts loading all lines of the triangles in slots [r.index, r.index + r.count).
+template <class TV>
+inline void prefetch_slots(const TV& tris, Ref r) {
+  const char* p = reinterpret_cast<const char*>(&tris[r.index]);
+  const char* end = reinterpret_cast<const char*>(&tris[r.index] + r.count);
+  for (; p < end; p += 64) prefetch_line(p);
+}
+
 // Starts loading a subtree that will probably be visited soon (a stack push): an inner node's
 // boxes (and its oriented boxes, for distance queries), or all lines of a leaf's triangles.
 template <class NV, class TV>
 inline void prefetch(const NV& nodes, const TV& tris, Ref r, bool with_obb) {
-#if defined(__GNUC__)
-  if (r.count == 0) {
-    __builtin_prefetch(&nodes[r.index]);
-    if (with_obb) __builtin_prefetch(&nodes[r.index].obb);
-  } else {
-    const char* p = reinterpret_cast<const char*>(&tris[r.index]);
-    const char* end = reinterpret_cast<const char*>(&tris[r.index] + r.count);
-    for (; p < end; p += 64) __builtin_prefetch(p);
+  if (r.count > 0) {
+    prefetch_slots(tris, r);
+    return;
   }
-#else
-  (void)nodes, (void)tris, (void)r, (void)with_obb;
-#endif
+  prefetch_line(&nodes[r.index]);
+  if (with_obb) prefetch_line(&nodes[r.index].obb);
+}
+
+// Starts loading a seed cluster's slots: the triangles' lines and their prism bounds.
+template <class TV, class BV>
+inline void prefetch_cluster(const TV& tris, const BV& bounds, Ref r) {
+  prefetch_slots(tris, r);
+  prefetch_lines(&bounds[r.index], r.count);
 }
 
 }  // namespace
@@ -497,10 +506,8 @@ void MeshIndex::seed_search(const Vec3& p, const std::int32_t* seeds, int num_se
     d2 = std::max(d2, detail::obb_distance2(cl.obb, p, eq));
     if (search.open(d2)) search.push_sorted(Ref{cl.first, cl.count}, d2);
   }
-  for (int j = search.sp - 1; j >= 0 && j >= search.sp - 2; --j) {
-    prefetch(nodes_, tris_, search.stack[j].ref, false);
-    prefetch_lines(&tri_bounds_[search.stack[j].ref.index], search.stack[j].ref.count);
-  }
+  for (int j = search.sp - 1; j >= 0 && j >= search.sp - 2; --j)
+    prefetch_cluster(tris_, tri_bounds_, search.stack[j].ref);
 }
 
 template <class Stats>
@@ -516,18 +523,23 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
   const double eq = detail::obb_project_error(p);
   auto open = [&](double d2) { return search.open(d2); };
   Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
+  const auto [seeds, num_seeds] = grid_seeds(p);
+  const bool seeded = num_seeds > 0;
   auto pop = [&] {  // next subtree that can still hold a nearer point
     while (search.sp > 0) {
       const Search::Entry& e = search.stack[--search.sp];
       if (open(e.d2)) {
         cur = e.ref;
+        // A seeded search's stack holds clusters only, nearest on top: keep the lines of the
+        // two after this one loading (seed_search requested the first two), so that each visit
+        // finds its lines on the way instead of waiting for them in turn.
+        if (seeded && search.sp >= 2 && open(search.stack[search.sp - 2].d2))
+          prefetch_cluster(tris_, tri_bounds_, search.stack[search.sp - 2].ref);
         return true;
       }
     }
     return false;
   };
-  const auto [seeds, num_seeds] = grid_seeds(p);
-  const bool seeded = num_seeds > 0;
   const double eqb = seeded ? detail::prism_error(p, prism_scale_) : 0.0;  // for prism_bound
   if (seeded) seed_search(p, seeds, num_seeds, eq, search, stats);
   bool run = !seeded || pop();
