@@ -18,6 +18,11 @@ inline constexpr int kBvhMaxDepth = kBvhSahDepth + 32;
 /// Seed grid: a cell lists at most this many clusters (a fuller cell is left uncovered, its
 /// queries descend the tree); a seeded closest-point search holds no more on its stack.
 inline constexpr int kSeedMaxClusters = 120;
+/// Seed grid list entries: cluster id in the low kSeedIdBits bits, the mask of the cell's eight
+/// octants where the cluster can hold the nearest triangle above them (a mesh with more clusters
+/// gets no grid).
+inline constexpr int kSeedIdBits = 24;
+inline constexpr std::uint32_t kSeedIdMask = (1u << kSeedIdBits) - 1;
 
 struct BvhBox {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());

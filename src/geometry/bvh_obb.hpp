@@ -63,6 +63,27 @@ inline double obb_distance2(const O& o, const Vec3& p, double eq) {
   return d2 * (1 - 1e-12);
 }
 
+/// The rotation rows of obb_project for q, to project many points with one frame: the
+/// products M(q) s are rounded once more, so each component of rows * p stays within
+/// obb_project_error(p) of the exact projection too.
+inline Mat3 obb_rows(const std::int16_t q[4]) {
+  Mat3 r;
+  for (int k = 0; k < 3; ++k) r.col(k) = obb_project(q, Vec3::Unit(k));
+  return r;
+}
+
+/// obb_distance2 with the frame given as obb_rows(o.q).
+template <class O>
+inline double obb_distance2(const O& o, const Mat3& rows, const Vec3& p, double eq) {
+  const Vec3 x = rows * p;
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max(std::max(double(o.lo[k]) - x[k], x[k] - double(o.hi[k])) - eq, 0.0);
+    d2 += d * d;
+  }
+  return d2 * (1 - 1e-12);
+}
+
 /// Oriented boxes for every node of `bvh`, from the vertices of its triangles (`tri_vertices`:
 /// 3 per leaf slot, in `bvh.order` order). Frame: principal axes of the node's vertices.
 std::vector<BvhObb> build_obbs(const BvhBuild& bvh, const std::vector<Vec3>& tri_vertices);

@@ -46,7 +46,10 @@ namespace detail {
 // around c, q a point of the surface and a2 = |c - q|^2. For x in C, d(x) <= |x - q|, and
 // |x - y|^2 - |x - q|^2 = |y - c|^2 - a2 - 2 (x - c).(y - q) >= |y - c|^2 - a2 - 2 h |y - q|_1.
 // So if |y - c|^2 - 2 h |y - q|_1 - a2 > 0 for every point y of a triangle, that triangle is
-// farther than q from every point of C: it is never the nearest there.
+// farther than q from every point of C: it is never the nearest there. Over one octant of C
+// (x - c between 0 and h along each axis, on the octant's side) the last term shrinks to the
+// parts of y - q that point to that side (OctantRests), with the same c, q and a2: a cell lists
+// a cluster with the octants it can serve, and a query reads only its own octant's clusters.
 struct SeedGridBuilder {
   using Cluster = MeshIndex::Cluster;
   using NodeChild = MeshIndex::NodeObb::Child;
@@ -55,16 +58,17 @@ struct SeedGridBuilder {
   double shell = 0, cell = 0;
   Vec3 origin = Vec3::Zero();
   std::int64_t n[3] = {0, 0, 0};
-  std::vector<std::int32_t> cluster_of;          // 2 * node + child -> cluster id, or -1
-  std::vector<Cluster> leaves;                   // every leaf, each cluster's leaves contiguous
-  std::vector<std::int32_t> leaf_start;          // cluster -> first leaf; clusters + 1 entries
-  std::vector<std::vector<std::int32_t>> lists;  // per cell: seeds
+  std::vector<std::int32_t> cluster_of;           // 2 * node + child -> cluster id, or -1
+  std::vector<Cluster> leaves;                    // every leaf, each cluster's leaves contiguous
+  std::vector<std::int32_t> leaf_start;           // cluster -> first leaf; clusters + 1 entries
+  std::vector<Mat3> cluster_rows, leaf_rows;      // their oriented boxes' frames (obb_rows)
+  std::vector<std::vector<std::uint32_t>> lists;  // per cell: seeds
 
-  // The cube test for one cube: centre, half-side (widened for the query's rounding), the
-  // nearest surface point, and the rounding margins.
+  // The cube test for one cube: centre, half-side (widened by eps for the query's rounding),
+  // the nearest surface point, and the rounding margins.
   struct Cube {
     Vec3 c, q;
-    double h = 0, a2 = 0, margin = 0, eq_obb = 0, eq_prism = 0;
+    double h = 0, eps = 0, a2 = 0, margin = 0, eq_obb = 0, eq_prism = 0;
     std::int32_t nearest = -1;  // original triangle id of q
   };
 
@@ -74,10 +78,13 @@ struct SeedGridBuilder {
   bool choose_grid(const MeshIndexOptions& options);
   bool make_cube(const Vec3& c, double half, std::int32_t hint, Cube& cube) const;
   double box_lb(const float* lo, const float* hi, const NodeChild& obb, const Cube& k) const;
-  bool may_hold_nearest(std::int32_t slot, const Cube& k) const;
+  std::uint32_t box_octants(const Cluster& b, const Mat3& rows, const Cube& k,
+                            std::uint32_t want) const;
+  std::uint32_t triangle_octants(std::int32_t slot, const Cube& k, std::uint32_t want) const;
+  std::uint32_t cluster_octants(std::int32_t id, const Cube& k) const;
   bool block_candidates(const Cube& k, std::vector<std::int32_t>& out) const;
   void cell_seeds(const Cube& k, const std::vector<std::int32_t>& cand,
-                  std::vector<std::int32_t>& out) const;
+                  std::vector<std::uint32_t>& out) const;
   void run_blocks(std::int64_t first, std::int64_t step);
   void store();
 };
@@ -142,6 +149,8 @@ void SeedGridBuilder::collect_clusters() {
     }
   }
   leaf_start.push_back(static_cast<std::int32_t>(leaves.size()));
+  for (const Cluster& cl : ix.grid_.clusters) cluster_rows.push_back(obb_rows(cl.obb.q));
+  for (const Cluster& lf : leaves) leaf_rows.push_back(obb_rows(lf.obb.q));
 }
 
 // Cell side from the mean triangle area (so a cell needs ~25 clusters), widened until the grid
@@ -174,8 +183,10 @@ bool SeedGridBuilder::choose_grid(const MeshIndexOptions& options) {
 bool SeedGridBuilder::make_cube(const Vec3& c, double half, std::int32_t hint, Cube& k) const {
   const double X = c.cwiseAbs().maxCoeff();
   k.c = c;
-  // A query point is placed in its cell with a relative rounding of a few ulps.
-  k.h = half + 1e-9 * (1 + X);
+  // A query point is placed in its cell, and in its octant, with a relative rounding of a few
+  // ulps.
+  k.eps = 1e-9 * (1 + X);
+  k.h = half + k.eps;
   const ClosestPoint q = ix.closest_point(c, shell + std::sqrt(3.0) * k.h, hint);
   if (q.triangle < 0) return false;
   k.q = q.point;
@@ -204,17 +215,89 @@ double SeedGridBuilder::box_lb(const float* lo, const float* hi, const NodeChild
   return std::max(d2, obb_distance2(obb, k.c, k.eq_obb)) - rest;
 }
 
-// The certificate for one triangle: the prism bound first, the exact distance if needed.
-bool SeedGridBuilder::may_hold_nearest(std::int32_t slot, const Cube& k) const {
+// The certificate per octant of a cell cube k (see the struct comment, with the octant's box
+// for C): for x in the octant with signs s, x - c lies in [-eps, h] along an axis where s > 0
+// and in [-h, eps] where s < 0, so for y with y - q in [-down, up] (componentwise, up, down >= 0)
+// 2 (x - c).(y - q) <= 2 sum_a (h up_a + eps down_a) (s_a > 0), (h down_a + eps up_a) (s_a < 0).
+// at(o): a2 + that + margin, which |y - c|^2 must exceed for y to be excluded from octant o (bit
+// x + 2y + 4z, set for the upper half along x, y, z). The largest, top(), is at most the whole
+// cube's (up_a and down_a both counted at h).
+struct OctantRests {
+  double side[3][2];  // [axis][upper half]
+  double base;
+  OctantRests(const double up[3], const double down[3], double h, double eps, double a2,
+              double margin)
+      : base(a2 + margin) {
+    for (int a = 0; a < 3; ++a) {
+      side[a][1] = 2 * (h * up[a] + eps * down[a]);
+      side[a][0] = 2 * (h * down[a] + eps * up[a]);
+    }
+  }
+  double at(int o) const { return base + side[0][o & 1] + side[1][(o >> 1) & 1] + side[2][o >> 2]; }
+  double top() const {
+    return base + std::max(side[0][0], side[0][1]) + std::max(side[1][0], side[1][1]) +
+           std::max(side[2][0], side[2][1]);
+  }
+  // The octants among `want` where a squared distance d2 (or a lower bound of it) is not
+  // excluded.
+  std::uint32_t passing(double d2, std::uint32_t want) const {
+    std::uint32_t m = 0;
+    for (int o = 0; o < 8; ++o)
+      if ((want >> o & 1) && d2 <= at(o)) m |= 1u << o;
+    return m;
+  }
+};
+
+// The octants among `want` for which a box (of a cluster or a leaf: axis-aligned and oriented)
+// may hold the nearest point of some point of the octant.
+std::uint32_t SeedGridBuilder::box_octants(const Cluster& b, const Mat3& rows, const Cube& k,
+                                           std::uint32_t want) const {
+  double d2 = 0, up[3], down[3];
+  for (int a = 0; a < 3; ++a) {
+    const double l = b.lo[a], u = b.hi[a];
+    const double g = std::max(std::max(l - k.c[a], k.c[a] - u), 0.0);
+    d2 += g * g;
+    up[a] = std::max(u - k.q[a], 0.0);
+    down[a] = std::max(k.q[a] - l, 0.0);
+  }
+  const OctantRests rest(up, down, k.h, k.eps, k.a2, k.margin);
+  const double top = rest.top();
+  if (!(d2 <= top)) return 0;
+  d2 = std::max(d2, obb_distance2(b.obb, rows, k.c, k.eq_obb));
+  return d2 <= top ? rest.passing(d2, want) : 0;
+}
+
+// The octants among `want` for which triangle `slot` may hold the nearest point: the prism
+// bound of its distance from c first, the exact distance if needed.
+std::uint32_t SeedGridBuilder::triangle_octants(std::int32_t slot, const Cube& k,
+                                                std::uint32_t want) const {
   const auto& t = ix.tris_[slot];
-  double m = 0;  // max of |y - q|_1 over the triangle (a convex function: at a vertex)
-  for (int a = 0; a < 3; ++a)
-    m += std::max(
-        {std::abs(t.v0[a] - k.q[a]), std::abs(t.v1[a] - k.q[a]), std::abs(t.v2[a] - k.q[a])});
-  const double rest = 2 * k.h * m + k.a2 + k.margin;
-  if (prism_bound(ix.tri_bounds_[slot], k.c, k.eq_prism, ix.plane_slack_) > rest) return false;
+  double up[3], down[3];
+  for (int a = 0; a < 3; ++a) {
+    const double u0 = t.v0[a] - k.q[a], u1 = t.v1[a] - k.q[a], u2 = t.v2[a] - k.q[a];
+    up[a] = std::max({u0, u1, u2, 0.0});
+    down[a] = std::max({-u0, -u1, -u2, 0.0});
+  }
+  const OctantRests rest(up, down, k.h, k.eps, k.a2, k.margin);
+  const double top = rest.top();
+  const double pb = prism_bound(ix.tri_bounds_[slot], k.c, k.eq_prism, ix.plane_slack_);
+  if (!(pb <= top) || !rest.passing(pb, want)) return 0;
   const Vec3 w = closest_bary(k.c, t);
-  return (k.c - (w[0] * t.v0 + w[1] * t.v1 + w[2] * t.v2)).squaredNorm() <= rest;
+  return rest.passing((k.c - (w[0] * t.v0 + w[1] * t.v1 + w[2] * t.v2)).squaredNorm(), want);
+}
+
+// The octants of cell cube k where cluster id may hold the nearest point (0: nowhere in the
+// cell): its box, its leaves' boxes, then their triangles, each only for the octants still open.
+std::uint32_t SeedGridBuilder::cluster_octants(std::int32_t id, const Cube& k) const {
+  const std::uint32_t open = box_octants(ix.grid_.clusters[id], cluster_rows[id], k, 0xFF);
+  std::uint32_t mask = 0;
+  for (std::int32_t l = leaf_start[id]; l < leaf_start[id + 1] && (open & ~mask); ++l) {
+    const Cluster& lf = leaves[l];
+    const std::uint32_t want = box_octants(lf, leaf_rows[l], k, open & ~mask);
+    for (std::int32_t s = lf.first; s < lf.first + lf.count && (want & ~mask); ++s)
+      mask |= triangle_octants(s, k, want & ~mask);
+  }
+  return mask;
 }
 
 // Clusters whose boxes pass the certificate for cube k (a tree descent). False when there are
@@ -244,22 +327,13 @@ bool SeedGridBuilder::block_candidates(const Cube& k, std::vector<std::int32_t>&
 }
 
 // A cell's seeds: the slot of the triangle nearest its centre, then the clusters among `cand`
-// (its block's) that pass the certificate by their boxes, their leaves' and a triangle's.
+// (its block's) that pass the certificate in some octant, with their octant masks.
 void SeedGridBuilder::cell_seeds(const Cube& k, const std::vector<std::int32_t>& cand,
-                                 std::vector<std::int32_t>& out) const {
-  out.assign(1, ix.slots_[k.nearest]);
-  for (const std::int32_t id : cand) {
-    const Cluster& cl = ix.grid_.clusters[id];
-    if (box_lb(cl.lo, cl.hi, cl.obb, k) > k.margin) continue;
-    bool keep = false;
-    for (std::int32_t l = leaf_start[id]; l < leaf_start[id + 1] && !keep; ++l) {
-      const Cluster& lf = leaves[l];
-      if (box_lb(lf.lo, lf.hi, lf.obb, k) > k.margin) continue;
-      for (std::int32_t s = lf.first; s < lf.first + lf.count && !keep; ++s)
-        keep = may_hold_nearest(s, k);
-    }
-    if (keep) out.push_back(id);
-  }
+                                 std::vector<std::uint32_t>& out) const {
+  out.assign(1, static_cast<std::uint32_t>(ix.slots_[k.nearest]));
+  for (const std::int32_t id : cand)
+    if (const std::uint32_t mask = cluster_octants(id, k))
+      out.push_back(static_cast<std::uint32_t>(id) | mask << kSeedIdBits);
   if (out.size() > kMaxSeeds + 1) out.clear();  // too many: the cell stays uncovered
 }
 
@@ -320,7 +394,9 @@ void MeshIndex::build_seed_grid(const MeshIndexOptions& options) {
     return;
   detail::SeedGridBuilder b(*this);
   b.collect_clusters();
-  if (!b.choose_grid(options)) {  // e.g. all triangles of zero area
+  // Cluster ids share a list entry with the octant mask; choose_grid fails e.g. when all
+  // triangles have zero area.
+  if (grid_.clusters.size() > detail::kSeedIdMask + std::size_t{1} || !b.choose_grid(options)) {
     grid_ = SeedGrid{};
     return;
   }

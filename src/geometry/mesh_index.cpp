@@ -418,18 +418,22 @@ struct CountStats {
 };
 }  // namespace
 
-std::pair<const std::int32_t*, int> MeshIndex::grid_seeds(const Vec3& p) const {
-  if (grid_.start.empty()) return {nullptr, 0};
+MeshIndex::SeedCell MeshIndex::grid_seeds(const Vec3& p) const {
+  if (grid_.start.empty()) return {};
   const Vec3 g = (p - grid_.origin) * grid_.inv_cell;
   // Negated comparisons: NaN fails them too.
   if (!(g.x() >= 0 && g.y() >= 0 && g.z() >= 0 && g.x() < double(grid_.n[0]) &&
         g.y() < double(grid_.n[1]) && g.z() < double(grid_.n[2])))
-    return {nullptr, 0};
-  const std::int64_t cell = static_cast<std::int64_t>(g.x()) +
-                            grid_.n[0] * (static_cast<std::int64_t>(g.y()) +
-                                          grid_.n[1] * static_cast<std::int64_t>(g.z()));
+    return {};
+  const std::int64_t i[3] = {static_cast<std::int64_t>(g.x()), static_cast<std::int64_t>(g.y()),
+                             static_cast<std::int64_t>(g.z())};
+  const std::int64_t cell = i[0] + grid_.n[0] * (i[1] + grid_.n[1] * i[2]);
+  // The octant: which half of the cell along each axis (g - i is exact; the build allows for
+  // the rounding of g across the cell's middle planes as across its faces).
+  const int octant = int(g.x() - double(i[0]) >= 0.5) + 2 * int(g.y() - double(i[1]) >= 0.5) +
+                     4 * int(g.z() - double(i[2]) >= 0.5);
   const std::uint32_t b = grid_.start[cell], e = grid_.start[cell + 1];
-  return {grid_.seeds.data() + b, static_cast<int>(e - b)};
+  return {grid_.seeds.data() + b, static_cast<int>(e - b), 1u << (detail::kSeedIdBits + octant)};
 }
 
 ClosestPoint MeshIndex::closest_point(const Vec3& p, double max_distance) const {
@@ -491,15 +495,18 @@ void MeshIndex::exact_test(const Vec3& p, std::int32_t slot, S& search, Stats& s
 // Seeded start (p lies in a covered cell of the seed grid): the cell's clusters hold the answer,
 // and the triangle nearest the cell's centre gives the first bound. The clusters that can still
 // improve on it go on the stack as leaf-like slot ranges, nearest on top; all lines of the
-// nearest two start loading.
+// nearest two start loading. Clusters not marked for p's octant are skipped unread.
 template <class S, class Stats>
-void MeshIndex::seed_search(const Vec3& p, const std::int32_t* seeds, int num_seeds, double eq,
-                            S& search, Stats& stats) const {
+void MeshIndex::seed_search(const Vec3& p, const SeedCell& cell, double eq, S& search,
+                            Stats& stats) const {
   stats.seeded();
-  for (int k = 1; k < num_seeds; ++k) prefetch_line(&grid_.clusters[seeds[k]]);
-  exact_test(p, seeds[0], search, stats);
-  for (int k = 1; k < num_seeds; ++k) {
-    const Cluster& cl = grid_.clusters[seeds[k]];
+  const std::uint32_t* seeds = cell.first;
+  for (int k = 1; k < cell.count; ++k)
+    if (seeds[k] & cell.octant) prefetch_line(&grid_.clusters[seeds[k] & detail::kSeedIdMask]);
+  exact_test(p, static_cast<std::int32_t>(seeds[0]), search, stats);
+  for (int k = 1; k < cell.count; ++k) {
+    if (!(seeds[k] & cell.octant)) continue;
+    const Cluster& cl = grid_.clusters[seeds[k] & detail::kSeedIdMask];
     stats.node();
     double d2 = box_distance2(cl.lo, cl.hi, p);
     if (!search.open(d2)) continue;
@@ -523,8 +530,8 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
   const double eq = detail::obb_project_error(p);
   auto open = [&](double d2) { return search.open(d2); };
   Ref cur = nodes_.empty() ? Ref{0, static_cast<std::int32_t>(tris_.size())} : Ref{0, 0};
-  const auto [seeds, num_seeds] = grid_seeds(p);
-  const bool seeded = num_seeds > 0;
+  const SeedCell cell = grid_seeds(p);
+  const bool seeded = cell.count > 0;
   auto pop = [&] {  // next subtree that can still hold a nearer point
     while (search.sp > 0) {
       const Search::Entry& e = search.stack[--search.sp];
@@ -541,7 +548,7 @@ ClosestPoint MeshIndex::closest_impl(const Vec3& p, double max_distance, std::in
     return false;
   };
   const double eqb = seeded ? detail::prism_error(p, prism_scale_) : 0.0;  // for prism_bound
-  if (seeded) seed_search(p, seeds, num_seeds, eq, search, stats);
+  if (seeded) seed_search(p, cell, eq, search, stats);
   bool run = !seeded || pop();
   while (run) {
     if (cur.count > 0) {

@@ -126,9 +126,16 @@ class MeshIndex {
                             Stats& stats) const;
   template <class Search, class Stats>
   void exact_test(const Vec3& p, std::int32_t slot, Search& search, Stats& stats) const;
+  // The seeds of the cell holding p (SeedGrid::seeds from `first`, `count` entries; count 0
+  // outside the grid or its shell) and the bit of p's octant in their masks.
+  struct SeedCell {
+    const std::uint32_t* first = nullptr;
+    int count = 0;
+    std::uint32_t octant = 0;
+  };
   template <class Search, class Stats>
-  void seed_search(const Vec3& p, const std::int32_t* seeds, int num_seeds, double eq,
-                   Search& search, Stats& stats) const;
+  void seed_search(const Vec3& p, const SeedCell& cell, double eq, Search& search,
+                   Stats& stats) const;
 
   // Inner node with the bounds of both children: one 64-byte cache line per visited node.
   struct alignas(64) Node {
@@ -172,20 +179,21 @@ class MeshIndex {
   };
   // Seed grid (docs/spatial-queries.md, "Seed grid"): cubes of side 1 / inv_cell from origin,
   // n[0] x n[1] x n[2], x fastest. A covered cell lists the slot of the triangle nearest its
-  // centre, then the clusters that can hold the nearest triangle of any point of the cell.
+  // centre, then the clusters that can hold the nearest triangle of some point of the cell, each
+  // with the octants of the cell where they can (cluster id in the low detail::kSeedIdBits bits,
+  // octant mask above: bit x + 2y + 4z for the upper half along the axes x, y, z).
   struct SeedGrid {
     Vec3 origin = Vec3::Zero();
     double inv_cell = 0;
     std::int64_t n[3] = {0, 0, 0};
     std::int64_t covered = 0;                  // cells with a list
     detail::IndexVector<std::uint32_t> start;  // cell -> offset in seeds; cells + 1 entries
-    detail::IndexVector<std::int32_t> seeds;   // per covered cell: slot, then cluster ids
+    detail::IndexVector<std::uint32_t> seeds;  // per covered cell: slot, then cluster entries
     detail::IndexVector<Cluster> clusters;
   };
   void build_seed_grid(const MeshIndexOptions& options);
   void build_tri_bounds();
-  // The seeds of the cell holding p: {first, count}; count 0 outside the grid or its shell.
-  std::pair<const std::int32_t*, int> grid_seeds(const Vec3& p) const;
+  SeedCell grid_seeds(const Vec3& p) const;
 
   detail::IndexVector<NodeRec> nodes_;  // root = nodes_[0]; empty when all triangles fit a leaf
   detail::IndexVector<TriData> tris_;   // leaf order
