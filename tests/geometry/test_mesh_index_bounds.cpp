@@ -1,5 +1,6 @@
 // MeshIndex distance pruning: the oriented node boxes (src/geometry/bvh_obb.hpp) are true lower
-// bounds (checked against an independent point-triangle distance for every node and triangle),
+// bounds, with their frames computed per query or beforehand (checked against an independent
+// point-triangle distance for every node and triangle),
 // they are tight on a tilted plane (analytic distance), and closest_point stays exact against
 // brute force on hard inputs: degenerate triangles, points exactly on the surface, meshes far
 // from the origin.
@@ -83,6 +84,9 @@ TEST(MeshIndexBounds, OrientedBoxesAreLowerBounds) {
       begin[i] = b.count > 0 ? b.first : begin[i + 1];
       end[i] = b.count > 0 ? b.first + b.count : end[static_cast<std::size_t>(b.first)];
     }
+    // The seed grid's builder projects with precomputed frames (obb_rows): the same bound.
+    std::vector<Mat3> rows;
+    for (const auto& o : obb) rows.push_back(detail::obb_rows(o.q));
     Rng rng(21);
     const Box3 box = m.bbox();
     const double diag = box.size().norm();
@@ -99,10 +103,13 @@ TEST(MeshIndexBounds, OrientedBoxesAreLowerBounds) {
       const double eq = detail::obb_project_error(p);
       for (std::size_t i = 0; i < n; ++i) {
         const double lb = detail::obb_distance2(obb[i], p, eq);
+        const double lb_rows = detail::obb_distance2(obb[i], rows[i], p, eq);
+        ASSERT_NEAR(lb_rows, lb, 1e-9 * (1 + lb)) << "node " << i << " query " << q;
         positive += lb > 0;
         for (std::int32_t s = begin[i]; s < end[i]; ++s, ++checked) {
           const double d2 = ref_d2(m, static_cast<std::size_t>(bvh.order[s]), p);
           ASSERT_LE(lb, d2) << "node " << i << " slot " << s << " query " << q;
+          ASSERT_LE(lb_rows, d2) << "node " << i << " slot " << s << " query " << q;
         }
       }
     }

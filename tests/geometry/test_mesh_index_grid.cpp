@@ -183,6 +183,36 @@ TEST(MeshIndexGrid, SeededQueriesMatchBruteForce) {
   }
 }
 
+// A query reads only the clusters listed for its octant of the cell: on a smooth surface about
+// half of the cell's list (the correctness of the masks is SeededQueriesMatchBruteForce's).
+TEST(MeshIndexGrid, QueriesReadOnlyTheirOctantsClusters) {
+  for (const auto& c : grid_cases()) {
+    if (c.name != "torus" && c.name != "bumpy_grid") continue;
+    SCOPED_TRACE(c.name);
+    const MeshIndex index(c.mesh, grid_options(c.shell));
+    const auto g = index.seed_grid_info();
+    Rng rng(5);
+    MeshIndex::QueryStats st;
+    for (int i = 0; i < 2000; ++i) {
+      const Box3 box = c.mesh.bbox();
+      const Vec3 r(rng.uniform(), rng.uniform(), rng.uniform());
+      const Vec3 p = box.min - Vec3::Constant(c.shell) +
+                     (box.size() + Vec3::Constant(2 * c.shell)).cwiseProduct(r);
+      MeshIndex::QueryStats one;
+      index.closest_point_counted(p, kInf, one);
+      if (one.seeded) {
+        st.seeded += 1;
+        st.nodes += one.nodes;
+      }
+    }
+    ASSERT_GT(st.seeded, 200);
+    const double read = double(st.nodes) / double(st.seeded);
+    std::printf("[ %s ] %.1f clusters read per seeded query, %.1f listed per covered cell\n",
+                c.name.c_str(), read, g.seeds_per_cell);
+    EXPECT_LT(read, 0.75 * g.seeds_per_cell);
+  }
+}
+
 TEST(MeshIndexGrid, HintsAndMaxDistanceAgreeWithTheTree) {
   const TriMesh m = test::make_torus(40.0, 15.0, 60, 30);
   const MeshIndex seeded(m, grid_options(5.0)), plain(m, grid_options(0.0));
