@@ -58,7 +58,8 @@ struct MeshIndexOptions {
   /// Closest-point queries at most this far from the surface start from a seed grid: cubes near
   /// the surface that list the few clusters of triangles which can hold the answer, instead of a
   /// descent from the root (about half the latency of a cold query; docs/spatial-queries.md,
-  /// "Seed grid"). Costs memory and build time of the order of the tree's own. 0: no grid.
+  /// "Seed grid"). Costs about the tree's memory again and several times its build time (1M
+  /// triangles: +171 MB, 15 s on 2 cores against the tree's 1.3 s). 0: no grid.
   double seed_shell = 5.0;
   /// Meshes with fewer triangles get no grid (their tree is shallow and stays in cache).
   std::size_t seed_min_triangles = 4096;
