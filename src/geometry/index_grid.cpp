@@ -331,10 +331,15 @@ bool SeedGridBuilder::block_candidates(const Cube& k, std::vector<std::int32_t>&
 void SeedGridBuilder::cell_seeds(const Cube& k, const std::vector<std::int32_t>& cand,
                                  std::vector<std::uint32_t>& out) const {
   out.assign(1, static_cast<std::uint32_t>(ix.slots_[k.nearest]));
-  for (const std::int32_t id : cand)
-    if (const std::uint32_t mask = cluster_octants(id, k))
-      out.push_back(static_cast<std::uint32_t>(id) | mask << kSeedIdBits);
-  if (out.size() > kMaxSeeds + 1) out.clear();  // too many: the cell stays uncovered
+  for (const std::int32_t id : cand) {
+    const std::uint32_t mask = cluster_octants(id, k);
+    if (!mask) continue;
+    out.push_back(static_cast<std::uint32_t>(id) | mask << kSeedIdBits);
+    if (out.size() > kMaxSeeds + 1) {  // too many: the cell stays uncovered
+      out.clear();
+      return;
+    }
+  }
 }
 
 // Blocks of 2 x 2 x 2 cells: what passes the certificate for the block's cube is a superset of
