@@ -1,0 +1,182 @@
+// BridgeDevice: inhap::Device over the UDP bridge (POSIX sockets). See bridge_device.hpp.
+#include "inhap/haptics/bridge_device.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <utility>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::haptics {
+namespace {
+
+double monotonic_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace
+
+bool is_loopback(const std::string& ipv4) {
+  in_addr a{};
+  if (inet_pton(AF_INET, ipv4.c_str(), &a) != 1) return false;
+  return (ntohl(a.s_addr) >> 24) == 127;
+}
+
+BridgeDevice::BridgeDevice(BridgeOptions options) : options_(std::move(options)) {
+  in_addr addr{};
+  if (inet_pton(AF_INET, options_.listen.c_str(), &addr) != 1)
+    throw Error("bridge: '" + options_.listen + "' is not an IPv4 address (e.g. 127.0.0.1)");
+  if (!is_loopback(options_.listen) && options_.key.empty())
+    throw Error("bridge: listening on " + options_.listen +
+                " (not loopback) needs a shared key (--key), so nothing else on the network can "
+                "drive the arm");
+  if (!(options_.timeout_s > 0.0) || !std::isfinite(options_.timeout_s))
+    throw Error("bridge: the time-out must be a positive number of seconds");
+  key_ = BridgeKey(options_.key);
+  fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd_ < 0)
+    throw Error(std::string("bridge: cannot open a UDP socket: ") + std::strerror(errno));
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_port = htons(options_.port);
+  sa.sin_addr = addr;
+  if (bind(fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {
+    const int e = errno;
+    close(fd_);
+    fd_ = -1;
+    throw Error("bridge: cannot listen on " + options_.listen + ":" +
+                std::to_string(options_.port) + ": " + std::strerror(e));
+  }
+  socklen_t len = sizeof sa;
+  getsockname(fd_, reinterpret_cast<sockaddr*>(&sa), &len);
+  bound_port_ = ntohs(sa.sin_port);
+}
+
+BridgeDevice::~BridgeDevice() {
+  if (fd_ >= 0) {
+    if (have_peer_) stop();
+    close(fd_);
+  }
+}
+
+bool BridgeDevice::connect(double timeout_s) {
+  const bool got = wait_state(timeout_s);
+  faulted_ = !got;
+  return session_locked_;
+}
+
+void BridgeDevice::command_force(const Vec3& force) {
+  if (!force.allFinite()) {
+    command_.setZero();
+    return;
+  }
+  const double n = force.norm();
+  const double limit = options_.info.max_force_n;
+  command_ = (n > limit && n > 0.0) ? Vec3(force * (limit / n)) : force;
+}
+
+void BridgeDevice::tick() {
+  if (faulted_) {
+    send_force(Vec3::Zero(), status_ | kStatusZeroed);
+  } else {
+    send_force(command_, status_);
+  }
+  command_.setZero();
+  if (wait_state(options_.timeout_s)) {
+    faulted_ = false;
+  } else {
+    faulted_ = true;
+    ++stats_.timeouts;
+  }
+}
+
+void BridgeDevice::stop() {
+  send_force(Vec3::Zero(), kStatusStopping | kStatusZeroed);
+}
+
+void BridgeDevice::send_force(const Vec3& f, std::uint32_t status) {
+  if (!have_peer_ || fd_ < 0) return;
+  ForcePacket p;
+  p.session = state_.session;
+  p.sequence = state_.sequence;
+  p.force_n = f;
+  p.status = status;
+  const std::size_t n = encode(p, key_, buffer_);
+  const ssize_t r = sendto(fd_, buffer_, n, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(peer_),
+                           sizeof(sockaddr_in));
+  if (r == static_cast<ssize_t>(n)) ++stats_.sent;
+}
+
+bool BridgeDevice::accept(const StatePacket& p) {
+  if (!session_locked_ || (p.session != state_.session && faulted_)) {
+    // First contact, or the device came back with a new session after a fault.
+    session_locked_ = true;
+    state_ = p;
+    return true;
+  }
+  if (p.session != state_.session) {
+    ++stats_.foreign_session;
+    return false;
+  }
+  if (p.sequence <= state_.sequence) {
+    ++stats_.out_of_order;
+    return false;
+  }
+  stats_.lost += p.sequence - state_.sequence - 1;
+  state_ = p;
+  return true;
+}
+
+bool BridgeDevice::wait_state(double timeout_s) {
+  const double deadline = monotonic_s() + timeout_s;
+  bool got = false;
+  for (;;) {
+    // Drain what is there.
+    for (;;) {
+      sockaddr_in from{};
+      socklen_t flen = sizeof from;
+      const ssize_t n = recvfrom(fd_, buffer_, sizeof buffer_, MSG_DONTWAIT,
+                                 reinterpret_cast<sockaddr*>(&from), &flen);
+      if (n < 0) break;  // EAGAIN (or an error: treated as nothing received)
+      ++stats_.received;
+      StatePacket p;
+      const DecodeResult r = decode({buffer_, static_cast<std::size_t>(n)}, key_, p);
+      if (r == DecodeResult::kUnsigned || r == DecodeResult::kBadTag) {
+        ++stats_.bad_auth;
+        continue;
+      }
+      if (r != DecodeResult::kOk) {
+        ++stats_.malformed;
+        continue;
+      }
+      if (!accept(p)) continue;
+      if (got) ++stats_.superseded;
+      got = true;
+      ++stats_.accepted;
+      std::memcpy(peer_, &from, sizeof from);
+      have_peer_ = true;
+    }
+    if (got) return true;
+    const double left = deadline - monotonic_s();
+    if (left <= 0.0) return false;
+    pollfd pfd{fd_, POLLIN, 0};
+    timespec ts{};
+    ts.tv_sec = static_cast<time_t>(left);
+    ts.tv_nsec = static_cast<long>((left - static_cast<double>(ts.tv_sec)) * 1e9);
+    if (ppoll(&pfd, 1, &ts, nullptr) == 0) return false;
+  }
+}
+
+}  // namespace inhap::haptics
