@@ -33,9 +33,10 @@ bool have_chromium() {
   return std::system("command -v chromium >/dev/null 2>&1") == 0;
 }
 
-// Source root from this file's path (tests/report/test_report.cpp).
+// Source root of the project.
 fs::path source_root() {
-  return fs::path(__FILE__).parent_path().parent_path().parent_path();
+  // Absolute, from CMake (not __FILE__: a compiler cache may make that relative).
+  return fs::path(INHAP_SOURCE_DIR);
 }
 
 std::string chromium(const std::string& profile, const std::string& extra) {

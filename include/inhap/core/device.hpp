@@ -41,6 +41,12 @@ class Device {
   virtual void command_force(const Vec3& force) = 0;
   /// Advances one servo period.
   virtual void tick() = 0;
+  /// True while the device cannot be trusted (a bridge client went silent, an amplifier fault):
+  /// a servo loop commands zero force then. A simulated device never faults.
+  virtual bool faulted() const { return false; }
+  /// True if tick() itself waits for the device's next sample (a bridge paced by the device's
+  /// own servo callback); false if the caller paces the ticks with its clock.
+  virtual bool self_paced() const { return false; }
 };
 
 /// A procedure driven tick by tick (palpation protocol, position controller, experiment).

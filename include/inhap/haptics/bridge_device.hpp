@@ -68,7 +68,8 @@ class BridgeDevice final : public Device {
   void stop();
 
   bool connected() const { return session_locked_; }
-  bool faulted() const { return faulted_; }
+  bool faulted() const override { return faulted_; }
+  bool self_paced() const override { return true; }
   std::uint32_t buttons() const { return state_.buttons; }
   std::uint32_t session() const { return state_.session; }
   const BridgeStats& stats() const { return stats_; }

@@ -1,0 +1,122 @@
+// The real-time servo loop: runs any Renderer (servo.hpp) against any Device on a dedicated
+// thread at the device's rate.
+//
+// Units: time s, positions mm, forces N; statistics in microseconds.
+//
+// - Pacing: absolute deadlines with clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME), unless the
+//   device paces itself (Device::self_paced(), e.g. the UDP bridge: tick() waits for the
+//   device's next state).
+// - Real time: SCHED_FIFO and mlockall when permitted (LoopOptions::realtime); rt_status() says
+//   what was granted, and why not.
+// - Watchdog: zero force after `watchdog_misses` deadlines missed in a row or while the device
+//   reports a fault; the renderer is reset when it recovers (no kick from a stale proxy).
+// - Observers read the loop through lock-free SPSC rings (spsc_ring.hpp); the loop never
+//   blocks on them: a full ring drops the sample and counts it.
+// - The loop's steady state allocates nothing and takes no lock; on stop it commands zero force
+//   for one last tick.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "inhap/core/device.hpp"
+#include "inhap/haptics/servo.hpp"
+#include "inhap/haptics/spsc_ring.hpp"
+
+namespace inhap::haptics {
+
+/// One tick as observers see it.
+struct LoopSample {
+  std::uint64_t tick = 0;
+  double t_s = 0;                      ///< device time, s
+  Vec3 p_mm = Vec3::Zero();            ///< probe position, mm
+  Vec3 sensor_force_n = Vec3::Zero();  ///< raw sensor reading, N
+  ServoOutput out;                     ///< what the renderer returned
+  Vec3 commanded_n = Vec3::Zero();     ///< force actually commanded (zero when the watchdog holds)
+  bool watchdog = false;               ///< the watchdog held the force at zero
+  float step_us = 0;                   ///< renderer step time, us
+};
+
+using ObserverRing = SpscRing<LoopSample, 8192>;
+
+struct LoopOptions {
+  bool realtime = true;      ///< try SCHED_FIFO + mlockall
+  int priority = 80;         ///< SCHED_FIFO priority when granted
+  int watchdog_misses = 10;  ///< deadlines missed in a row before zero force
+  int recover_ticks = 100;   ///< good ticks before force comes back after a trip
+  long max_ticks = -1;       ///< stop by itself after this many ticks (-1: until stop())
+};
+
+/// Latency histogram with fixed bins (allocated once, before the loop starts).
+class LatencyHistogram {
+ public:
+  explicit LatencyHistogram(double bin_us = 0.05, double max_us = 20000.0);
+  void add(double us) noexcept;
+  double quantile(double q) const;  ///< us; NaN when empty
+  double max() const { return max_us_seen_; }
+  std::uint64_t count() const { return count_; }
+  void clear() noexcept;
+
+ private:
+  double bin_us_;
+  std::vector<std::uint32_t> bins_;
+  std::uint64_t count_ = 0;
+  double max_us_seen_ = 0;
+};
+
+struct LoopStats {
+  std::uint64_t ticks = 0;
+  std::uint64_t overruns = 0;         ///< deadlines missed (woke more than one period late)
+  std::uint64_t watchdog_trips = 0;   ///< times the watchdog zeroed the force
+  std::uint64_t watchdog_ticks = 0;   ///< ticks with force held at zero
+  std::uint64_t dropped_samples = 0;  ///< samples no observer had room for
+  double jitter_p50_us = 0, jitter_p99_us = 0, jitter_max_us = 0;  ///< wake-up lateness
+  double step_p50_us = 0, step_p99_us = 0, step_max_us = 0;        ///< renderer step
+  double period_us = 0;
+};
+
+class ServoLoop {
+ public:
+  ServoLoop(Device& device, Renderer& renderer, LoopOptions options = {});
+  ~ServoLoop();
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  /// Before start(): an observer ring the loop pushes every tick into (at most 4).
+  void add_observer(ObserverRing& ring);
+  void start();
+  /// Asks the loop to stop, waits for it; the last tick commands zero force.
+  void stop();
+  /// Runs the loop on the calling thread until stop() or max_ticks (what start() runs).
+  void run();
+  bool running() const { return running_.load(std::memory_order_acquire); }
+  std::uint64_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
+  /// Statistics; complete after stop() (or run() returned); approximate while running.
+  LoopStats stats() const;
+  /// What real-time scheduling was granted ("SCHED_FIFO 80, memory locked", or why not).
+  std::string rt_status() const { return rt_status_; }
+
+ private:
+  void setup_realtime();
+  void tick_once(double wake_late_us);
+
+  Device& device_;
+  Renderer& renderer_;
+  LoopOptions options_;
+  std::vector<ObserverRing*> observers_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> running_{false};
+  std::atomic<std::uint64_t> ticks_{0};
+  LatencyHistogram jitter_{1.0, 100000.0};
+  LatencyHistogram step_{0.02, 2000.0};
+  std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
+  int missed_in_row_ = 0, good_in_row_ = 0;
+  bool holding_ = false;
+  std::string rt_status_ = "not started";
+};
+
+}  // namespace inhap::haptics

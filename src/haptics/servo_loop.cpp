@@ -1,0 +1,215 @@
+// The real-time servo loop. See servo_loop.hpp.
+#include "inhap/haptics/servo_loop.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <limits>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::haptics {
+namespace {
+
+double now_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+timespec to_timespec(double s) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(s);
+  ts.tv_nsec = static_cast<long>((s - static_cast<double>(ts.tv_sec)) * 1e9);
+  if (ts.tv_nsec >= 1000000000L) {
+    ++ts.tv_sec;
+    ts.tv_nsec -= 1000000000L;
+  }
+  return ts;
+}
+
+}  // namespace
+
+LatencyHistogram::LatencyHistogram(double bin_us, double max_us)
+    : bin_us_(bin_us), bins_(static_cast<std::size_t>(max_us / bin_us) + 1, 0) {}
+
+void LatencyHistogram::add(double us) noexcept {
+  if (!(us >= 0.0)) us = 0.0;
+  const double b = us / bin_us_;
+  const std::size_t i =
+      b >= static_cast<double>(bins_.size() - 1) ? bins_.size() - 1 : static_cast<std::size_t>(b);
+  ++bins_[i];
+  ++count_;
+  max_us_seen_ = std::max(max_us_seen_, us);
+}
+
+double LatencyHistogram::quantile(double q) const {
+  if (count_ == 0) return std::numeric_limits<double>::quiet_NaN();
+  const auto want = static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_)));
+  std::uint64_t seen = 0;
+  for (std::size_t i = 0; i < bins_.size(); ++i) {
+    seen += bins_[i];
+    if (seen >= std::max<std::uint64_t>(want, 1)) {
+      return std::min((static_cast<double>(i) + 0.5) * bin_us_, max_us_seen_);
+    }
+  }
+  return max_us_seen_;
+}
+
+void LatencyHistogram::clear() noexcept {
+  std::fill(bins_.begin(), bins_.end(), 0u);
+  count_ = 0;
+  max_us_seen_ = 0;
+}
+
+ServoLoop::ServoLoop(Device& device, Renderer& renderer, LoopOptions options)
+    : device_(device), renderer_(renderer), options_(options) {
+  if (!(device_.info().servo_rate_hz > 0.0) || !std::isfinite(device_.info().servo_rate_hz))
+    throw Error("servo loop: the device's servo rate must be a positive number of Hz");
+  observers_.reserve(4);
+}
+
+ServoLoop::~ServoLoop() {
+  stop();
+}
+
+void ServoLoop::add_observer(ObserverRing& ring) {
+  if (running()) throw Error("servo loop: observers are added before start()");
+  if (observers_.size() >= 4) throw Error("servo loop: at most 4 observers");
+  observers_.push_back(&ring);
+}
+
+void ServoLoop::start() {
+  if (thread_.joinable()) return;
+  stop_.store(false);
+  running_.store(true, std::memory_order_release);
+  thread_ = std::thread([this] {
+    if (options_.realtime) setup_realtime();
+    run();
+  });
+}
+
+void ServoLoop::stop() {
+  stop_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+}
+
+void ServoLoop::setup_realtime() {
+  sched_param sp{};
+  sp.sched_priority = options_.priority;
+  const int e = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+  std::string s = e == 0 ? "SCHED_FIFO " + std::to_string(options_.priority)
+                         : std::string("normal priority (SCHED_FIFO refused: ") + std::strerror(e) +
+                               "; run as root or grant CAP_SYS_NICE / rtprio in limits.conf)";
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+    s += ", memory locked";
+  } else {
+    s += std::string(", memory not locked (mlockall: ") + std::strerror(errno) + ")";
+  }
+  rt_status_ = s;
+}
+
+void ServoLoop::run() {
+  running_.store(true, std::memory_order_release);
+  if (rt_status_ == "not started") rt_status_ = "normal priority (real time not requested)";
+  const double period = 1.0 / device_.info().servo_rate_hz;
+  const bool paced_by_device = device_.self_paced();
+  double deadline = now_s();
+  double last = deadline;
+  while (!stop_.load(std::memory_order_acquire) &&
+         (options_.max_ticks < 0 || ticks_.load(std::memory_order_relaxed) <
+                                        static_cast<std::uint64_t>(options_.max_ticks))) {
+    double late_us = 0.0;
+    if (!paced_by_device) {
+      deadline += period;
+      const timespec ts = to_timespec(deadline);
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+      }
+      const double now = now_s();
+      late_us = (now - deadline) * 1e6;
+      if (late_us > period * 1e6) {
+        ++overruns_;
+        ++missed_in_row_;
+        deadline = now;  // resynchronise: no burst of catch-up ticks
+      } else {
+        missed_in_row_ = 0;
+      }
+    } else {
+      const double now = now_s();
+      late_us = std::abs(now - last - period) * 1e6;
+      last = now;
+    }
+    jitter_.add(late_us);
+    tick_once(late_us);
+  }
+  // The last word to the device is zero force.
+  device_.command_force(Vec3::Zero());
+  device_.tick();
+  running_.store(false, std::memory_order_release);
+}
+
+void ServoLoop::tick_once(double /*wake_late_us*/) {
+  ServoInput in;
+  in.t_s = device_.time();
+  in.p_mm = device_.position();
+  in.sensor_force_n = device_.force_sensor();
+  in.has_sensor = true;
+  const double t0 = now_s();
+  const ServoOutput out = renderer_.step(in);
+  const double step_us = (now_s() - t0) * 1e6;
+  step_.add(step_us);
+
+  const bool fault = device_.faulted() || missed_in_row_ >= options_.watchdog_misses;
+  if (fault) {
+    if (!holding_) ++trips_;
+    holding_ = true;
+    good_in_row_ = 0;
+  } else if (holding_ && ++good_in_row_ >= options_.recover_ticks) {
+    holding_ = false;
+    renderer_.reset();  // the next contact starts from a fresh proxy, not a stale one
+  }
+  if (holding_) ++watchdog_ticks_;
+  const Vec3 cmd = (holding_ || !out.force_n.allFinite()) ? Vec3::Zero() : out.force_n;
+  device_.command_force(cmd);
+
+  if (!observers_.empty()) {
+    LoopSample s;
+    s.tick = ticks_.load(std::memory_order_relaxed);
+    s.t_s = in.t_s;
+    s.p_mm = in.p_mm;
+    s.sensor_force_n = in.sensor_force_n;
+    s.out = out;
+    s.commanded_n = cmd;
+    s.watchdog = holding_;
+    s.step_us = static_cast<float>(step_us);
+    for (ObserverRing* r : observers_) r->push(s);
+  }
+  device_.tick();
+  ticks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+LoopStats ServoLoop::stats() const {
+  LoopStats s;
+  s.ticks = ticks_.load(std::memory_order_relaxed);
+  s.period_us = 1e6 / device_.info().servo_rate_hz;
+  if (running()) return s;  // the histograms belong to the loop thread while it runs
+  s.overruns = overruns_;
+  s.watchdog_trips = trips_;
+  s.watchdog_ticks = watchdog_ticks_;
+  for (const ObserverRing* r : observers_) s.dropped_samples += r->dropped();
+  s.jitter_p50_us = jitter_.quantile(0.5);
+  s.jitter_p99_us = jitter_.quantile(0.99);
+  s.jitter_max_us = jitter_.max();
+  s.step_p50_us = step_.quantile(0.5);
+  s.step_p99_us = step_.quantile(0.99);
+  s.step_max_us = step_.max();
+  return s;
+}
+
+}  // namespace inhap::haptics
