@@ -15,12 +15,14 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/stats.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/eval/sys_lab.hpp"
+#include "inhap/friction/proxy_track.hpp"
 #include "inhap/lab/operators.hpp"
-#include "sys_lab.hpp"
 
 namespace inhap::cli {
 namespace {
+
+using namespace inhap::eval;
 
 using nlohmann::json;
 
@@ -40,14 +42,12 @@ struct ProxyErrors {
 ProxyErrors proxy_errors(const ScenePalpation& r, const lab::LabRecording& lab, bool creep) {
   friction::ProxyModel model{&r.sys, r.shape.get()};
   model.creep = creep;
-  friction::ProxyState state;
+  const friction::ProxyColumns c = friction::proxy_track(model, lab.rec);
   ProxyErrors e;
   for (std::size_t i = 0; i < lab.rec.size(); ++i) {
-    const double dt = i ? lab.rec.t[i] - lab.rec.t[i - 1] : 0.0;
-    const friction::ProxyOutput o = friction::proxy_step(model, state, lab.rec.p[i], dt);
     if (!lab.truth.contact[i] || !lab.truth.anchor[i].allFinite()) continue;
-    e.err.push_back((o.q - lab.truth.anchor[i]).norm());
-    e.missed += !o.contact;
+    e.err.push_back((c.q[i] - lab.truth.anchor[i]).norm());
+    e.missed += !c.contact[i];
   }
   return e;
 }
@@ -59,6 +59,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   po.quick = o.quick;
   if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
   po.progress_label = "eval sys: palpate " + name;
+  po.progress = cli::progress;
   const ScenePalpation r = palpate_scene(po);
   // Elastic limits against the lab's mu at each reference point.
   std::vector<double> rel, rel_measured;

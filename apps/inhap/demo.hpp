@@ -86,12 +86,12 @@ class ForwardProgress {
 StepResult step_tap(const Context& c);
 /// Fig. 3.4.
 StepResult step_contacts(const Context& c);
-/// Fig. 3.6-3.7, Table 3.1 (shape_lab.hpp).
+/// Fig. 3.6-3.7, Table 3.1 (inhap/eval/shape_lab.hpp).
 StepResult step_shape(const Context& c);
-/// Fig. 4.7-4.8 (sys_lab.hpp).
+/// Fig. 4.7-4.8 (inhap/eval/sys_lab.hpp).
 StepResult step_palpation(const Context& c);
 StepResult step_explore(const Context& c);
-/// Fig. 4.11-4.14 (forces_lab.hpp).
+/// Fig. 4.11-4.14 (inhap/eval/forces_lab.hpp).
 StepResult step_force_model(const Context& c);
 StepResult step_study(const Context& c);
 StepResult step_strokes(const Context& c);

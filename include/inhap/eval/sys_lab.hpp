@@ -1,5 +1,5 @@
-// Palpation of a virtual-lab scene for `inhap sys palpate` and `inhap eval sys` (implemented in
-// cmd_sys.cpp). Units: mm, N, s.
+// Palpation of a virtual-lab scene for `inhap sys palpate`, `inhap eval sys|forces` and the demo
+// (thesis 4.2-4.3). Units: mm, N, s.
 #pragma once
 
 #include <cstdint>
@@ -7,13 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "inhap/eval/progress.hpp"
 #include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/palpation.hpp"
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/trimesh.hpp"
 #include "inhap/lab/scene.hpp"
 
-namespace inhap::cli {
+namespace inhap::eval {
 
 struct ScenePalpationOptions {
   std::string scene;           ///< built-in scene name
@@ -21,7 +22,8 @@ struct ScenePalpationOptions {
   std::string points;          ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
   std::uint64_t seed = 1;      ///< device noise
   bool quick = false;          ///< f_N {1, 3} N, 4 directions (tests)
-  std::string progress_label;  ///< progress line on stderr ("": none)
+  std::string progress_label;  ///< "what" of the progress calls
+  Progress progress;           ///< empty: silent
 };
 
 struct ScenePalpation {
@@ -35,6 +37,11 @@ struct ScenePalpation {
   double wall_s = 0;  ///< wall time of the palpation
   double cpu_s = 0;   ///< CPU time of the palpation (wall time without other processes' load)
 };
+
+/// Probe-centre height field of a scene on a 1 mm grid over the square of half side `half` (mm)
+/// around its region (the shape model a real lab gets from chapter 3); the table (z = 0 plus
+/// the probe radius) where the probe misses the object. Normals computed.
+TriMesh shape_height_field(const lab::Scene& scene, double probe_radius, double half);
 
 /// Builds the shape mesh, chooses the reference points, palpates each one through the device
 /// interface (hand detached) and fits the sliding yield surfaces. Throws inhap::Error.
@@ -55,4 +62,4 @@ std::vector<LimitError> limit_errors(const ScenePalpation& p);
 /// Reference point positions (x, y) on the scene's region from a --points spec.
 std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec);
 
-}  // namespace inhap::cli
+}  // namespace inhap::eval

@@ -1,0 +1,47 @@
+// The data-driven renderer of thesis 4.4-4.5 composed in one servo step: probe position p ->
+// FOAW velocity -> sliding-yield-surface proxy q (friction::proxy_step, with creep) -> RBF force
+// g(p, pdot, q) (dd::servo_step).
+//
+// Units: time s, positions mm, velocities mm/s, forces N.
+//
+// Model = {sliding yield surfaces, shape, force model} (+ the proxy estimator's options), all
+// immutable and not owned: they must outlive the model. State = {proxy state, FOAW/servo state,
+// previous time stamp}. step() gives exactly the forces of the pieces run by hand in the same
+// order (friction::proxy_track, then dd::replay with that track), tick for tick; it allocates
+// nothing, throws nothing and does no I/O.
+#pragma once
+
+#include "inhap/datadriven/servo.hpp"
+#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/haptics/servo.hpp"
+
+namespace inhap::haptics {
+
+struct DataDrivenModel {
+  /// Sliding yield surfaces and shape (friction::ProxyModel::sys, ::shape) and the return
+  /// mapping's options (creep on by default, as in the evaluations).
+  friction::ProxyModel proxy;
+  const dd::ForceModel* force = nullptr;  ///< RBF force model (not owned)
+
+  DataDrivenModel() = default;
+  DataDrivenModel(const friction::SysModel& sys, const friction::ShapeQuery& shape,
+                  const dd::ForceModel& force_model)
+      : proxy{&sys, &shape}, force(&force_model) {}
+};
+
+struct DataDrivenState {
+  friction::ProxyState proxy;  ///< proxy estimator (contact, q, frame, g_s at q)
+  dd::ServoState servo;        ///< FOAW buffer, last velocity, bin and force
+  double t_prev_s = 0;         ///< time stamp of the previous tick, s
+  bool has_prev = false;       ///< t_prev_s valid
+
+  /// Back to the initial state.
+  void reset() noexcept { *this = DataDrivenState{}; }
+};
+
+/// One servo tick. dt for the proxy's creep = t - t_prev (0 on the first tick). Zero force out of
+/// contact and without a force model; the sensor force is not used.
+ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
+                 const ServoInput& input) noexcept;
+
+}  // namespace inhap::haptics
