@@ -13,22 +13,10 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/stats.hpp"
 #include "inhap/eval/sys_lab.hpp"
-#include "inhap/friction/proxy_track.hpp"
 #include "inhap/lab/operators.hpp"
 
 namespace inhap::demo {
 namespace {
-
-// |q - true anchor| over the in-contact ticks of a lab recording, mm.
-std::vector<double> proxy_errors(const eval::ScenePalpation& p, const lab::LabRecording& lab) {
-  const friction::ProxyColumns c =
-      friction::proxy_track(friction::ProxyModel{&p.sys, p.shape.get()}, lab.rec);
-  std::vector<double> err;
-  for (std::size_t i = 0; i < lab.rec.size(); ++i)
-    if (lab.truth.contact[i] && lab.truth.anchor[i].allFinite())
-      err.push_back((c.q[i] - lab.truth.anchor[i]).norm());
-  return err;
-}
 
 const char* kLevelColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd"};
 
@@ -184,7 +172,7 @@ StepResult step_palpation(const Context& c) {
   const lab::LabRecording lab = lab::record_scene(p.scene, spec, [&](double f) {
     c.progress(0.8 + 0.18 * f, fmt::format("explore {:.0f} s for the proxy", spec.seconds));
   });
-  const std::vector<double> pe = proxy_errors(p, lab);
+  const std::vector<double> pe = eval::proxy_errors(p, lab, true).err;
 
   r.rows.push_back(
       {"palpation time per sliding yield surface (simulated min)",

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,8 +16,10 @@
 
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/friction/proxy_track.hpp"
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/heightmap.hpp"
+#include "inhap/lab/operators.hpp"
 #include "inhap/lab/sim_device.hpp"
 
 namespace inhap::eval {
@@ -111,6 +114,52 @@ std::vector<LimitError> limit_errors(const ScenePalpation& p) {
       }
   }
   return out;
+}
+
+ProxyErrors proxy_errors(const ScenePalpation& r, const lab::LabRecording& lab, bool creep) {
+  friction::ProxyModel model{&r.sys, r.shape.get()};
+  model.creep = creep;
+  const friction::ProxyColumns c = friction::proxy_track(model, lab.rec);
+  ProxyErrors e;
+  for (std::size_t i = 0; i < lab.rec.size(); ++i) {
+    if (!lab.truth.contact[i] || !lab.truth.anchor[i].allFinite()) continue;
+    e.err.push_back((c.q[i] - lab.truth.anchor[i]).norm());
+    e.missed += !c.contact[i];
+  }
+  return e;
+}
+
+SysLabResult evaluate_sys_on_lab(const SysLabOptions& o) {
+  const std::string& name = o.scene;
+  ScenePalpationOptions po;
+  po.scene = name;
+  po.seed = o.seed;
+  po.quick = o.quick;
+  if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
+  po.progress_label = "eval sys: palpate " + name;
+  po.progress = o.progress;
+  SysLabResult res;
+  res.palpation = palpate_scene(po);
+  const ScenePalpation& r = res.palpation;
+  for (const LimitError& e : limit_errors(r)) {  // against the lab's mu at each reference point
+    res.limit_rel.push_back(e.rel);
+    if (e.measured) res.limit_rel_measured.push_back(e.rel);
+  }
+  // Free exploration with ground truth.
+  lab::RecordSpec spec;
+  spec.operator_name = "explore";
+  spec.seconds = o.quick ? std::min(o.seconds, 10.0) : o.seconds;
+  spec.seed = o.seed;
+  res.exploration_s = spec.seconds;
+  const auto t0 = std::chrono::steady_clock::now();
+  const lab::LabRecording lab = lab::record_scene(r.scene, spec, [&](double f) {
+    if (!o.progress) return;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    o.progress("eval sys: explore " + name, f, f > 0 ? el * (1 - f) / f : 0);
+  });
+  res.proxy = proxy_errors(r, lab, true);
+  res.proxy_rate_independent = proxy_errors(r, lab, false);
+  return res;
 }
 
 ScenePalpation palpate_scene(const ScenePalpationOptions& o) {

@@ -12,6 +12,7 @@
 #include "inhap/friction/palpation.hpp"
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/trimesh.hpp"
+#include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 
 namespace inhap::eval {
@@ -58,6 +59,34 @@ struct LimitError {
 
 /// Every elastic limit of `p.sys` against the scene's mu at its reference point.
 std::vector<LimitError> limit_errors(const ScenePalpation& p);
+
+/// The estimated proxy of a lab recording (friction::proxy_track with the palpated sliding yield
+/// surfaces and shape) against the lab's true tangential anchor.
+struct ProxyErrors {
+  std::vector<double> err;  ///< |q - true anchor| per sample where the truth is in contact, mm
+  std::size_t missed = 0;   ///< of those, samples the estimator had out of contact
+};
+ProxyErrors proxy_errors(const ScenePalpation& palpation, const lab::LabRecording& lab, bool creep);
+
+/// `inhap eval sys` on one built-in scene (thesis 4.3): palpate, score every elastic limit
+/// against the lab's mu * f_N, record a free exploration and score the estimated proxy (with and
+/// without creep) against the true anchor.
+struct SysLabOptions {
+  std::string scene = "planar";
+  double seconds = 60.0;   ///< exploration length, s (at most 10 s with quick)
+  std::uint64_t seed = 1;  ///< device noise and operator
+  bool quick = false;      ///< few reference points, f_N {1, 3} N, 4 directions (tests)
+  Progress progress;       ///< empty: silent
+};
+struct SysLabResult {
+  ScenePalpation palpation;
+  std::vector<double> limit_rel;           ///< |f_limit - mu f_N| / (mu f_N), every limit
+  std::vector<double> limit_rel_measured;  ///< the same, measured (not extrapolated) limits
+  ProxyErrors proxy;                       ///< with creep (the default estimator)
+  ProxyErrors proxy_rate_independent;      ///< without creep
+  double exploration_s = 0;                ///< length of the exploration recording, s
+};
+SysLabResult evaluate_sys_on_lab(const SysLabOptions& options);
 
 /// Reference point positions (x, y) on the scene's region from a --points spec.
 std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec);
