@@ -40,8 +40,26 @@ struct DataDrivenState {
 };
 
 /// One servo tick. dt for the proxy's creep = t - t_prev (0 on the first tick). Zero force out of
-/// contact and without a force model; the sensor force is not used.
-ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
-                 const ServoInput& input) noexcept;
+/// contact and without a force model; the sensor force is not used. Inline, so a loop calling it
+/// compiles to the same code as the pieces written out by hand (bench/bench_servo.cpp).
+inline ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
+                        const ServoInput& input) noexcept {
+  const Vec3& p = input.p_mm;
+  const double dt = state.has_prev ? input.t_s - state.t_prev_s : 0.0;
+  state.t_prev_s = input.t_s;
+  state.has_prev = true;
+  const friction::ProxyOutput o = friction::proxy_step(model.proxy, state.proxy, p, dt);
+  ServoOutput out;
+  out.contact = o.contact && o.q.allFinite();
+  const Vec3 q = out.contact ? o.q : p;
+  // dd::servo_step is servo-safe (no allocation, no exceptions) although not declared noexcept.
+  out.force_n = model.force ? dd::servo_step(*model.force, state.servo, p, q,
+                                             out.contact ? o.n : Vec3::UnitZ(), out.contact)
+                            : Vec3::Zero();
+  out.hip_mm = p;
+  out.ihip_mm = q;
+  out.cihip_mm = q;
+  return out;
+}
 
 }  // namespace inhap::haptics
