@@ -62,11 +62,11 @@ struct Step {
   std::function<StepResult(const Context&)> run;
 };
 
-/// While alive, the progress lines of shared helpers (cli::progress, e.g. from forces_lab and
-/// sys_lab) become this step's progress: `phases` are substrings of the helpers' labels with
-/// their share of the time, in the order they run; fraction f of phase i maps to
-/// from + (to - from) * (shares before i + share_i * f) / (all shares). A label matching no
-/// phase keeps the last fraction and shows its own label.
+/// While alive, the progress lines of the shared experiments (inhap::eval's `progress` callback set
+/// to cli::progress, e.g. forces_lab and sys_lab) become this step's progress: `phases` are
+/// substrings of the helpers' labels with their share of the time, in the order they run; fraction
+/// f of phase i maps to from + (to - from) * (shares before i + share_i * f) / (all shares). A
+/// label matching no phase keeps the last fraction and shows its own label.
 class ForwardProgress {
  public:
   ForwardProgress(const Context& c, std::vector<std::pair<std::string, double>> phases,
