@@ -6,9 +6,9 @@
 // the pre-thesis approach) shows what the proxy buys on sliding.
 // Units: mm, N, s; step times in microseconds.
 //
-// Proxy and contact (see forces_lab.cpp): --proxy estimated (default) palpates the scene and runs
-// the friction module's proxy estimator over both recordings; --proxy truth uses the lab's true
-// proxy and contact flag. The JSON says which ("proxy_source", "contact_source"). The training
+// Proxy and contact (see src/eval/forces_lab.cpp): --proxy estimated (default) palpates the scene
+// and runs the friction module's proxy estimator over both recordings; --proxy truth uses the lab's
+// true proxy and contact flag. The JSON says which ("proxy_source", "contact_source"). The training
 // run is the explore operator's coverage-driven mode unless --train-operator random.
 #include <fmt/format.h>
 
@@ -22,13 +22,13 @@
 #include <unordered_map>
 
 #include "command.hpp"
-#include "forces_lab.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
+#include "inhap/eval/forces_lab.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
@@ -38,6 +38,7 @@ namespace inhap::cli {
 namespace {
 
 using namespace inhap::dd;
+using namespace inhap::eval;
 using json = nlohmann::ordered_json;
 
 struct EvalForcesOptions {
@@ -171,6 +172,7 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.coverage_force_min = o.coverage_force[0];
   fo.coverage_force_max = o.coverage_force[1];
   fo.train_operator = o.train_operator;
+  fo.progress = cli::progress;
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
   json j = object_json(d);

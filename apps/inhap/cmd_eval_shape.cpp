@@ -17,17 +17,18 @@
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/shape_lab.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
 #include "inhap/surface/reconstruct.hpp"
-#include "shape_lab.hpp"
 
 namespace {
 
 using namespace inhap;
 using namespace inhap::cli;
+using namespace inhap::eval;
 using json = nlohmann::json;
 
 // --- recordings with ground truth ------------------------------------------------------------

@@ -15,12 +15,13 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/stats.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/eval/sys_lab.hpp"
 #include "inhap/lab/operators.hpp"
-#include "sys_lab.hpp"
 
 namespace inhap::cli {
 namespace {
+
+using namespace inhap::eval;
 
 using nlohmann::json;
 
@@ -32,51 +33,17 @@ struct EvalSysOptions {
   bool quick = false;
 };
 
-struct ProxyErrors {
-  std::vector<double> err;
-  std::size_t missed = 0;  // truth in contact, estimator not
-};
-
-ProxyErrors proxy_errors(const ScenePalpation& r, const lab::LabRecording& lab, bool creep) {
-  friction::ProxyModel model{&r.sys, r.shape.get()};
-  model.creep = creep;
-  friction::ProxyState state;
-  ProxyErrors e;
-  for (std::size_t i = 0; i < lab.rec.size(); ++i) {
-    const double dt = i ? lab.rec.t[i] - lab.rec.t[i - 1] : 0.0;
-    const friction::ProxyOutput o = friction::proxy_step(model, state, lab.rec.p[i], dt);
-    if (!lab.truth.contact[i] || !lab.truth.anchor[i].allFinite()) continue;
-    e.err.push_back((o.q - lab.truth.anchor[i]).norm());
-    e.missed += !o.contact;
-  }
-  return e;
-}
-
 json eval_scene(const std::string& name, const EvalSysOptions& o) {
-  ScenePalpationOptions po;
-  po.scene = name;
-  po.seed = o.seed;
-  po.quick = o.quick;
-  if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
-  po.progress_label = "eval sys: palpate " + name;
-  const ScenePalpation r = palpate_scene(po);
-  // Elastic limits against the lab's mu at each reference point.
-  std::vector<double> rel, rel_measured;
-  for (const LimitError& e : limit_errors(r)) {
-    rel.push_back(e.rel);
-    if (e.measured) rel_measured.push_back(e.rel);
-  }
-  // Free exploration with ground truth.
-  lab::RecordSpec spec;
-  spec.operator_name = "explore";
-  spec.seconds = o.quick ? std::min(o.seconds, 10.0) : o.seconds;
-  spec.seed = o.seed;
-  const auto t0 = std::chrono::steady_clock::now();
-  const lab::LabRecording lab = lab::record_scene(r.scene, spec, [&](double f) {
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    progress("eval sys: explore " + name, f, f > 0 ? el * (1 - f) / f : 0);
-  });
-  const ProxyErrors pe = proxy_errors(r, lab, true), pr = proxy_errors(r, lab, false);
+  SysLabOptions so;
+  so.scene = name;
+  so.seconds = o.seconds;
+  so.seed = o.seed;
+  so.quick = o.quick;
+  so.progress = cli::progress;
+  const SysLabResult res = evaluate_sys_on_lab(so);
+  const ScenePalpation& r = res.palpation;
+  const std::vector<double>&rel = res.limit_rel, &rel_measured = res.limit_rel_measured;
+  const ProxyErrors &pe = res.proxy, &pr = res.proxy_rate_independent;
   json j;
   j["name"] = name;
   j["reference_points"] = r.sys.points.size();
@@ -97,7 +64,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
                                           {"p95", quantile(pr.err, 0.95)}};
   j["proxy_contact_samples"] = pe.err.size();
   j["proxy_missed_contact_samples"] = pe.missed;
-  j["exploration_s"] = spec.seconds;
+  j["exploration_s"] = res.exploration_s;
   return j;
 }
 

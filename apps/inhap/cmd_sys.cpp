@@ -12,182 +12,14 @@
 #include "command.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/sys_lab.hpp"
 #include "inhap/friction/cycles_io.hpp"
 #include "inhap/friction/mesh_surface.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/friction/proxy_track.hpp"
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/heightmap.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/sim_device.hpp"
-#include "sys_lab.hpp"
-
-namespace inhap::cli {
-
-std::vector<Vec2> reference_xy(const lab::Scene& scene, const std::string& spec_in) {
-  const std::string spec =
-      !spec_in.empty() ? spec_in : (scene.name == "dome" ? "rings:1,6,11" : "grid:3x3");
-  const Vec2 c = scene.region.center;
-  auto bad = [&] {
-    return Error(
-        fmt::format("--points: expected grid:RxC[:half_extent_mm], "
-                    "rings:N0,N1,...[:radius_mm] or file:xy.csv, got '{}'",
-                    spec));
-  };
-  std::vector<Vec2> out;
-  if (spec.rfind("grid:", 0) == 0) {
-    int rows = 0, cols = 0;
-    double half = scene.region.radius;
-    const int n = std::sscanf(spec.c_str() + 5, "%dx%d:%lf", &rows, &cols, &half);
-    if (n < 2 || rows < 1 || cols < 1 || rows * cols > 400 || !(half > 0)) throw bad();
-    for (int i = 0; i < rows; ++i)
-      for (int j = 0; j < cols; ++j)
-        out.emplace_back(c.x() + (cols > 1 ? -half + 2 * half * j / (cols - 1) : 0.0),
-                         c.y() + (rows > 1 ? -half + 2 * half * i / (rows - 1) : 0.0));
-  } else if (spec.rfind("rings:", 0) == 0) {
-    std::string body = spec.substr(6);
-    double radius = scene.region.radius;
-    if (const auto colon = body.find(':'); colon != std::string::npos) {
-      if (std::sscanf(body.c_str() + colon + 1, "%lf", &radius) != 1 || !(radius > 0)) throw bad();
-      body.resize(colon);
-    }
-    std::vector<int> counts;
-    for (std::size_t pos = 0; pos <= body.size();) {
-      const std::size_t comma = std::min(body.find(',', pos), body.size());
-      int k = 0;
-      if (std::sscanf(body.substr(pos, comma - pos).c_str(), "%d", &k) != 1 || k < 1) throw bad();
-      counts.push_back(k);
-      pos = comma + 1;
-    }
-    if (counts.empty()) throw bad();
-    for (std::size_t r = 0; r < counts.size(); ++r) {
-      const double rr = counts.size() > 1 ? radius * r / (counts.size() - 1) : 0.0;
-      for (int k = 0; k < counts[r]; ++k) {
-        const double a = 2.0 * std::numbers::pi * k / counts[r];
-        out.emplace_back(c.x() + rr * std::cos(a), c.y() + rr * std::sin(a));
-      }
-    }
-  } else if (spec.rfind("file:", 0) == 0) {
-    const std::string_view req[] = {"x", "y"};
-    const CsvTable t = read_csv(spec.substr(5), req);
-    for (std::size_t i = 0; i < t.rows(); ++i) out.emplace_back(t.column("x")[i], t.column("y")[i]);
-    if (out.empty()) throw Error(fmt::format("{}: expected at least one point", spec.substr(5)));
-  } else {
-    throw bad();
-  }
-  return out;
-}
-
-namespace {
-
-// Probe-centre height field of the scene on a 1 mm grid around its region (the shape model a
-// real lab gets from chapter 3); the table (z = 0) where the probe misses the object.
-TriMesh shape_height_field(const lab::Scene& sc, double probe_radius, double half) {
-  const double sp = 1.0;
-  const int w = static_cast<int>(std::ceil(2 * half / sp)) + 1;
-  Grid g(w, w);
-  const Vec2 c = sc.region.center;
-  for (int i = 0; i < w; ++i)
-    for (int j = 0; j < w; ++j) {
-      const auto d =
-          sc.object.shape().drop(c.x() - half + j * sp, c.y() - half + i * sp, probe_radius);
-      g.at(j, i) = d ? d->z() : probe_radius;
-    }
-  TriMesh m = grid_to_mesh(g, sp);
-  m.transform(1.0, Vec3(half - c.x(), half - c.y(), 0.0));
-  m.compute_normals();
-  return m;
-}
-
-}  // namespace
-
-std::vector<LimitError> limit_errors(const ScenePalpation& p) {
-  std::vector<LimitError> out;
-  const friction::SysModel& m = p.sys;
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
-    const double mu = p.scene.object.mu_at(m.points[i].position);
-    for (std::size_t j = 0; j < m.f_normal_levels.size(); ++j)
-      for (std::size_t k = 0; k < m.angles.size(); ++k) {
-        const friction::BorderResult& b = m.border(i, j, k).result;
-        LimitError e;
-        e.point = i, e.level = j, e.direction = k;
-        e.f_limit = b.f_limit;
-        e.truth = mu * m.f_normal_levels[j];
-        e.rel = std::abs(b.f_limit - e.truth) / e.truth;
-        e.extrapolated = b.extrapolated;
-        e.measured = !b.extrapolated && !b.no_sliding;
-        out.push_back(e);
-      }
-  }
-  return out;
-}
-
-ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
-  using namespace inhap::friction;
-  ScenePalpation r;
-  if (!o.scene.empty() && !o.scene_file.empty())
-    throw Error("give either --scene or --scene-file, not both");
-  r.scene = !o.scene_file.empty() ? lab::load_scene(o.scene_file)
-                                  : lab::builtin_scene(o.scene.empty() ? "planar" : o.scene);
-  lab::DeviceParams dp;
-  dp.seed = o.seed;
-  lab::SimDevice dev(r.scene.object, dp);
-  dev.detach_hand();
-  const double radius = dev.probe_radius();
-  const std::vector<Vec2> xy = reference_xy(r.scene, o.points);
-  double half = r.scene.region.radius + 15.0;
-  for (const Vec2& p : xy)
-    half = std::max(half, (p - r.scene.region.center).cwiseAbs().maxCoeff() + 15.0);
-  r.shape_mesh = shape_height_field(r.scene, radius, half);
-  r.shape = std::make_unique<MeshSurface>(r.shape_mesh, 0.0);
-  for (const Vec2& p : xy) {
-    const auto d = r.scene.object.shape().drop(p.x(), p.y(), radius);
-    if (!d)
-      throw Error(fmt::format("reference point ({:g}, {:g}) misses the object", p.x(), p.y()));
-    Vec3 c, n;
-    if (!r.shape->closest(*d, c, n)) throw Error("shape mesh: no closest point");
-    r.points.push_back(c);
-    r.normals.push_back(n);
-  }
-  PalpationConfig cfg;
-  if (o.quick) {
-    cfg.normal_forces = {1.0, 3.0};
-    cfg.directions = 4;
-  }
-  dev.place(r.points.front() + (cfg.hover + 3.0) * r.normals.front());
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::clock_t c0 = std::clock();
-  for (std::size_t i = 0; i < r.points.size(); ++i) {
-    PalpationProtocol proto(cfg, dev.info(), static_cast<int>(i), r.points[i], r.normals[i],
-                            r.shape.get());
-    for (long n = 0; !proto.done() && n < 36'000'000; ++n, ++r.ticks) {  // 10 simulated hours
-      dev.command_force(proto.step(dev.time(), dev.position(), dev.force_sensor()));
-      dev.tick();
-      if (!o.progress_label.empty() && n % 5000 == 0) {
-        const double f = (i + proto.progress()) / r.points.size();
-        const double el =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        progress(o.progress_label, f, f > 0 ? el * (1 - f) / f : 0);
-      }
-    }
-    if (proto.failed() || !proto.done())
-      throw Error(
-          fmt::format("palpation of reference point {} at ({:.2f}, {:.2f}, {:.2f}) mm failed: {}",
-                      i, r.points[i].x(), r.points[i].y(), r.points[i].z(),
-                      proto.failed() ? proto.error() : "did not finish"));
-    r.cycles.insert(r.cycles.end(), proto.cycles().begin(), proto.cycles().end());
-  }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-  if (!o.progress_label.empty()) progress(o.progress_label, 1.0, 0);
-  FitOptions fo;
-  fo.shape = r.shape.get();
-  fo.load_damping = cfg.load_damping;
-  fo.tangent_reference = cfg.tangent_reference;
-  r.sys = fit_sys(r.cycles, fo);
-  return r;
-}
-
-}  // namespace inhap::cli
 
 namespace {
 
@@ -284,13 +116,14 @@ std::string stem_of(const std::string& out) {
 }
 
 struct PalpateArgs {
-  cli::ScenePalpationOptions opt;
+  eval::ScenePalpationOptions opt;
   std::string out;
 };
 
 void run_palpate(PalpateArgs a) {
   a.opt.progress_label = "sys palpate";
-  const cli::ScenePalpation r = cli::palpate_scene(a.opt);
+  a.opt.progress = cli::progress;
+  const eval::ScenePalpation r = eval::palpate_scene(a.opt);
   const std::string stem = stem_of(a.out);
   write_cycles_csv(stem + ".cycles.csv", r.cycles);
   write_mesh(stem + ".shape.ply", r.shape_mesh);
@@ -315,18 +148,14 @@ void run_proxy(const ProxyArgs& a) {
   Recording rec = read_recording(a.rec);
   ProxyModel model{&sys, &shape};
   model.creep = !a.no_creep;
-  ProxyState state;
+  const ProxyColumns c = proxy_track(model, rec);
   std::vector<double> qx(rec.size()), qy(rec.size()), qz(rec.size());
-  std::size_t contact = 0, sliding = 0;
   for (std::size_t i = 0; i < rec.size(); ++i) {
-    const double dt = i ? rec.t[i] - rec.t[i - 1] : 0.0;
-    const ProxyOutput o = proxy_step(model, state, rec.p[i], dt);
-    qx[i] = o.q.x();
-    qy[i] = o.q.y();
-    qz[i] = o.q.z();
-    contact += o.contact;
-    sliding += o.sliding;
+    qx[i] = c.q[i].x();
+    qy[i] = c.q[i].y();
+    qz[i] = c.q[i].z();
   }
+  const std::size_t contact = c.contact_count, sliding = c.sliding_count;
   rec.set_extra("qx", std::move(qx));
   rec.set_extra("qy", std::move(qy));
   rec.set_extra("qz", std::move(qz));

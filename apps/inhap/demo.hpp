@@ -62,11 +62,11 @@ struct Step {
   std::function<StepResult(const Context&)> run;
 };
 
-/// While alive, the progress lines of shared helpers (cli::progress, e.g. from forces_lab and
-/// sys_lab) become this step's progress: `phases` are substrings of the helpers' labels with
-/// their share of the time, in the order they run; fraction f of phase i maps to
-/// from + (to - from) * (shares before i + share_i * f) / (all shares). A label matching no
-/// phase keeps the last fraction and shows its own label.
+/// While alive, the progress lines of the shared experiments (inhap::eval's `progress` callback set
+/// to cli::progress, e.g. forces_lab and sys_lab) become this step's progress: `phases` are
+/// substrings of the helpers' labels with their share of the time, in the order they run; fraction
+/// f of phase i maps to from + (to - from) * (shares before i + share_i * f) / (all shares). A
+/// label matching no phase keeps the last fraction and shows its own label.
 class ForwardProgress {
  public:
   ForwardProgress(const Context& c, std::vector<std::pair<std::string, double>> phases,
@@ -86,12 +86,12 @@ class ForwardProgress {
 StepResult step_tap(const Context& c);
 /// Fig. 3.4.
 StepResult step_contacts(const Context& c);
-/// Fig. 3.6-3.7, Table 3.1 (shape_lab.hpp).
+/// Fig. 3.6-3.7, Table 3.1 (inhap/eval/shape_lab.hpp).
 StepResult step_shape(const Context& c);
-/// Fig. 4.7-4.8 (sys_lab.hpp).
+/// Fig. 4.7-4.8 (inhap/eval/sys_lab.hpp).
 StepResult step_palpation(const Context& c);
 StepResult step_explore(const Context& c);
-/// Fig. 4.11-4.14 (forces_lab.hpp).
+/// Fig. 4.11-4.14 (inhap/eval/forces_lab.hpp).
 StepResult step_force_model(const Context& c);
 StepResult step_study(const Context& c);
 StepResult step_strokes(const Context& c);

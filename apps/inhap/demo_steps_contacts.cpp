@@ -4,58 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <span>
 
 #include "demo.hpp"
-#include "inhap/contact/knee.hpp"
 #include "inhap/core/atomic_file.hpp"
+#include "inhap/eval/contacts_lab.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 
 namespace inhap::demo {
 
 namespace {
-
-struct TapErrors {
-  std::vector<double> threshold, knee;  ///< mm, one per detected tap
-};
-
-// Probe centre at time `at` (linear between ticks), mm.
-Vec3 position_at(const Recording& rec, double at) {
-  const auto it = std::lower_bound(rec.t.begin(), rec.t.end(), at);
-  const std::size_t i = std::clamp<std::size_t>(std::size_t(it - rec.t.begin()), 1, rec.size() - 1);
-  const double w = std::clamp((at - rec.t[i - 1]) / (rec.t[i] - rec.t[i - 1]), 0.0, 1.0);
-  return (1 - w) * rec.p[i - 1] + w * rec.p[i];
-}
-
-// Detects taps without the truth (|f| rising through 0.5 N, re-armed below 0.1 N), then
-// compares the threshold instant and the knee estimate with the true contact point.
-TapErrors tap_errors(const lab::LabRecording& lab) {
-  const Recording& rec = lab.rec;
-  std::vector<double> mag(rec.size());
-  for (std::size_t i = 0; i < rec.size(); ++i) mag[i] = rec.f[i].norm();
-  TapErrors e;
-  bool armed = true;
-  for (std::size_t d = 0; d < rec.size(); ++d) {
-    if (!armed) {
-      armed = mag[d] < 0.1;
-      continue;
-    }
-    if (mag[d] < 0.5) continue;
-    armed = false;
-    const long tap = lab.truth.tap[d];
-    if (tap < 0 || !std::isfinite(lab.truth.tc[d])) continue;  // not a real contact
-    std::size_t b = d;
-    while (b > 0 && rec.t[b - 1] >= rec.t[d] - 0.1) --b;
-    const KneeFit k = fit_knee(std::span<const double>(rec.t.data() + b, d - b + 1),
-                               std::span<const double>(mag.data() + b, d - b + 1));
-    if (!k.valid) continue;
-    const Vec3 truth = lab.truth.c[d];
-    e.threshold.push_back((rec.p[d] - truth).norm());
-    e.knee.push_back((position_at(rec, k.tc) - truth).norm());
-  }
-  return e;
-}
 
 double mean(const std::vector<double>& v) {
   double s = 0;
@@ -87,7 +45,7 @@ StepResult step_contacts(const Context& c) {
     const auto lab = lab::record_scene(lab::builtin_scene(names[i]), spec, [&](double x) {
       c.progress((double(i) + x) / double(names.size()), names[i]);
     });
-    const TapErrors e = tap_errors(lab);
+    const eval::TapErrors e = eval::tap_errors(lab);
     for (std::size_t k = 0; k < e.threshold.size(); ++k) {
       xs_t.push_back(names[i]);
       ys_t.push_back(rnd(e.threshold[k]));

@@ -1,16 +1,17 @@
 // inhap demo: the data-driven force model on the virtual lab (thesis 4.4-4.5, fig. 4.11-4.14):
 // train on a free exploration, replay a held-out recording through the servo renderer and
 // compare rendered with measured force, with and without the proxy. The pipeline is
-// forces_lab.hpp (shared with `inhap eval forces`). Units: mm, N, s.
+// inhap/eval/forces_lab.hpp (shared with `inhap eval forces`). Units: mm, N, s.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "command.hpp"
 #include "demo.hpp"
-#include "forces_lab.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
+#include "inhap/eval/forces_lab.hpp"
 
 namespace inhap::demo {
 namespace {
@@ -34,7 +35,7 @@ nlohmann::json line(const nlohmann::json& x, const nlohmann::json& y, const std:
 
 // Fig. 4.11-4.12: measured and rendered force per axis over the test recording (three stacked
 // panels sharing the time axis), the sliding-only last third marked.
-Figure time_figure(const cli::ForceLabResult& d, const std::string& id) {
+Figure time_figure(const eval::ForceLabResult& d, const std::string& id) {
   const Recording& rec = d.test.rec;
   const std::vector<Vec3>& fr = d.proxy.replay.forces;
   const std::size_t n = rec.size(), stride = std::max<std::size_t>(1, n / 2500);
@@ -87,7 +88,7 @@ Figure time_figure(const cli::ForceLabResult& d, const std::string& id) {
 
 // Fig. 4.13: RE (eq. 4.28) against the measured force magnitude, per 0.5 N bin, with and
 // without the proxy.
-Figure magnitude_figure(const std::vector<cli::ForceLabResult>& all, bool baselines) {
+Figure magnitude_figure(const std::vector<eval::ForceLabResult>& all, bool baselines) {
   Figure f{"fig4_13",
            "Relative error vs measured force magnitude (fig. 4.13)",
            "Relative error RE = ||f_r - f_m|| / max(||f_r||, ||f_m||) (eq. 4.28) of the held-out "
@@ -138,7 +139,7 @@ nlohmann::json box(const dd::BoxStats& b, const std::string& x, const std::strin
 }
 
 // Fig. 4.14: RE box plots per axis (eq. 4.30) and 3D (eq. 4.28), with and without the proxy.
-Figure box_figure(const std::vector<cli::ForceLabResult>& all, bool baselines) {
+Figure box_figure(const std::vector<eval::ForceLabResult>& all, bool baselines) {
   Figure f{"fig4_14",
            "Relative error box plots (fig. 4.14)",
            "Relative error of the held-out test samples in contact per axis (eq. 4.30) and of the "
@@ -165,7 +166,7 @@ Figure box_figure(const std::vector<cli::ForceLabResult>& all, bool baselines) {
   return f;
 }
 
-void write_series(const std::string& path, const cli::ForceLabResult& d) {
+void write_series(const std::string& path, const eval::ForceLabResult& d) {
   const std::vector<std::string> units = {
       "units: t s, p probe centre mm, q proxy mm, forces N; held-out test recording, rendered by "
       "the with-proxy model"};
@@ -192,11 +193,11 @@ StepResult step_force_model(const Context& c) {
   if (!quick) targets.push_back({"planar", "0.26 / 0.15 / 0.25", "0.138 / 0.115"});
   targets.push_back({"dome", "0.51 / 0.33 / 0.50", "0.260 / 0.211"});
   const bool baselines = true;
-  std::vector<cli::ForceLabResult> all;
+  std::vector<eval::ForceLabResult> all;
   nlohmann::json summary = nlohmann::json::array();
   for (std::size_t s = 0; s < targets.size(); ++s) {
     const SceneTarget& t = targets[s];
-    cli::ForceLabOptions fo;
+    eval::ForceLabOptions fo;
     fo.scene = t.name;
     fo.train_seed = c.options.seed;
     fo.test_seed = c.options.seed + 1;
@@ -207,6 +208,7 @@ StepResult step_force_model(const Context& c) {
     // same on the lab: RE median 0.129 vs 0.131 on the dome).
     if (quick) fo.params.centers = 100;
     fo.progress_label = t.name;
+    fo.progress = cli::progress;
     const double share = 1.0 / static_cast<double>(targets.size());
     {
       ForwardProgress fw(c,
@@ -216,9 +218,9 @@ StepResult step_force_model(const Context& c) {
                           {"train (no proxy)", 0.27},
                           {"train (onset proxy)", 0.27}},
                          share * static_cast<double>(s), share * static_cast<double>(s + 1));
-      all.push_back(cli::evaluate_forces_on_lab(fo));
+      all.push_back(eval::evaluate_forces_on_lab(fo));
     }
-    const cli::ForceLabResult& d = all.back();
+    const eval::ForceLabResult& d = all.back();
     const dd::ForceErrors& e = d.proxy.all;
     write_series(c.file(r, fmt::format("forces_{}_test.csv", t.name)), d);
     r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),

@@ -7,37 +7,16 @@
 #include <cmath>
 #include <numbers>
 
+#include "command.hpp"
 #include "demo.hpp"
 #include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/core/stats.hpp"
+#include "inhap/eval/sys_lab.hpp"
 #include "inhap/lab/operators.hpp"
-#include "sys_lab.hpp"
 
 namespace inhap::demo {
 namespace {
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const double x = q * static_cast<double>(v.size() - 1);
-  const auto i = static_cast<std::size_t>(x);
-  return i + 1 < v.size() ? v[i] + (x - static_cast<double>(i)) * (v[i + 1] - v[i]) : v[i];
-}
-
-// |q - true anchor| over the in-contact ticks of a lab recording, mm.
-std::vector<double> proxy_errors(const cli::ScenePalpation& p, const lab::LabRecording& lab) {
-  friction::ProxyModel model{&p.sys, p.shape.get()};
-  friction::ProxyState state;
-  std::vector<double> err;
-  for (std::size_t i = 0; i < lab.rec.size(); ++i) {
-    const double dt = i ? lab.rec.t[i] - lab.rec.t[i - 1] : 0.0;
-    const friction::ProxyOutput o = friction::proxy_step(model, state, lab.rec.p[i], dt);
-    if (lab.truth.contact[i] && lab.truth.anchor[i].allFinite())
-      err.push_back((o.q - lab.truth.anchor[i]).norm());
-  }
-  return err;
-}
 
 const char* kLevelColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd"};
 
@@ -53,7 +32,7 @@ nlohmann::json vline(double x, const std::string& colour, const std::string& das
 
 // Fig. 4.7: u^p after the short and the long plateau over f_T at the first reference point,
 // direction 0, one colour per f_N, with the border found and the true mu * f_N.
-Figure border_figure(const cli::ScenePalpation& p, double mu, std::string& csv) {
+Figure border_figure(const eval::ScenePalpation& p, double mu, std::string& csv) {
   const friction::SysModel& m = p.sys;
   Figure f{"fig4_7",
            "Plastic displacement u^p vs f_T with the elastic border found (fig. 4.7)",
@@ -104,7 +83,7 @@ Figure border_figure(const cli::ScenePalpation& p, double mu, std::string& csv) 
 
 // Fig. 4.8: the sliding yield surface f_s of the first reference point in force space (x, y
 // tangential, z = f_N), with the lab's true Coulomb circles mu f_N at the measured levels.
-Figure yield_figure(const cli::ScenePalpation& p, double mu) {
+Figure yield_figure(const eval::ScenePalpation& p, double mu) {
   const friction::SysModel& m = p.sys;
   const friction::YieldSurface& fs = m.points[0].fs;
   const TriMesh mesh = fs.to_mesh(4);
@@ -139,13 +118,13 @@ Figure yield_figure(const cli::ScenePalpation& p, double mu) {
 
 // Every elastic limit against the lab's mu at its reference point: relative errors of all and of
 // the measured (not extrapolated) limits; returns them as CSV.
-std::string limit_errors_csv(const cli::ScenePalpation& p, std::vector<double>& rel,
+std::string limit_errors_csv(const eval::ScenePalpation& p, std::vector<double>& rel,
                              std::vector<double>& rel_measured) {
   const friction::SysModel& m = p.sys;
   std::string limits =
       "# units: positions mm, forces N; f_limit = elastic limit found, truth = lab mu * f_N\n"
       "point,x,y,z,f_normal,direction_rad,f_limit,truth,rel_error,extrapolated\n";
-  for (const cli::LimitError& e : cli::limit_errors(p)) {
+  for (const eval::LimitError& e : eval::limit_errors(p)) {
     rel.push_back(e.rel);
     if (e.measured) rel_measured.push_back(e.rel);
     const Vec3& x = m.points[e.point].position;
@@ -161,15 +140,16 @@ std::string limit_errors_csv(const cli::ScenePalpation& p, std::vector<double>& 
 StepResult step_palpation(const Context& c) {
   StepResult r;
   const bool quick = c.options.quick;
-  cli::ScenePalpationOptions po;
+  eval::ScenePalpationOptions po;
   po.scene = "dome";
   po.seed = c.options.seed;
   po.quick = quick;
   if (quick) po.points = "rings:1,3:20";  // 4 reference points, f_N 1 and 3 N, 4 directions
   po.progress_label = "palpate";
-  const cli::ScenePalpation p = [&] {
+  po.progress = cli::progress;
+  const eval::ScenePalpation p = [&] {
     ForwardProgress fw(c, {{"palpate", 1.0}}, 0.0, 0.8);
-    return cli::palpate_scene(po);
+    return eval::palpate_scene(po);
   }();
   const friction::SysModel& m = p.sys;
   friction::write_sys_json(c.file(r, "dome_sys.json"), m);
@@ -192,7 +172,7 @@ StepResult step_palpation(const Context& c) {
   const lab::LabRecording lab = lab::record_scene(p.scene, spec, [&](double f) {
     c.progress(0.8 + 0.18 * f, fmt::format("explore {:.0f} s for the proxy", spec.seconds));
   });
-  const std::vector<double> pe = proxy_errors(p, lab);
+  const std::vector<double> pe = eval::proxy_errors(p, lab, true).err;
 
   r.rows.push_back(
       {"palpation time per sliding yield surface (simulated min)",

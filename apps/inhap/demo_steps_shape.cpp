@@ -8,9 +8,9 @@
 #include "demo.hpp"
 #include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
+#include "inhap/eval/shape_lab.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/scene.hpp"
-#include "shape_lab.hpp"
 
 namespace inhap::demo {
 namespace {
@@ -23,7 +23,7 @@ struct ShapeTarget {
 
 struct ShapeOutcome {
   ShapeTarget target;
-  cli::ShapeVariant estimate, threshold;
+  eval::ShapeVariant estimate, threshold;
 };
 
 // 99th percentile of the per-vertex errors of both reconstructions: the top of the colour scale.
@@ -116,15 +116,16 @@ StepResult step_shape(const Context& c) {
     const ShapeTarget& t = targets[i];
     const lab::Scene scene = lab::builtin_scene(t.name);
     const lab::LabRecording rec =
-        cli::record_taps(scene, t.taps, c.options.seed + 20 + i, [&](double f) {
+        eval::record_taps(scene, t.taps, c.options.seed + 20 + i, [&](double f) {
           c.progress((done_taps + 0.8 * f * static_cast<double>(t.taps)) / total_taps,
                      fmt::format("{} taps on the {}", t.taps, t.label));
         });
     c.progress((done_taps + 0.8 * static_cast<double>(t.taps)) / total_taps,
                fmt::format("reconstruct the {}", t.label));
-    const TriMesh reference = cli::reference_mesh(scene.object.shape());
-    ShapeOutcome o{t, cli::reconstruct_and_compare(rec, ContactMethod::Estimate, t.taps, reference),
-                   cli::reconstruct_and_compare(rec, ContactMethod::Threshold, t.taps, reference)};
+    const TriMesh reference = eval::reference_mesh(scene.object.shape());
+    ShapeOutcome o{t,
+                   eval::reconstruct_and_compare(rec, ContactMethod::Estimate, t.taps, reference),
+                   eval::reconstruct_and_compare(rec, ContactMethod::Threshold, t.taps, reference)};
     done_taps += static_cast<double>(t.taps);
     for (const auto* v : {&o.estimate, &o.threshold}) {
       TriMesh m = v->mesh;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/servo.hpp"
@@ -98,16 +99,26 @@ TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
   return s;
 }
 
-std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy) {
+std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy,
+                         std::vector<double>* step_us) {
   if (proxy.size() != rec.size() || proxy.contact.size() != rec.size())
     throw Error(fmt::format("replay: expected a proxy for each of the {} samples, got {}",
                             rec.size(), proxy.size()));
   ServoState st;
   std::vector<Vec3> out(rec.size());
-  for (std::size_t i = 0; i < rec.size(); ++i)
+  if (step_us) {
+    step_us->clear();
+    step_us->reserve(rec.size());
+  }
+  using Clock = std::chrono::steady_clock;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const Clock::time_point t0 = step_us ? Clock::now() : Clock::time_point{};
     out[i] = servo_step(model, st, rec.p[i], proxy.q[i],
                         proxy.n.size() == rec.size() ? proxy.n[i] : Vec3::UnitZ(),
                         proxy.contact[i] != 0);
+    if (step_us && proxy.contact[i])
+      step_us->push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+  }
   return out;
 }
 

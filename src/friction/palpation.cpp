@@ -10,18 +10,6 @@
 
 namespace inhap::friction {
 
-void tangent_basis(const Vec3& n, const Vec3& reference, Vec3& t0, Vec3& t1) {
-  Vec3 r = reference;
-  if (!(r.norm() > 0) || std::abs(r.normalized().dot(n)) > 0.95) {
-    // Next world axis that is not nearly parallel to n.
-    r = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-    if (std::abs(reference.normalized().dot(Vec3::UnitX())) > 0.9) r = Vec3::UnitY();
-    if (std::abs(r.dot(n)) > 0.95) r = Vec3::UnitZ();
-  }
-  t0 = (r - r.dot(n) * n).normalized();
-  t1 = n.cross(t0);
-}
-
 Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle) {
   Vec3 t0, t1;
   tangent_basis(n, reference, t0, t1);

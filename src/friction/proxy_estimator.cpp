@@ -3,7 +3,7 @@
 #include <array>
 #include <limits>
 
-#include "inhap/friction/palpation.hpp"
+#include "inhap/geometry/surface_frame.hpp"
 
 namespace inhap::friction {
 
@@ -12,12 +12,11 @@ namespace {
 constexpr double kNoBound = std::numeric_limits<double>::infinity();
 
 void set_frame(ProxyState& s, const Vec3& n, const Vec3& reference) noexcept {
-  s.n = n;
-  tangent_basis(n, reference, s.t0, s.t1);
+  s.frame = surface_frame(n, reference);
 }
 
 ProxyOutput no_contact(ProxyState& s, const Vec3& p) noexcept {
-  reset(s);  // keeps shape_hint: it is only a hint
+  s.reset();  // keeps shape_hint: it is only a hint
   ProxyOutput out;
   out.q = p.allFinite() ? p : Vec3::Zero();
   return out;
@@ -60,7 +59,7 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
   out.contact = true;
   for (int it = 0;; ++it) {
     const Vec3 trial = p - s.q;  // u* = u^e(n-1) + delta u
-    const Vec3 local = to_local(trial, s.t0, s.t1, s.n);
+    const Vec3 local = to_gs(s.frame, trial);
     if (!(local.z() > 0.0)) return no_contact(s, p);  // left the surface
     if (local.z() > m.max_depth) return no_contact(s, p);
     if (s.gs.excess(local) <= m.tolerance || it >= m.max_iterations || (viscous && it > 0)) {
@@ -74,7 +73,7 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
       const double r = dt / s.tau;
       back = (local + r * back) / (1.0 + r);
     }
-    const Vec3 ue = to_world(back, s.t0, s.t1, s.n);
+    const Vec3 ue = from_gs(s.frame, back);
     Vec3 q = p - ue;
     Vec3 c, n;
     // q lies in the tangent plane at the old proxy, close to the surface: a bounded search first.
@@ -91,6 +90,7 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
   }
   out.q = s.q;
   out.ue = s.ue;
+  out.n = s.frame.n;
   return out;
 }
 

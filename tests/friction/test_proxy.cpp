@@ -8,6 +8,7 @@
 #include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/palpation.hpp"
 #include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/friction/proxy_track.hpp"
 #include "inhap/geometry/heightmap.hpp"
 #include "support/alloc_counter.hpp"
 
@@ -277,6 +278,48 @@ TEST(ProxyEstimator, CreepAwareEstimateMatchesAViscousAnchor) {
       EXPECT_GT(mean_err, 0.5);  // the static range misses the lag of 20 mm/s * 62.5 ms
     RecordProperty(creep ? "mean_err_creep_mm" : "mean_err_static_mm", std::to_string(mean_err));
   }
+}
+
+// proxy_track over a recording = proxy_step run by hand on its samples (dt from the time
+// stamps); in contact the normal column is the plane's +z and, sliding, the proxy trails the
+// probe by the static range mu k_n d / k_t.
+TEST(ProxyTrack, SameAsProxyStepByHandWithNormalAndCounts) {
+  Fixture f;
+  Recording rec;
+  double t = 0;
+  auto add = [&](const Vec3& p, double dt) {
+    t += dt;
+    rec.t.push_back(t);
+    rec.p.push_back(p);
+    rec.f.push_back(Vec3::Zero());
+  };
+  for (int i = 0; i < 50; ++i) add(Vec3(-20, 0, 0.5 - 0.05 * i), 1e-3);  // down to z = -2
+  for (int i = 0; i <= 1000; ++i) add(Vec3(-20 + 0.02 * i, 0, -2), i == 500 ? 3e-3 : 1e-3);
+  for (int i = 0; i < 20; ++i) add(Vec3(0, 0, -2 + 0.2 * i), 1e-3);  // up and out
+  const ProxyColumns c = proxy_track(f.model, rec);
+  ASSERT_EQ(c.size(), rec.size());
+  ProxyState st;
+  std::size_t contact = 0, sliding = 0;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const ProxyOutput o = proxy_step(f.model, st, rec.p[i], i ? rec.t[i] - rec.t[i - 1] : 0.0);
+    ASSERT_EQ(c.q[i], o.q) << i;
+    ASSERT_EQ(c.n[i], o.n) << i;
+    ASSERT_EQ(c.contact[i] != 0, o.contact) << i;
+    ASSERT_EQ(c.sliding[i] != 0, o.sliding) << i;
+    if (o.contact) {
+      EXPECT_LT((o.n - Vec3::UnitZ()).norm(), 1e-12);
+    }
+    contact += o.contact;
+    sliding += o.sliding;
+  }
+  EXPECT_EQ(c.contact_count, contact);
+  EXPECT_EQ(c.sliding_count, sliding);
+  EXPECT_GT(contact, 1000u);
+  EXPECT_GT(sliding, 500u);
+  const std::size_t end_slide = 50 + 1000;
+  EXPECT_NEAR(rec.p[end_slide].x() - c.q[end_slide].x(), kMu * kKn * 2.0 / kKt, 1e-6);
+  EXPECT_EQ(c.contact.back(), 0);
+  EXPECT_EQ(c.q.back(), rec.p.back());  // out of contact the proxy is p
 }
 
 }  // namespace

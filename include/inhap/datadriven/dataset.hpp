@@ -55,7 +55,9 @@ double median_dt(const Recording& rec);
 TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
                               const FoawParams& foaw);
 
-/// Replays a recording through servo_step, one tick per sample: rendered forces (N).
-std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy);
+/// Replays a recording through servo_step, one tick per sample: rendered forces (N). With
+/// `step_us`, also the wall time of each in-contact step (us, steady clock), in sample order.
+std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy,
+                         std::vector<double>* step_us = nullptr);
 
 }  // namespace inhap::dd

@@ -29,6 +29,7 @@
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/sparsa.hpp"
 #include "inhap/datadriven/stiffness_map.hpp"
+#include "inhap/geometry/surface_frame.hpp"
 
 namespace inhap::dd {
 
@@ -49,24 +50,10 @@ const char* to_string(FeatureSet f);
 /// Parses "ue_q_v" or "p_v_q"; throws inhap::Error otherwise.
 FeatureSet feature_set_from_string(const std::string& s);
 
-/// Surface frame from an outward normal: t0 = world x projected onto the tangent plane (world y
-/// when x is within ~25 deg of n), t1 = n x t0. A non-finite or zero n gives the world frame.
-struct SurfaceFrame {
-  Vec3 t0 = Vec3::UnitX(), t1 = Vec3::UnitY(), n = Vec3::UnitZ();
-  Vec3 to_local(const Vec3& w) const { return Vec3(t0.dot(w), t1.dot(w), n.dot(w)); }
-  Vec3 to_world(const Vec3& l) const { return l.x() * t0 + l.y() * t1 + l.z() * n; }
-};
-inline SurfaceFrame surface_frame(const Vec3& normal) {
-  SurfaceFrame f;
-  const double len = normal.norm();
-  if (!(len > 1e-9) || !normal.allFinite()) return f;
-  f.n = normal / len;
-  Vec3 t = Vec3::UnitX() - f.n.x() * f.n;
-  if (t.norm() < 0.4) t = Vec3::UnitY() - f.n.y() * f.n;
-  f.t0 = t.normalized();
-  f.t1 = f.n.cross(f.t0);
-  return f;
-}
+/// The library's surface frame (inhap/geometry/surface_frame.hpp): local z along the outward
+/// normal; the force model uses the world-x rule surface_frame(n) for t0.
+using inhap::surface_frame;
+using inhap::SurfaceFrame;
 
 /// Fills x[0..8] with the raw (unnormalised) features; `frame` is used by kLocalFrame only.
 inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Vec3& q,

@@ -35,12 +35,10 @@
 #include "inhap/core/types.hpp"
 #include "inhap/friction/loading_profile.hpp"
 #include "inhap/friction/shape_query.hpp"
+#include "inhap/geometry/surface_frame.hpp"
 
 namespace inhap::friction {
 
-/// Orthonormal tangent basis at the unit normal n: t0 is `reference` projected onto the tangent
-/// plane (falls back to the next world axis when reference is nearly parallel to n), t1 = n x t0.
-void tangent_basis(const Vec3& n, const Vec3& reference, Vec3& t0, Vec3& t1);
 /// Tangential unit direction at `angle` (rad) from t0 around n.
 Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle);
 

@@ -47,11 +47,20 @@ struct ProxyState {
   Vec3 pc = Vec3::Zero();  ///< contact point p_c
   Vec3 q = Vec3::Zero();   ///< proxy
   Vec3 ue = Vec3::Zero();  ///< elastic displacement u^e = p - q
-  Vec3 n = Vec3::UnitZ(), t0 = Vec3::UnitX(), t1 = Vec3::UnitY();  ///< frame at q
-  YieldSurface gs;                                                 ///< g_s interpolated at q
-  double tau = 0;                ///< creep relaxation time interpolated at q, s
-  int hint = -1;                 ///< last reference triangle
+  SurfaceFrame frame;      ///< at q: outward normal n, t0 = SysModel::tangent_reference projected
+  YieldSurface gs;         ///< g_s interpolated at q
+  double tau = 0;          ///< creep relaxation time interpolated at q, s
+  int hint = -1;           ///< last reference triangle
   std::int32_t shape_hint = -1;  ///< ShapeQuery warm start (reset() keeps it: any value is safe)
+
+  /// Back to the initial state as far as the next step can tell: out of contact (q, frame, g_s
+  /// and tau are set afresh at the next contact onset; the shape hint is kept, any value is safe).
+  /// Cheap on purpose: it runs on every tick out of contact.
+  void reset() noexcept {
+    contact = false;
+    hint = -1;
+    ue.setZero();
+  }
 };
 
 struct ProxyOutput {
@@ -60,13 +69,8 @@ struct ProxyOutput {
   Vec3 q = Vec3::Zero();   ///< proxy (p when out of contact)
   Vec3 ue = Vec3::Zero();  ///< elastic displacement p - q
   double depth = 0;        ///< depth of p below the tangent plane at q, mm
+  Vec3 n = Vec3::UnitZ();  ///< outward unit surface normal at q (+z out of contact)
 };
-
-inline void reset(ProxyState& s) {
-  s.contact = false;
-  s.hint = -1;
-  s.ue.setZero();
-}
 
 /// Interpolates g_s (and the creep relaxation time, when `tau` is given) at the surface point
 /// x: barycentric over the reference triangulation, nearest triangle outside it.

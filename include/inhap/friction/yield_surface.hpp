@@ -23,6 +23,7 @@
 #include <span>
 
 #include "inhap/core/types.hpp"
+#include "inhap/geometry/surface_frame.hpp"
 #include "inhap/geometry/trimesh.hpp"
 
 namespace inhap::friction {
@@ -77,12 +78,16 @@ class YieldSurface {
   std::array<std::array<double, kMaxDirections>, kMaxLevels> level_{}, radius_{};
 };
 
-/// Local coordinates of a world vector v in the frame (t0, t1, n): (v.t0, v.t1, -v.n).
-inline Vec3 to_local(const Vec3& v, const Vec3& t0, const Vec3& t1, const Vec3& n) {
-  return Vec3(v.dot(t0), v.dot(t1), -v.dot(n));
+/// Yield-surface coordinates of a world vector v in the surface frame f: (v.t0, v.t1, depth) with
+/// depth = -v.n, positive into the object (SurfaceFrame's own z runs along the outward normal).
+inline Vec3 to_gs(const SurfaceFrame& f, const Vec3& v) {
+  Vec3 l = f.to_local(v);
+  l.z() = -l.z();
+  return l;
 }
-inline Vec3 to_world(const Vec3& l, const Vec3& t0, const Vec3& t1, const Vec3& n) {
-  return l.x() * t0 + l.y() * t1 - l.z() * n;
+/// Inverse of to_gs.
+inline Vec3 from_gs(const SurfaceFrame& f, const Vec3& l) {
+  return f.to_world(Vec3(l.x(), l.y(), -l.z()));
 }
 
 }  // namespace inhap::friction

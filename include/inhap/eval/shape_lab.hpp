@@ -16,7 +16,7 @@
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
 
-namespace inhap::cli {
+namespace inhap::eval {
 
 /// Contacts of one method matched to the lab's truth: error = |p(t_c) - true contact point|.
 struct MatchedContacts {
@@ -63,4 +63,4 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
                                      std::size_t taps, const TriMesh& reference,
                                      const ShapeCompareOptions& options = {});
 
-}  // namespace inhap::cli
+}  // namespace inhap::eval

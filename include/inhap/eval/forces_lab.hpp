@@ -14,10 +14,11 @@
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
+#include "inhap/eval/progress.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 
-namespace inhap::cli {
+namespace inhap::eval {
 
 /// Model settings measured best on the lab (docs/force-model.md): local-frame features,
 /// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
@@ -43,6 +44,7 @@ struct ForceLabOptions {
   bool baselines = true;                        ///< also train the no-proxy and onset-proxy models
   std::string keep;                             ///< folder for recordings and models ("": none)
   std::string progress_label;                   ///< prefix of progress lines ("": the scene name)
+  Progress progress;                            ///< empty: silent
   /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
   /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
   /// shape mesh) or "truth" (the lab's true proxy and contact flag).
@@ -106,4 +108,4 @@ struct ForceLabResult {
 /// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
 
-}  // namespace inhap::cli
+}  // namespace inhap::eval

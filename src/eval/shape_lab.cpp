@@ -1,5 +1,5 @@
 // Shape reconstruction on the virtual lab (see shape_lab.hpp). Units: mm, N, s, N/mm.
-#include "shape_lab.hpp"
+#include "inhap/eval/shape_lab.hpp"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include "inhap/lab/operators.hpp"
 #include "inhap/surface/reconstruct.hpp"
 
-namespace inhap::cli {
+namespace inhap::eval {
 namespace {
 
 // --- reference surfaces of the lab shapes ("the optical scan") -------------------------------
@@ -193,4 +193,4 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   return v;
 }
 
-}  // namespace inhap::cli
+}  // namespace inhap::eval

@@ -10,7 +10,7 @@
 //     contact flag.
 // Scoring is always against the measured force, on the samples the lab says are in contact (the
 // same set for both sources).
-#include "forces_lab.hpp"
+#include "inhap/eval/forces_lab.hpp"
 
 #include <fmt/format.h>
 
@@ -21,19 +21,19 @@
 #include <limits>
 #include <unordered_map>
 
-#include "command.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
+#include "inhap/core/stats.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
-#include "inhap/friction/proxy_estimator.hpp"
+#include "inhap/eval/sys_lab.hpp"
+#include "inhap/friction/proxy_track.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/lab/sim_device.hpp"
-#include "sys_lab.hpp"
 
-namespace inhap::cli {
+namespace inhap::eval {
 namespace {
 
 using namespace inhap::dd;
@@ -71,8 +71,8 @@ ProxyTrack truth_track(const lab::Scene& scene, const lab::LabRecording& lr) {
 
 /// Proxy q, normal at q and geometric contact from the friction module's estimator.
 ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
-  friction::ProxyModel model{&pal.sys, pal.shape.get()};
-  friction::ProxyState st;
+  const friction::ProxyColumns c =
+      friction::proxy_track(friction::ProxyModel{&pal.sys, pal.shape.get()}, rec);
   ProxyTrack t;
   t.proxy_source = "estimated:sys";
   t.contact_source = "estimated:geometric";
@@ -80,11 +80,9 @@ ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
   t.n.assign(rec.size(), Vec3::UnitZ());
   t.contact.resize(rec.size());
   for (std::size_t i = 0; i < rec.size(); ++i) {
-    const double dt = i ? rec.t[i] - rec.t[i - 1] : 0.0;
-    const friction::ProxyOutput o = friction::proxy_step(model, st, rec.p[i], dt);
-    t.contact[i] = o.contact && o.q.allFinite();
-    t.q[i] = t.contact[i] ? o.q : rec.p[i];
-    if (t.contact[i]) t.n[i] = st.n;
+    t.contact[i] = c.contact[i] && c.q[i].allFinite();
+    t.q[i] = t.contact[i] ? c.q[i] : rec.p[i];
+    if (t.contact[i]) t.n[i] = c.n[i];
   }
   return t;
 }
@@ -143,17 +141,7 @@ void compare_with_truth(ForceLabResult& d, const ProxyTrack& truth) {
 
 ForceReplay timed_replay(const ForceModel& m, const Recording& rec, const ProxyTrack& track) {
   ForceReplay r;
-  r.forces.resize(rec.size());
-  r.step_us.reserve(rec.size());
-  ServoState st;
-  for (std::size_t i = 0; i < rec.size(); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const Vec3 n = track.n.size() == rec.size() ? track.n[i] : Vec3::UnitZ();
-    r.forces[i] = servo_step(m, st, rec.p[i], track.q[i], n, track.contact[i] != 0);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (track.contact[i])
-      r.step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-  }
+  r.forces = replay(m, rec, track, &r.step_us);
   return r;
 }
 
@@ -316,12 +304,12 @@ void write_replay(const std::string& path, const ForceLabResult& d,
 
 ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& scored,
                          const ProxyTrack& tr, const ProxyTrack& te, TrainParams p,
-                         const char* what, const std::string& label) {
+                         const char* what, const std::string& label, const Progress& progress) {
   FoawParams foaw;
   foaw.dt = median_dt(d.train.rec);
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
   p.progress = [&](double f, const std::string&) {
-    progress(fmt::format("{} {}", label, what), f, 0);
+    if (progress) progress(fmt::format("{} {}", label, what), f, 0);
   };
   ForceVariant v;
   v.model = train_force_model(set, p, foaw);
@@ -351,6 +339,7 @@ ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLa
     po.quick = o.quick;
     if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
     po.progress_label = label + " palpation";
+    po.progress = o.progress;
     const ScenePalpation pal = palpate_scene(po);
     d.palpation_s = pal.wall_s;
     d.reference_points = pal.points.size();
@@ -376,7 +365,9 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   Durations dur = durations_for(name);
   if (o.quick) dur = {dur.train_s / 2, dur.test_s / 2};
   auto prog = [&](const char* what) {
-    return [&label, what](double f) { progress(fmt::format("{} {}", label, what), f, 0); };
+    return [&label, &o, what](double f) {
+      if (o.progress) o.progress(fmt::format("{} {}", label, what), f, 0);
+    };
   };
   ForceLabResult d;
   d.name = name;
@@ -395,7 +386,8 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   const TrainParams& p = o.params;
   const std::vector<char>& scored = test_truth.contact;
 
-  d.proxy = run_variant(d, scored, d.train_track, d.test_track, p, "train (proxy)", label);
+  d.proxy =
+      run_variant(d, scored, d.train_track, d.test_track, p, "train (proxy)", label, o.progress);
   if (d.proxy.all.n == 0)
     throw Error(fmt::format(
         "eval forces: {}: expected samples in contact in the test recording, got none", name));
@@ -412,11 +404,11 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
         d, scored,
         with_n(position_only_track(d.train.rec, d.train_track.contact, cs), d.train_track),
         with_n(position_only_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
-        "train (no proxy)", label);
+        "train (no proxy)", label, o.progress);
     d.onset = run_variant(
         d, scored, with_n(entry_proxy_track(d.train.rec, d.train_track.contact, cs), d.train_track),
         with_n(entry_proxy_track(d.test.rec, d.test_track.contact, cs), d.test_track), p,
-        "train (onset proxy)", label);
+        "train (onset proxy)", label, o.progress);
   }
   if (!o.baselines) {
     for (ForceVariant* v : {&d.no_proxy, &d.onset}) v->all = v->sliding = no_errors();
@@ -436,4 +428,4 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   return d;
 }
 
-}  // namespace inhap::cli
+}  // namespace inhap::eval

@@ -1,0 +1,54 @@
+// Adapters behind haptics::Renderer (servo.hpp): CBA and TCA-MESH (rendering module, thesis 5)
+// and the composed data-driven renderer (data_driven.hpp). Units: s, mm, N.
+//
+// Each adapter holds a reference to an immutable model (it must outlive the adapter) and its own
+// state; step() allocates nothing, throws nothing and does no I/O.
+#pragma once
+
+#include "inhap/haptics/data_driven.hpp"
+#include "inhap/haptics/servo.hpp"
+#include "inhap/rendering/renderer.hpp"
+
+namespace inhap::haptics {
+
+/// One tick of the god-object renderer through the common interface (CBA or TCA-MESH).
+ServoOutput step(const render::Model& model, render::State& state, render::Algorithm algorithm,
+                 const ServoInput& input) noexcept;
+
+/// CBA or TCA-MESH on a mesh with a stiffness map.
+class MeshRenderer final : public Renderer {
+ public:
+  MeshRenderer(const render::Model& model, render::Algorithm algorithm)
+      : model_(model), algorithm_(algorithm) {}
+  ServoOutput step(const ServoInput& input) noexcept override {
+    return haptics::step(model_, state_, algorithm_, input);
+  }
+  void reset() noexcept override { state_ = render::State{}; }
+  const char* name() const noexcept override {
+    return algorithm_ == render::Algorithm::kTCA ? "tca-mesh" : "cba";
+  }
+  const render::State& state() const { return state_; }
+
+ private:
+  const render::Model& model_;
+  render::Algorithm algorithm_;
+  render::State state_;
+};
+
+/// The data-driven renderer (FOAW -> proxy -> RBF force).
+class DataDrivenRenderer final : public Renderer {
+ public:
+  explicit DataDrivenRenderer(const DataDrivenModel& model) : model_(model) {}
+  ServoOutput step(const ServoInput& input) noexcept override {
+    return haptics::step(model_, state_, input);
+  }
+  void reset() noexcept override { state_.reset(); }
+  const char* name() const noexcept override { return "data-driven"; }
+  const DataDrivenState& state() const { return state_; }
+
+ private:
+  const DataDrivenModel& model_;
+  DataDrivenState state_;
+};
+
+}  // namespace inhap::haptics

@@ -1,0 +1,30 @@
+# Fails when module MODULE (src/<MODULE>, include/inhap/<MODULE>) includes a module it may not:
+# a module uses only the modules before it in ORDER (docs/architecture.md, "Modules and
+# dependency order"), given as a ;-separated list. Usage:
+#   cmake -DROOT=<source dir> -DMODULE=friction -DORDER="core;geometry;..." -P check_module_order.cmake
+if(NOT ROOT OR NOT MODULE OR NOT ORDER)
+  message(FATAL_ERROR "check_module_order.cmake: ROOT, MODULE and ORDER are required")
+endif()
+list(FIND ORDER ${MODULE} mine)
+if(mine LESS 0)
+  message(FATAL_ERROR "module '${MODULE}' is not in the order '${ORDER}'")
+endif()
+file(GLOB_RECURSE files ${ROOT}/src/${MODULE}/*.cpp ${ROOT}/src/${MODULE}/*.hpp
+     ${ROOT}/include/inhap/${MODULE}/*.hpp)
+set(bad "")
+foreach(f IN LISTS files)
+  file(STRINGS ${f} lines REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]inhap/[A-Za-z_0-9]+/")
+  foreach(line IN LISTS lines)
+    string(REGEX REPLACE ".*[<\"]inhap/([A-Za-z_0-9]+)/.*" "\\1" used "${line}")
+    list(FIND ORDER ${used} theirs)
+    if(theirs LESS 0 OR theirs GREATER mine)
+      file(RELATIVE_PATH rel ${ROOT} ${f})
+      list(APPEND bad "${rel} includes inhap/${used}/")
+    endif()
+  endforeach()
+endforeach()
+if(bad)
+  string(REPLACE ";" "\n  " text "${bad}")
+  message(FATAL_ERROR "module ${MODULE} includes modules after it (order: ${ORDER}):\n  ${text}")
+endif()
+message(STATUS "module ${MODULE} includes only modules before it")
