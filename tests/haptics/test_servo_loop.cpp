@@ -10,6 +10,8 @@
 
 #include "inhap/haptics/servo_loop.hpp"
 #include "inhap/haptics/spsc_ring.hpp"
+// test_servo_interface.cpp replaces operator new for this program; count only here.
+#define INHAP_ALLOC_COUNTER_COUNT_ONLY
 #include "support/alloc_counter.hpp"
 
 namespace inhap::haptics {

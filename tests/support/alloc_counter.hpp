@@ -41,6 +41,9 @@ inline void* counted_new(std::size_t n, std::size_t align = 0) {
 
 }  // namespace inhap::test
 
+// A second translation unit of the same test program defines INHAP_ALLOC_COUNTER_COUNT_ONLY
+// before including this header: it gets the counter, the first one's replacements count.
+#ifndef INHAP_ALLOC_COUNTER_COUNT_ONLY
 void* operator new(std::size_t n) {
   return inhap::test::counted_new(n);
 }
@@ -101,3 +104,4 @@ void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept 
 void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
   std::free(p);
 }
+#endif  // INHAP_ALLOC_COUNTER_COUNT_ONLY
