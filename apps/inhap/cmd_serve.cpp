@@ -1,0 +1,282 @@
+// `inhap serve`: the real-time servo loop against a device that joins over the UDP bridge
+// (docs/bridge.md), rendering a mesh with a stiffness map (TCA-MESH or CBA) or a data-driven
+// force model. Units: mm, N, N/mm, s.
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "command.hpp"
+#include "inhap/contact/compensation.hpp"
+#include "inhap/core/csv.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/model_io.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/sys_model.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+#include "inhap/haptics/bridge_device.hpp"
+#include "inhap/haptics/renderers.hpp"
+#include "inhap/haptics/servo_loop.hpp"
+
+namespace inhap::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) {
+  g_interrupted.store(true);
+}
+
+struct ServeArgs {
+  std::string device = "udp", render = "tca", mesh, model, sys, shape, record, listen = "127.0.0.1",
+              key, key_file;
+  double seconds = 0, max_force = 6.2, timeout = 0.05, connect = 60, probe_radius = 0;
+  bool no_realtime = false;
+};
+
+std::uint16_t parse_device(const std::string& d) {
+  if (d == "udp") return haptics::kBridgeDefaultPort;
+  if (d.rfind("udp:", 0) == 0) {
+    double port = 0;
+    if (parse_double(d.substr(4), port) && port >= 1 && port <= 65535 &&
+        port == static_cast<int>(port))
+      return static_cast<std::uint16_t>(port);
+    throw Error(
+        fmt::format("--device: expected udp:PORT with PORT in 1-65535, got {}", quote_token(d)));
+  }
+  if (d.rfind("lab:", 0) == 0)
+    throw Error(
+        "--device lab:SCENE is not available in `serve` yet; use `inhap lab record` for "
+        "the virtual lab, or the bridge (--device udp) with a device client");
+  throw Error(fmt::format("--device: expected udp or udp:PORT, got {}", quote_token(d)));
+}
+
+std::string read_key(const ServeArgs& a) {
+  if (a.key_file.empty()) return a.key;
+  std::FILE* f = std::fopen(a.key_file.c_str(), "rb");
+  if (!f) throw IoError(a.key_file, "cannot open the key file");
+  std::string k(256, '\0');
+  const std::size_t n = std::fread(k.data(), 1, k.size(), f);
+  std::fclose(f);
+  k.resize(n);
+  while (!k.empty() && (k.back() == '\n' || k.back() == '\r')) k.pop_back();
+  if (k.empty()) throw IoError(a.key_file, "the key file is empty");
+  return k;
+}
+
+// Everything the chosen renderer needs, kept alive for the loop.
+struct RenderSetup {
+  std::unique_ptr<render::Model> mesh_model;
+  std::unique_ptr<dd::ForceModel> force;
+  std::unique_ptr<friction::SysModel> sys;
+  std::unique_ptr<friction::MeshSurface> shape;
+  std::unique_ptr<haptics::DataDrivenModel> dd_model;
+  std::unique_ptr<haptics::Renderer> renderer;
+};
+
+RenderSetup make_renderer(const ServeArgs& a) {
+  RenderSetup s;
+  if (a.render == "tca" || a.render == "cba") {
+    if (a.mesh.empty()) throw Error("--render " + a.render + " needs --mesh MESH.ply");
+    render::Params params;
+    s.mesh_model = std::make_unique<render::Model>(read_mesh(a.mesh), params);
+    s.renderer = std::make_unique<haptics::MeshRenderer>(
+        *s.mesh_model, a.render == "tca" ? render::Algorithm::kTCA : render::Algorithm::kCBA);
+    return s;
+  }
+  if (a.render == "model") {
+    if (a.model.empty() || a.sys.empty() || a.shape.empty())
+      throw Error("--render model needs --model MODEL.json, --sys SYS.json and --shape MESH.ply");
+    s.force = std::make_unique<dd::ForceModel>(dd::load_force_model(a.model));
+    s.sys = std::make_unique<friction::SysModel>(friction::read_sys_json(a.sys));
+    s.shape = std::make_unique<friction::MeshSurface>(read_mesh(a.shape), a.probe_radius);
+    s.dd_model = std::make_unique<haptics::DataDrivenModel>(*s.sys, *s.shape, *s.force);
+    s.renderer = std::make_unique<haptics::DataDrivenRenderer>(*s.dd_model);
+    return s;
+  }
+  throw Error(fmt::format("--render: expected tca, cba or model, got {}", quote_token(a.render)));
+}
+
+// The recorder: drains the observer ring on its own thread into the standard recording CSV
+// (t, p, compensated f, raw rf) plus the rendered columns.
+class Recorder {
+ public:
+  Recorder(const std::string& path, const DeviceInfo& info, haptics::ObserverRing& ring)
+      : ring_(ring),
+        config_(CompensatorConfig::from(info)),
+        writer_(path, {"t",   "px",  "py",  "pz",      "fx", "fy", "fz", "rfx", "rfy", "rfz",
+                       "cfx", "cfy", "cfz", "contact", "qx", "qy", "qz", "cqx", "cqy", "cqz"},
+                comments()) {
+    thread_ = std::thread([this] { loop(); });
+  }
+  void finish() {
+    stop_ = true;
+    thread_.join();
+    writer_.commit();
+  }
+  std::size_t rows() const { return rows_; }
+
+ private:
+  static std::vector<std::string> comments() {
+    return {
+        "inhap serve recording: t s; p mm (probe centre); f N (sensor, compensated); rf N (raw "
+        "sensor); cf N (force commanded); contact 0/1; q mm (proxy / IHIP); cq mm (CIHIP)"};
+  }
+  void drain() {
+    haptics::LoopSample s;
+    while (ring_.pop(s)) {
+      const Vec3 f = compensate_step(config_, state_, s.p_mm, s.sensor_force_n);
+      const Vec3& q = s.out.ihip_mm;
+      const Vec3& c = s.out.cihip_mm;
+      writer_.row({s.t_s,
+                   s.p_mm.x(),
+                   s.p_mm.y(),
+                   s.p_mm.z(),
+                   f.x(),
+                   f.y(),
+                   f.z(),
+                   s.sensor_force_n.x(),
+                   s.sensor_force_n.y(),
+                   s.sensor_force_n.z(),
+                   s.commanded_n.x(),
+                   s.commanded_n.y(),
+                   s.commanded_n.z(),
+                   s.out.contact ? 1.0 : 0.0,
+                   q.x(),
+                   q.y(),
+                   q.z(),
+                   c.x(),
+                   c.y(),
+                   c.z()});
+      ++rows_;
+    }
+  }
+  void loop() {
+    while (!stop_) {
+      drain();
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    drain();
+  }
+
+  haptics::ObserverRing& ring_;
+  CompensatorConfig config_;
+  CompensatorState state_;
+  CsvWriter writer_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::size_t rows_ = 0;
+};
+
+void print_stats(const haptics::LoopStats& s, const haptics::BridgeStats& b) {
+  fmt::print(stderr,
+             "ticks {}  step p50/p99 {:.2f}/{:.2f} us  period jitter p50/p99/max {:.0f}/{:.0f}/"
+             "{:.0f} us  overruns {}  watchdog trips {}\n"
+             "bridge: accepted {}  lost {}  late (time-outs) {}  out of order {}  malformed {}  "
+             "bad auth {}  foreign {}\n",
+             s.ticks, s.step_p50_us, s.step_p99_us, s.jitter_p50_us, s.jitter_p99_us,
+             s.jitter_max_us, s.overruns, s.watchdog_trips, b.accepted, b.lost, b.timeouts,
+             b.out_of_order, b.malformed, b.bad_auth, b.foreign_session);
+}
+
+void run_serve(const ServeArgs& a) {
+  haptics::BridgeOptions bo;
+  bo.port = parse_device(a.device);
+  bo.listen = a.listen;
+  bo.key = read_key(a);
+  bo.timeout_s = a.timeout;
+  if (!(a.max_force > 0.0) || a.max_force > 40.0)
+    throw Error("--max-force: expected a device limit in (0, 40] N");
+  bo.info.max_force_n = a.max_force;
+  RenderSetup setup = make_renderer(a);
+  haptics::BridgeDevice dev(bo);
+  // The recorder opens its temporary file now: a bad output path fails before the session.
+  auto ring = std::make_unique<haptics::ObserverRing>();
+  std::optional<Recorder> rec;
+  if (!a.record.empty()) rec.emplace(a.record, dev.info(), *ring);
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
+  fmt::print(stderr, "inhap serve: {} on udp {}:{}{}; waiting for a device (Ctrl-C stops)\n",
+             setup.renderer->name(), a.listen, dev.port(), bo.key.empty() ? "" : " (HMAC key)");
+  const auto t_wait = std::chrono::steady_clock::now();
+  while (!dev.connect(0.25)) {
+    const double waited =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_wait).count();
+    if (g_interrupted || waited > a.connect)
+      throw Error(fmt::format("no device joined within {:.0f} s", waited));
+  }
+  fmt::print(stderr, "device joined (session {:08x})\n", dev.session());
+  haptics::LoopOptions lo;
+  lo.realtime = !a.no_realtime;
+  haptics::ServoLoop loop(dev, *setup.renderer, lo);
+  if (rec) loop.add_observer(*ring);
+  loop.start();
+  const auto t0 = std::chrono::steady_clock::now();
+  auto last_print = t0;
+  while (loop.running() && !g_interrupted) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const auto now = std::chrono::steady_clock::now();
+    if (a.seconds > 0 && std::chrono::duration<double>(now - t0).count() >= a.seconds) break;
+    if (now - last_print > std::chrono::seconds(1)) {
+      last_print = now;
+      fmt::print(stderr, "\r{} ticks, {} time-outs", loop.ticks(), dev.stats().timeouts);
+    }
+  }
+  loop.stop();  // the last tick commands zero force
+  dev.stop();
+  fmt::print(stderr, "\nloop: {}\n", loop.rt_status());
+  print_stats(loop.stats(), dev.stats());
+  if (rec) {
+    rec->finish();
+    fmt::print(stderr, "wrote {} ({} rows)\n", a.record, rec->rows());
+  }
+}
+
+void register_serve(CLI::App& app) {
+  auto a = std::make_shared<ServeArgs>();
+  auto* c = app.add_subcommand(
+      "serve",
+      "Run the 1 kHz servo loop against a device that joins over the UDP bridge "
+      "(docs/bridge.md;\nclients in clients/c and clients/python). Units: mm, N, N/mm, s.");
+  c->add_option("--device", a->device, "udp or udp:PORT (default port 47110)")
+      ->capture_default_str();
+  c->add_option("--render", a->render,
+                "tca, cba (a mesh with a stiffness map) or model "
+                "(data-driven)")
+      ->capture_default_str();
+  c->add_option("--mesh", a->mesh, "PLY/OBJ mesh with a 'stiffness' vertex property (N/mm)");
+  c->add_option("--model", a->model, "force model JSON (inhap model train)");
+  c->add_option("--sys", a->sys, "sliding yield surfaces (sys.json, inhap sys palpate/fit)");
+  c->add_option("--shape", a->shape, "shape mesh of the data-driven object (PLY/OBJ, mm)");
+  c->add_option("--probe-radius", a->probe_radius, "probe radius for --shape, mm")
+      ->capture_default_str();
+  c->add_option("--record", a->record,
+                "write the session as a recording CSV (t, p, f, rf, commanded force, q)");
+  c->add_option("--listen", a->listen,
+                "IPv4 address to listen on; other than 127.x needs --key or --key-file")
+      ->capture_default_str();
+  c->add_option("--key", a->key, "shared secret: every datagram carries an HMAC-SHA256 tag");
+  c->add_option("--key-file", a->key_file, "read the shared secret from a file (first line)");
+  c->add_option("--seconds", a->seconds, "stop after this many seconds (0: at Ctrl-C)")
+      ->capture_default_str();
+  c->add_option("--max-force", a->max_force, "device force limit, N (at most 40)")
+      ->capture_default_str();
+  c->add_option("--timeout", a->timeout,
+                "no state from the device for this long -> zero force (watchdog), s")
+      ->capture_default_str();
+  c->add_option("--connect-timeout", a->connect, "give up if no device joins within this, s")
+      ->capture_default_str();
+  c->add_flag("--no-realtime", a->no_realtime, "do not ask for SCHED_FIFO and mlockall");
+  c->callback([a] { run_serve(*a); });
+}
+
+INHAP_COMMAND(70, "serve", register_serve);
+
+}  // namespace
+}  // namespace inhap::cli
