@@ -106,7 +106,15 @@ void run_train(TrainOptions o) {
   fmt::print("trained {} samples in {:.1f} s: {} bins, design {}, non-zeros per axis", set.size(),
              m.stats.seconds, m.bins.size(), to_string(m.params.design));
   for (const auto& s : m.stats.support) fmt::print(" {}/{}/{}", s[0], s[1], s[2]);
-  fmt::print("\nmodel -> {}\n", o.out);
+  fmt::print("\n");
+  for (std::size_t b = 0; b < m.stats.gap.size(); ++b)  // the l1 fit's certificate per bin
+    for (int c = 0; c < 3; ++c) {
+      const auto uc = static_cast<std::size_t>(c);
+      fmt::print("  bin {} axis {}: {} relative gap {:.2e}, {} iterations, {} non-zeros\n", b,
+                 "xyz"[c], to_string(m.params.solver), m.stats.gap[b][uc],
+                 m.stats.sparsa_iterations[b][uc], m.stats.nonzeros[b][uc]);
+    }
+  fmt::print("model -> {}\n", o.out);
 }
 
 // ------------------------------------------------------------------------------ eval/render

@@ -1,5 +1,6 @@
 // Flags shared by `inhap model train` and `inhap eval forces`: the local-frame training options
-// (tangent mirror, stiffness and shear priors, friction cone) of dd::TrainParams. Units: mm, N.
+// (tangent mirror, stiffness and shear priors, friction cone) and the l1 solver of
+// dd::TrainParams. Units: mm, N.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,8 +11,8 @@
 
 namespace inhap::cli {
 
-/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior and
-/// --[no-]friction-cone bound to `p`;
+/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior,
+/// --[no-]friction-cone and --solver cd|sparsa bound to `p`;
 /// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
                                      const std::string& defaults) {
@@ -35,6 +36,12 @@ inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
        "|f_t| <= c max(f_n, 0.3 N) ("},
   };
   for (const Flag& f : kFlags) cmd.add_flag(f.names, p.*f.value, f.help + defaults + ")");
+  cmd.add_option_function<std::string>(
+         "--solver", [&p](const std::string& s) { p.solver = dd::l1_solver_from_string(s); },
+         "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
+         "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
+         "progress (default cd)")
+      ->check(CLI::IsMember({"cd", "sparsa"}));
 }
 
 }  // namespace inhap::cli

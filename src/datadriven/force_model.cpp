@@ -56,7 +56,8 @@ void TrainParams::validate() const {
   for (double w : feature_weights)
     if (!(w > 0) || !std::isfinite(w))
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
-  if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
+  if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0) || !(gap_tolerance > 0))
+    throw Error("expected positive tolerances");
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
   if (friction_cone && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
@@ -80,8 +81,8 @@ namespace {
 
 struct BinResult {
   BinModel model;
-  std::array<int, 3> support{}, sparsa_it{}, cg_it{};
-  std::array<double, 3> lambda{};
+  std::array<int, 3> support{}, sparsa_it{}, cg_it{}, nonzeros{};
+  std::array<double, 3> lambda{}, gap{};
   int selected = 0;
 };
 
@@ -173,7 +174,10 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     lambda[static_cast<std::size_t>(c)] = g > 0 ? prm.lambda_ratio * g : 1e-300;
     out.lambda[static_cast<std::size_t>(c)] = lambda[static_cast<std::size_t>(c)];
   }
-  std::vector<SparsaResult> sol = sparsa_multi(pb.a, target, lambda, sp);
+  LassoParams lp;
+  lp.max_nonzeros = sp.max_nonzeros;
+  lp.gap_tolerance = prm.gap_tolerance;
+  const std::vector<L1Fit> sol = solve_l1(prm.solver, pb.a, target, lambda, sp, lp);
   if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
   const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
   for (int c = 0; c < 3; ++c) {
@@ -201,6 +205,8 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     if (t) e.tail = cg.x.tail(t);
     out.support[uc] = static_cast<int>(k);
     out.sparsa_it[uc] = sol[uc].iterations;
+    out.nonzeros[uc] = sol[uc].nonzeros;
+    out.gap[uc] = sol[uc].relative_gap;
     out.cg_it[uc] = cg.iterations;
   }
   return out;
@@ -392,6 +398,8 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (auto& r : results) {
     model.stats.support.push_back(r.support);
     model.stats.sparsa_iterations.push_back(r.sparsa_it);
+    model.stats.gap.push_back(r.gap);
+    model.stats.nonzeros.push_back(r.nonzeros);
     model.stats.cg_iterations.push_back(r.cg_it);
     model.stats.lambda.push_back(r.lambda);
     model.stats.selected_rows.push_back(r.selected);

@@ -218,6 +218,8 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"normalize_columns", p.normalize_columns},
                 {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
                 {"sparsa_max_iterations", p.sparsa_iterations},
+                {"solver", to_string(p.solver)},
+                {"gap_tolerance", p.gap_tolerance},
                 {"kmeans_iterations", p.kmeans_iterations},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
@@ -228,6 +230,8 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
                 {"sparsa_iterations", arr3(m.stats.sparsa_iterations)},
+                {"gap", arr3(m.stats.gap)},
+                {"l1_nonzeros", arr3(m.stats.nonzeros)},
                 {"cg_iterations", arr3(m.stats.cg_iterations)},
                 {"lambda", arr3(m.stats.lambda)},
                 {"selected_rows", m.stats.selected_rows}};
@@ -319,6 +323,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("feature_weights", m.params.feature_weights);
       get("normalize_columns", m.params.normalize_columns);
       get("sparsa_max_iterations", m.params.sparsa_iterations);
+      // Files written before the solver choice were trained by SpaRSA.
+      m.params.solver = t.contains("solver") ? l1_solver_from_string(t["solver"].get<std::string>())
+                                             : L1Solver::kSparsa;
+      get("gap_tolerance", m.params.gap_tolerance);
       if (t.contains("design"))
         m.params.design = design_from_string(t["design"].get<std::string>());
       if (t.contains("sparsa_stop"))
@@ -335,6 +343,8 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);
       get("sparsa_iterations", m.stats.sparsa_iterations);
+      get("gap", m.stats.gap);
+      get("l1_nonzeros", m.stats.nonzeros);
       get("cg_iterations", m.stats.cg_iterations);
       get("lambda", m.stats.lambda);
       get("selected_rows", m.stats.selected_rows);
