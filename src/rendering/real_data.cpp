@@ -199,16 +199,31 @@ RealDataset load_head(const std::string& nhdr_path, const RealDataOptions& o) {
   ds.name = "ct-head";
   ds.file = nhdr_path;
   ds.scale = fit_cube(m, o.cube_mm);
-  std::vector<double> k = m.property("stiffness");
-  for (double& v : k) v = std::clamp(v, std::max(o.k_floor, o.head_k_min), o.k_max);
+  // Stiffness inversely proportional to the skin-bone distance d (thesis: 0.4-1.0 N/mm):
+  // k = clamp(k_max d_ref / d, k_min, k_max), d_ref = (k_min / k_max) d_far, d_far the 98th
+  // percentile of d over the skin facing up (the face). Over the whole skin d_far would be set by
+  // the caps closing the clipped volume at its first and last slice (far from any bone: 43 mm
+  // against the face's 23 mm), and the whole face would be 1.0 N/mm.
+  const std::vector<double>& dist = m.property("bone_distance");
+  std::vector<double> face;
+  for (std::size_t i = 0; i < dist.size(); ++i)
+    if (m.normals[i].z() > 0.5) face.push_back(dist[i]);
+  if (face.empty()) throw Error(fmt::format("{}: no skin faces up", nhdr_path));
+  const auto q = static_cast<std::size_t>(0.98 * double(face.size() - 1));
+  std::nth_element(face.begin(), face.begin() + std::ptrdiff_t(q), face.end());
+  const double k_min = std::max(o.k_floor, o.head_k_min), d_far = face[q];
+  const double d_ref = k_min / o.k_max * d_far;
+  std::vector<double> k(dist.size());
+  for (std::size_t i = 0; i < k.size(); ++i)
+    k[i] = std::clamp(o.k_max * d_ref / std::max(dist[i], 1e-9), k_min, o.k_max);
   m.set_property("stiffness", k);
   ds.stiffness_from = fmt::format(
-      "skin-to-bone distance: k = {} N/mm at the bone, inversely proportional to the distance, "
-      "{} N/mm from {:.1f} mm (CT) on",
-      o.k_max, o.head_k_min, hm.distance_far_mm);
-  // Stroke over the eye (thesis point D): the softest up-facing skin 8-22 mm beside and 0-15 mm
-  // above (towards the crown, +y: the last slices are the top of the skull) the nose tip, the
-  // highest point of the face-up head.
+      "skin-to-bone distance d (CT mm): k = {} N/mm x {:.1f} mm / d, clamped to [{}, {}] N/mm "
+      "({} N/mm from d = {:.1f} mm, the 98th percentile over the face, on)",
+      o.k_max, d_ref, k_min, o.k_max, k_min, d_far);
+  // Stroke over the eye (thesis point D): the softest up-facing skin 8-25 mm beside and
+  // 10-32 mm towards the crown (-y: the first slices are the top of the head) from the nose tip,
+  // the highest point of the face-up head.
   const auto nb = neighbours(m);
   const std::vector<double> ks = smooth(k, nb, 5);
   const MeshIndex index(m, MeshIndexOptions{.seed_shell = 0});
@@ -221,13 +236,13 @@ RealDataset load_head(const std::string& nhdr_path, const RealDataOptions& o) {
   std::vector<Candidate> order;
   for (std::size_t i = 0; i < k.size(); ++i) {
     const Vec3 d = m.positions[i] - tip;
-    if (vis[i] && std::abs(d.x()) > 8 && std::abs(d.x()) < 22 && d.y() > 0 && d.y() < 15)
+    if (vis[i] && std::abs(d.x()) > 8 && std::abs(d.x()) < 25 && d.y() > -32 && d.y() < -10)
       order.push_back({i, ks[i]});
   }
   std::sort(order.begin(), order.end(),
             [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
   ds.strokes.push_back(stroke_through(
-      m, index, order, 12.0, {"D", 0, "eye: protruding, softer skin"}, "head over the eye", true));
+      m, index, order, 9.0, {"D", 0, "eye: protruding, softer skin"}, "head over the eye", true));
   ds.mesh = std::move(m);
   return ds;
 }

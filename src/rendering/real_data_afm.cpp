@@ -209,8 +209,8 @@ RealDataset load_afm(const std::string& top_path, const RealDataOptions& o) {
       y0 = std::min(y0, p / n);
       y1 = std::max(y1, p / n);
     }
-    ds.strokes.push_back(feature_stroke(comps[kept[i]], n, spacing, y1 - y0 >= x1 - x0, k,
-                                        o.k_max, fmt::format("afm feature {}", i + 1)));
+    ds.strokes.push_back(feature_stroke(comps[kept[i]], n, spacing, y1 - y0 >= x1 - x0, k, o.k_max,
+                                        fmt::format("afm feature {}", i + 1)));
   }
   if (ds.strokes.empty()) throw Error(fmt::format("{}: no raised feature found", top_path));
   return ds;

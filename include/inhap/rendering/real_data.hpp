@@ -26,8 +26,9 @@ struct RealDataOptions {
   /// (1 N then sinks at most 1 / k_floor = 5 mm).
   double k_floor = 0.2;
   // AFM (docs/real-data.md, "AFM halo map").
-  int afm_cells = 256;             ///< cells per side (2 * cells^2 triangles)
-  double afm_height_mm = 3.0;      ///< height of the tallest features after scaling, mm
+  int afm_cells = 256;  ///< cells per side (2 * cells^2 triangles)
+  double afm_height_mm =
+      1.0;  ///< height of the tallest features after scaling, mm (docs/real-data.md)
   double afm_feature_level = 0.3;  ///< features: levelled height above this fraction of the range
   double afm_k_feature = 0.6;      ///< stiffness of the raised features (membrane), N/mm
   double afm_k_halo = 0.25;        ///< stiffness at the feature rim, rising to k_max, N/mm
