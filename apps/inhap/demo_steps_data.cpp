@@ -60,6 +60,32 @@ std::string find_data_dir(const std::string& given) {
 
 namespace {
 
+// The thesis' marked points (A-D) as labelled markers just above the original surface.
+nlohmann::json marks_trace(const render::DataStroke& line, const std::vector<double>& u,
+                           const std::vector<double>& h) {
+  nlohmann::json mx = nlohmann::json::array(), my = nlohmann::json::array(),
+                 mt = nlohmann::json::array();
+  for (const auto& mk : line.marks) {
+    double best = std::numeric_limits<double>::infinity(), hz = 0;
+    for (std::size_t i = 0; i < u.size(); ++i)
+      if (std::abs(u[i] - mk.along_mm) < best) {
+        best = std::abs(u[i] - mk.along_mm);
+        hz = h[i];
+      }
+    mx.push_back(rnd(mk.along_mm));
+    my.push_back(rnd(hz + 0.5));
+    mt.push_back(mk.label);
+  }
+  return {{"type", "scatter"},
+          {"mode", "markers+text"},
+          {"x", mx},
+          {"y", my},
+          {"text", mt},
+          {"textposition", "top center"},
+          {"name", "thesis' marked points"},
+          {"marker", {{"color", "#d62728"}, {"size", 9}, {"symbol", "triangle-down"}}}};
+}
+
 // Fig. 5.7: heights along the stroke of the original surface and of HIP, IHIP, CIHIP for both
 // algorithms, the stiffness under the stroke (right axis) and the thesis' marked points.
 Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
@@ -106,27 +132,7 @@ Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
                                  "#7f7f7f", 1.2, "dashdot");
   kt["yaxis"] = "y2";
   data.push_back(kt);
-  nlohmann::json mx = nlohmann::json::array(), my = nlohmann::json::array(),
-                 mt = nlohmann::json::array();
-  for (const auto& mk : line.marks) {
-    double best = std::numeric_limits<double>::infinity(), hz = 0;
-    for (std::size_t i = 0; i < u.size(); ++i)
-      if (std::abs(u[i] - mk.along_mm) < best) {
-        best = std::abs(u[i] - mk.along_mm);
-        hz = h[i];
-      }
-    mx.push_back(rnd(mk.along_mm));
-    my.push_back(rnd(hz + 0.5));
-    mt.push_back(mk.label);
-  }
-  data.push_back({{"type", "scatter"},
-                  {"mode", "markers+text"},
-                  {"x", mx},
-                  {"y", my},
-                  {"text", mt},
-                  {"textposition", "top center"},
-                  {"name", "thesis' marked points"},
-                  {"marker", {{"color", "#d62728"}, {"size", 9}, {"symbol", "triangle-down"}}}});
+  data.push_back(marks_trace(line, u, h));
   std::string marks;
   for (const auto& mk : line.marks) marks += fmt::format(" {}: {}.", mk.label, mk.what);
   Figure f{
