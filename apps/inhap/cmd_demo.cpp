@@ -183,7 +183,7 @@ void register_demo(CLI::App& app) {
   cmd->add_option("--out,-o", o->out, "output folder")->capture_default_str();
   cmd->add_flag("--quick", o->quick,
                 "shorter recordings, the dome only, fewer palpation points and a smaller study "
-                "(CI, < 2 min)");
+                "(CI; under 20 s on 2 cores)");
   cmd->add_option("--data", o->data, "folder with bunny/, headsq/, afm-topography/")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--web-dir", o->web_dir,
