@@ -55,9 +55,10 @@ TEST(Readers, PgmDeclaringHugeSizesIsTruncatedBeforeAllocating) {
   test::TempDir dir;
   for (const char* magic : {"P5", "P2"}) {
     const std::string path = dir.path(std::string("huge.") + magic + ".pgm");
-    std::string body = std::string(magic) + "\n20000 20000\n255\n" + std::string(300, '7');
-    if (magic[1] == '2')
-      for (std::size_t i = 12; i < body.size(); i += 2) body[i] = ' ';
+    const std::string header = std::string(magic) + "\n20000 20000\n255\n";
+    std::string body = header + std::string(300, '7');
+    if (magic[1] == '2')  // "7 7 7 ...": ASCII pixels
+      for (std::size_t i = header.size() + 1; i < body.size(); i += 2) body[i] = ' ';
     std::ofstream(path, std::ios::binary) << body;
     const auto t0 = std::chrono::steady_clock::now();
     const std::string w = error_of([&] { read_grid(path); });
