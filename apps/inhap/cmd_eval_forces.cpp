@@ -266,8 +266,7 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--lambda-ratio", o->params.lambda_ratio, "lambda / ||A~^T f~||_inf")
       ->capture_default_str();
   cmd->add_option("--seed", o->params.seed, "k-means++ seed")->capture_default_str();
-  cmd->add_flag("--tail,!--no-tail", o->params.linear_tail,
-                "Linear tail on every expansion (default on)");
+  cli::add_switch(*cmd, "tail", o->params.linear_tail, "Linear tail on every expansion");
   cmd->add_option(
       "--feature-weights", o->params.feature_weights,
       "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
@@ -308,9 +307,8 @@ void register_eval_forces(CLI::App& app) {
       ->capture_default_str()
       ->expected(2)
       ->check(CLI::Range(0.1, 6.0));
-  cmd->add_flag("--baselines,!--no-baselines", o->baselines,
-                "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
-                "null)");
+  cli::add_switch(*cmd, "baselines", o->baselines,
+                  "Also train the no-proxy and onset-proxy models (off: their fields are null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o, cmd] {
     if (o->design == "thesis") apply_thesis_defaults(*o, *cmd);

@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/metrics.hpp"
@@ -21,6 +23,8 @@ namespace inhap::cli {
 namespace {
 
 using namespace inhap::dd;
+
+constexpr double kFewContactSeconds = 30.0;  // less contact than this gets a warning
 
 struct ProxyOptions {
   std::string prefix = "q", contact_column = "contact";
@@ -72,7 +76,7 @@ struct TrainOptions {
                                          features = "ue_q_v";
   TrainParams params;
   FoawParams foaw;
-  double force_limit = 6.2;
+  double force_limit = kDeviceForceLimitN;
   ProxyOptions proxy;
 };
 
@@ -84,6 +88,12 @@ void run_train(TrainOptions o) {
   const TrainingSet set = make_training_set(rec, track, o.foaw);
   fmt::print(stderr, "inhap: {} samples, {} in contact ({}), proxy from {}\n", rec.size(),
              set.size(), track.contact_source, track.proxy_source);
+  const double contact_s = static_cast<double>(set.size()) * o.foaw.dt;
+  if (contact_s < kFewContactSeconds)
+    fmt::print(stderr,
+               "inhap: warning: only {:.1f} s of contact to train on; a model needs about {:.0f} s "
+               "or more of varied contact to generalise (expect large errors)\n",
+               contact_s, kFewContactSeconds);
   o.params.design = design_from_string(o.design);
   o.params.features = feature_set_from_string(o.features);
   const auto t0 = std::chrono::steady_clock::now();
@@ -129,11 +139,33 @@ struct Replayed {
   std::vector<Vec3> forces;
 };
 
+/// The mesh a local-frame model needs: --mesh, else the model's reference, taken as written
+/// (relative to the current folder) or relative to the model file's folder. An error says
+/// where the path came from and that --mesh overrides it.
+std::string model_mesh(const ReplayOptions& o, const ForceModel& m) {
+  if (!o.mesh.empty()) return o.mesh;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (m.mesh_path.empty())
+    throw Error(
+        fmt::format("{}: the model uses local-frame features but names no mesh; pass "
+                    "--mesh FILE",
+                    o.model));
+  if (fs::is_regular_file(m.mesh_path, ec)) return m.mesh_path;
+  const fs::path beside = fs::path(o.model).parent_path() / m.mesh_path;
+  if (fs::path(m.mesh_path).is_relative() && fs::is_regular_file(beside, ec))
+    return beside.string();
+  throw Error(fmt::format(
+      "{}: the mesh '{}' named by the model (references.mesh.path) is found neither from the "
+      "current folder nor from the model's folder; pass --mesh FILE to give it",
+      o.model, m.mesh_path));
+}
+
 Replayed replay_file(const ReplayOptions& o, const ForceModel& m) {
   Replayed r{read_recording(o.recording), {}, {}};
   r.track = track_of(r.rec, o.recording, o.proxy);
   if (m.features == FeatureSet::kLocalFrame)
-    add_normals(r.track, r.rec, o.recording, o.mesh.empty() ? m.mesh_path : o.mesh);
+    add_normals(r.track, r.rec, o.recording, model_mesh(o, m));
   r.forces = replay(m, r.rec, r.track);
   return r;
 }
@@ -223,8 +255,8 @@ void register_model(CLI::App& app) {
                  "nx,ny,nz or from --mesh)")
       ->capture_default_str()
       ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
-  ct->add_flag("--tail,!--no-tail", tr->params.linear_tail,
-               "Linear polynomial tail on every expansion (default on; the thesis has none)");
+  add_switch(*ct, "tail", tr->params.linear_tail,
+             "Linear polynomial tail on every expansion (the thesis has none)");
   add_local_training_flags(*ct, tr->params, "default off");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation");
@@ -240,9 +272,12 @@ void register_model(CLI::App& app) {
   ct->add_option("--foaw-noise", tr->foaw.noise_bound, "FOAW noise bound d, mm")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  ct->add_option("--force-limit", tr->force_limit, "Rendered force clamp, N")
+  ct->add_option(
+        "--force-limit", tr->force_limit,
+        fmt::format("Rendered force clamp, N (may lower the device's {} N, never raise it)",
+                    kDeviceForceLimitN))
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-9, kDeviceForceLimitN));
   add_proxy_options(ct, tr->proxy);
   ct->callback([tr] { run_train(*tr); });
 

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/sys_lab.hpp"
@@ -106,8 +107,10 @@ void run_table(const TableArgs& a) {
   fmt::print("elastic limit: f_T = {:.3f} N{} (commanded load at the border {:.3f} N)\n", r.f_limit,
              note, r.f_limit_load);
   fmt::print("u_elastic_limit: depth {:.3f} mm, tangential {:.3f} mm\n", r.depth, r.radius);
+  OutputTransaction tx;
   if (!a.gs_mesh.empty()) write_mesh(a.gs_mesh, m.points[i].gs.to_mesh(4));
   if (!a.fs_mesh.empty()) write_mesh(a.fs_mesh, m.points[i].fs.to_mesh(4));
+  tx.commit();
 }
 
 std::string stem_of(const std::string& out) {
@@ -123,11 +126,15 @@ struct PalpateArgs {
 void run_palpate(PalpateArgs a) {
   a.opt.progress_label = "sys palpate";
   a.opt.progress = cli::progress;
-  const eval::ScenePalpation r = eval::palpate_scene(a.opt);
   const std::string stem = stem_of(a.out);
+  for (const std::string& path : {stem + ".cycles.csv", stem + ".shape.ply", a.out})
+    check_output_path(path);  // before the palpation, which takes minutes
+  const eval::ScenePalpation r = eval::palpate_scene(a.opt);
+  OutputTransaction tx;  // three outputs: all or none
   write_cycles_csv(stem + ".cycles.csv", r.cycles);
   write_mesh(stem + ".shape.ply", r.shape_mesh);
   write_sys_json(a.out, r.sys);
+  tx.commit();
   print_summary(r.sys);
   fmt::print(
       stderr,

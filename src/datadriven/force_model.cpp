@@ -14,6 +14,7 @@
 #include <numeric>
 #include <thread>
 
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/kmeans.hpp"
 
@@ -546,8 +547,10 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     if (len > lim) f = fn * fr.n + ft * (lim / len);
   }
   if (!f.allFinite()) return Vec3::Zero();
+  // The device profile's limit caps the model's: a model struct built in code cannot raise it.
+  const double limit = effective_force_limit(model.force_limit);
   const double mag = f.norm();
-  if (mag > model.force_limit) f *= model.force_limit / mag;
+  if (mag > limit) f *= limit / mag;
   return f;
 }
 

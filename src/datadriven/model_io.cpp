@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "inhap/core/atomic_file.hpp"
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/json_guard.hpp"
 
 namespace inhap::dd {
 
@@ -256,6 +258,7 @@ std::string force_model_to_json(const ForceModel& m) {
         map_json(m.shear,
                  "f_t = -k(q) |u_t|^alpha u_t / |u_t|, u_t = tangential part of p - q, ln k "
                  "trilinear on a grid over q");
+  require_finite_json(j, "force model JSON");
   return j.dump(1) + "\n";
 }
 
@@ -263,6 +266,8 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
   json j;
   try {
     j = json::parse(text);
+  } catch (const json::out_of_range& e) {  // 406: a number such as 1e999
+    throw ParseError(source, 0, fmt::format("expected JSON with finite numbers, got {}", e.what()));
   } catch (const json::parse_error& e) {
     const std::size_t upto = std::min<std::size_t>(e.byte, text.size());
     const std::size_t line =
@@ -384,8 +389,11 @@ void validate_model(const ForceModel& m, const std::string& where) {
   } catch (const Error& e) {
     fail(fmt::format("foaw: {}", e.what()));
   }
-  if (!(m.force_limit > 0) || !std::isfinite(m.force_limit))
-    fail(fmt::format("force_limit_n: expected a positive force, got {}", m.force_limit));
+  if (!(m.force_limit > 0) || !(m.force_limit <= kDeviceForceLimitN))
+    fail(fmt::format(
+        "force_limit_n: expected a force in (0, {}] N (a model may lower the device's limit, "
+        "never raise it), got {}",
+        kDeviceForceLimitN, m.force_limit));
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");

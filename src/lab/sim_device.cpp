@@ -28,8 +28,9 @@ void check_params(const DeviceParams& p) {
     bad = "servo_rate_hz > 0";
   else if (!nonneg(p.encoder_resolution_mm))
     bad = "encoder_resolution_mm >= 0";
-  else if (!pos(p.max_force_n))
-    bad = "max_force_n > 0";
+  else if (!pos(p.max_force_n) || p.max_force_n > kForceCeilingN)
+    bad = fmt::format("max_force_n in (0, {}] N (the ceiling for any device profile)",
+                      kForceCeilingN);
   else if (!nonneg(p.tool_mass_kg))
     bad = "tool_mass_kg >= 0";
   else if (!nonneg(p.sensor_noise_n))
