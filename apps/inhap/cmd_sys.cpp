@@ -130,6 +130,7 @@ ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
                                   : lab::builtin_scene(o.scene.empty() ? "planar" : o.scene);
   lab::DeviceParams dp;
   dp.seed = o.seed;
+  dp.physics = lab::physics_from_string(o.physics);
   lab::SimDevice dev(r.scene.object, dp);
   dev.detach_hand();
   const double radius = dev.probe_radius();
@@ -409,6 +410,9 @@ void register_palpate(CLI::App* sys) {
                       "the scene's region");
   palpate->add_option("--seed", pa->opt.seed, "device noise seed")->capture_default_str();
   palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
+  palpate->add_option("--physics", pa->opt.physics, "lab contact physics: builtin | mujoco")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
   palpate->callback([pa] { run_palpate(*pa); });
 }

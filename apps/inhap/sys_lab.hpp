@@ -21,6 +21,7 @@ struct ScenePalpationOptions {
   std::string points;          ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
   std::uint64_t seed = 1;      ///< device noise
   bool quick = false;          ///< f_N {1, 3} N, 4 directions (tests)
+  std::string physics = "builtin";  ///< lab contact physics: builtin | mujoco
   std::string progress_label;  ///< progress line on stderr ("": none)
 };
 
