@@ -30,6 +30,7 @@ struct EvalSysOptions {
   double seconds = 60.0;
   std::uint64_t seed = 1;
   bool quick = false;
+  std::string physics = "builtin";  ///< lab contact physics
 };
 
 struct ProxyErrors {
@@ -57,6 +58,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   po.scene = name;
   po.seed = o.seed;
   po.quick = o.quick;
+  po.physics = o.physics;
   if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
   po.progress_label = "eval sys: palpate " + name;
   const ScenePalpation r = palpate_scene(po);
@@ -71,6 +73,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   spec.operator_name = "explore";
   spec.seconds = o.quick ? std::min(o.seconds, 10.0) : o.seconds;
   spec.seed = o.seed;
+  spec.physics = lab::physics_from_string(o.physics);
   const auto t0 = std::chrono::steady_clock::now();
   const lab::LabRecording lab = lab::record_scene(r.scene, spec, [&](double f) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -134,6 +137,9 @@ void register_eval_sys(CLI::App& app) {
   cmd->add_option("--scenes", o->scenes, "comma-separated built-in scenes")->capture_default_str();
   cmd->add_option("--seconds", o->seconds, "length of the exploration recording, s")
       ->capture_default_str();
+  cmd->add_option("--physics", o->physics, "lab contact physics: builtin | mujoco")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   cmd->add_option("--seed", o->seed, "seed of the device noise and the operator")
       ->capture_default_str();
   cmd->add_flag("--quick", o->quick,

@@ -22,6 +22,17 @@ const char* to_string(Physics p) {
   return p == Physics::mujoco ? "mujoco" : "builtin";
 }
 
+bool mujoco_represents(const Shape& shape) {
+  return std::visit(
+      [](const auto& g) {
+        using T = std::decay_t<decltype(g)>;
+        return std::is_same_v<T, CylinderShape> || std::is_same_v<T, DomeShape> ||
+               std::is_same_v<T, HemisphereShape> || std::is_same_v<T, SphereShape> ||
+               std::is_same_v<T, BoxShape>;
+      },
+      shape.variant());
+}
+
 Physics physics_from_string(const std::string& s) {
   if (s == "builtin") return Physics::builtin;
   if (s == "mujoco") return Physics::mujoco;

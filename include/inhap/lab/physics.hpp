@@ -9,6 +9,8 @@
 
 #include <string>
 
+#include "inhap/lab/shape.hpp"
+
 namespace inhap::lab {
 
 enum class Physics { builtin, mujoco };
@@ -18,6 +20,9 @@ const char* to_string(Physics p);
 Physics physics_from_string(const std::string& s);
 /// True when this build links MuJoCo (otherwise Physics::mujoco throws when a device is built).
 bool mujoco_available();
+/// True when the MuJoCo backend can represent the shape (cylinder, dome, hemisphere, sphere,
+/// box; not the ridged slab or meshes).
+bool mujoco_represents(const Shape& shape);
 
 /// Settings of the MuJoCo backend (defaults documented in docs/lab-mujoco.md).
 struct MujocoParams {
