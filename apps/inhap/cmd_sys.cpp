@@ -318,6 +318,8 @@ void run_proxy(const ProxyArgs& a) {
   model.creep = !a.no_creep;
   ProxyState state;
   std::vector<double> qx(rec.size()), qy(rec.size()), qz(rec.size());
+  // The estimator's contact flag and surface normal at q, so that `model train` needs no flags.
+  std::vector<double> cf(rec.size()), nx(rec.size()), ny(rec.size()), nz(rec.size());
   std::size_t contact = 0, sliding = 0;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     const double dt = i ? rec.t[i] - rec.t[i - 1] : 0.0;
@@ -325,12 +327,21 @@ void run_proxy(const ProxyArgs& a) {
     qx[i] = o.q.x();
     qy[i] = o.q.y();
     qz[i] = o.q.z();
+    cf[i] = o.contact ? 1.0 : 0.0;
+    const Vec3 n = o.contact ? state.n : Vec3::UnitZ();
+    nx[i] = n.x(), ny[i] = n.y(), nz[i] = n.z();
     contact += o.contact;
     sliding += o.sliding;
   }
   rec.set_extra("qx", std::move(qx));
   rec.set_extra("qy", std::move(qy));
   rec.set_extra("qz", std::move(qz));
+  if (!rec.find_extra("contact")) rec.set_extra("contact", std::move(cf));
+  if (!rec.find_extra("nx")) {
+    rec.set_extra("nx", std::move(nx));
+    rec.set_extra("ny", std::move(ny));
+    rec.set_extra("nz", std::move(nz));
+  }
   write_recording(a.out, rec);
   fmt::print(stderr, "{} rows: {} in contact, {} with the proxy sliding -> {}\n", rec.size(),
              contact, sliding, a.out);
@@ -422,7 +433,8 @@ void register_proxy(CLI::App* sys) {
   auto* proxy = sys->add_subcommand(
       "proxy",
       "Estimate the proxy q of a recording (thesis 4.3.1) with the sliding yield surfaces and the\n"
-      "shape mesh; writes the recording with columns qx,qy,qz added (mm; q = p out of contact).");
+      "shape mesh; writes the recording with columns qx,qy,qz (mm; q = p out of contact), contact "
+      "(0/1) and nx,ny,nz (outward normal at q) added.");
   proxy->add_option("recording", xa->rec, "recording CSV (t,px,py,pz,fx,fy,fz,...)")
       ->required()
       ->check(CLI::ExistingFile);
