@@ -18,7 +18,7 @@ using namespace inhap;
 using namespace inhap::lab;
 
 struct RecordArgs {
-  std::string scene, scene_file, op = "explore", out, probe = "sphere";
+  std::string scene, scene_file, op = "explore", out, probe = "sphere", physics = "builtin";
   double seconds = 60;
   std::uint64_t seed = 1;
   bool no_noise = false, no_gravity = false, no_inertia = false;
@@ -80,6 +80,7 @@ void run_record(const RecordArgs& a) {
                "note: {:g} s at 1 kHz is {:.0f} rows, about {:.1f} GB of CSV (recording and "
                "truth)\n",
                a.seconds, a.seconds * 1000.0, a.seconds * 1000.0 * kBytesPerTick / 1e9);
+  spec.physics = physics_from_string(a.physics);
   const auto t0 = std::chrono::steady_clock::now();
   const std::string what = fmt::format("lab record {}", scene.name);
   const LabRecording lab = record_scene(scene, spec, [&](double f) {
@@ -134,6 +135,12 @@ void register_lab(CLI::App& app) {
   rec->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
       ->capture_default_str()
       ->check(CLI::IsMember({"sphere", "tip"}));
+  rec->add_option("--physics", a->physics,
+                  "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
+                  "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
+                  "hemisphere, sphere and box shapes; docs/lab-mujoco.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   rec->add_flag("--no-noise", a->no_noise, "no force-sensor noise in the raw reading");
   rec->add_flag("--no-gravity", a->no_gravity, "no tool weight in the raw reading");
   rec->add_flag("--no-inertia", a->no_inertia, "no tool inertia in the raw reading");

@@ -59,6 +59,8 @@ void TrainParams::validate() const {
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
   if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0) || !(gap_tolerance > 0))
     throw Error("expected positive tolerances");
+  if (!(modeling_range_n > 0) || !std::isfinite(modeling_range_n))
+    throw Error(fmt::format("expected a modeling range > 0 N, got {}", modeling_range_n));
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
   if (friction_cone && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
@@ -323,13 +325,9 @@ double fit_friction_cone(const TrainingSet& data) {
   return ratio[static_cast<std::size_t>(k)];
 }
 
-}  // namespace
-
-ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  params.validate();
-  foaw.validate();
+// The training proper on the samples kept (train_force_model counts and filters first).
+ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const FoawParams& foaw,
+                      std::chrono::steady_clock::time_point t0) {
   check_training_set(data, params);
   const std::size_t n = data.size();
   ForceModel model;
@@ -410,6 +408,48 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   model.stats.samples = n;
   model.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return model;
+}
+
+}  // namespace
+
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw) {
+  const auto t0 = std::chrono::steady_clock::now();
+  params.validate();
+  foaw.validate();
+  // Forces above the modeling range: counted, then kept or left out; never clipped.
+  std::vector<char> above(data.f.size(), 0);
+  double max_force = 0;
+  for (std::size_t i = 0; i < data.f.size(); ++i) {
+    const double mag = data.f[i].norm();
+    above[i] = mag > params.modeling_range_n;
+    if (std::isfinite(mag)) max_force = std::max(max_force, mag);
+  }
+  const auto n_above = static_cast<std::size_t>(std::count(above.begin(), above.end(), 1));
+  const std::size_t n = data.size();
+  const bool consistent = data.v.size() == n && data.q.size() == n && data.f.size() == n &&
+                          (data.n.empty() || data.n.size() == n);
+  ForceModel model;
+  if (params.above_range == AboveRange::kExclude && n_above > 0 && consistent) {
+    TrainingSet kept;
+    const bool normals = !data.n.empty();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (above[i]) continue;
+      kept.p.push_back(data.p[i]);
+      kept.v.push_back(data.v[i]);
+      kept.q.push_back(data.q[i]);
+      kept.f.push_back(data.f[i]);
+      if (normals) kept.n.push_back(data.n[i]);
+    }
+    model = train_kept(kept, params, foaw, t0);
+    model.stats.excluded = n_above;
+  } else {
+    model = train_kept(data, params, foaw, t0);
+  }
+  model.stats.offered = data.size();
+  model.stats.above_range = n_above;
+  model.stats.max_force_n = max_force;
   return model;
 }
 
@@ -552,42 +592,6 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   const double mag = f.norm();
   if (mag > limit) f *= limit / mag;
   return f;
-}
-
-}  // namespace inhap::dd
-
-namespace inhap::dd {
-
-SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                           const Vec3& normal) {
-  SupportCheck out;
-  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return out;
-  out.bin = model.bin_of((q - p).norm());
-  const BinModel& bm = model.bins[static_cast<std::size_t>(out.bin)];
-  const SurfaceFrame fr =
-      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
-  double z[kFeatureDim];
-  make_features(model.features, p, v, q, fr, z);
-  // The box is the training range [lo, hi] widened by margin * (hi - lo) on both sides.
-  const double m = model.params.box_margin;
-  for (int d = 0; d < kFeatureDim; ++d) {
-    const auto ud = static_cast<std::size_t>(d);
-    z[d] = (z[d] - bm.offset[ud]) / bm.scale[ud];
-    const double range = (bm.box_max[ud] - bm.box_min[ud]) / (1 + 2 * m);
-    const double lo = bm.box_min[ud] + m * range, hi = bm.box_max[ud] - m * range;
-    const double e = std::max({lo - z[d], z[d] - hi, 0.0}) / std::max(range, 1e-12);
-    out.excess[ud / 3] = std::max(out.excess[ud / 3], e);
-  }
-  double best = std::numeric_limits<double>::infinity();
-  const Eigen::Index k = bm.union_centres.rows();
-  for (Eigen::Index j = 0; j < k; ++j) {
-    double r2 = 0;
-    for (int d = 0; d < kFeatureDim; ++d)
-      r2 += (z[d] - bm.union_centres(j, d)) * (z[d] - bm.union_centres(j, d));
-    best = std::min(best, r2);
-  }
-  out.nearest = std::sqrt(best);
-  return out;
 }
 
 }  // namespace inhap::dd

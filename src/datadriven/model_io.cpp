@@ -236,7 +236,13 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"l1_nonzeros", arr3(m.stats.nonzeros)},
                 {"cg_iterations", arr3(m.stats.cg_iterations)},
                 {"lambda", arr3(m.stats.lambda)},
-                {"selected_rows", m.stats.selected_rows}};
+                {"selected_rows", m.stats.selected_rows},
+                {"modeling_range_n", p.modeling_range_n},
+                {"above_range", to_string(p.above_range)},
+                {"samples_offered", m.stats.offered},
+                {"samples_above_range", m.stats.above_range},
+                {"samples_excluded", m.stats.excluded},
+                {"max_force_n", m.stats.max_force_n}};
   j["edges_mm"] = m.edges;
   json bins = json::array();
   for (const BinModel& b : m.bins) {
@@ -353,6 +359,13 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("cg_iterations", m.stats.cg_iterations);
       get("lambda", m.stats.lambda);
       get("selected_rows", m.stats.selected_rows);
+      get("modeling_range_n", m.params.modeling_range_n);
+      if (t.contains("above_range"))
+        m.params.above_range = above_range_from_string(t["above_range"].get<std::string>());
+      get("samples_offered", m.stats.offered);
+      get("samples_above_range", m.stats.above_range);
+      get("samples_excluded", m.stats.excluded);
+      get("max_force_n", m.stats.max_force_n);
     } catch (const json::exception& e) {
       r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
     } catch (const Error& e) {

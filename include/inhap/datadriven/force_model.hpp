@@ -96,6 +96,15 @@ const char* to_string(Design d);
 /// Parses "thesis" or "regression"; throws inhap::Error otherwise.
 Design design_from_string(const std::string& s);
 
+/// What training does with samples whose force magnitude exceeds the modeling range.
+enum class AboveRange {
+  kKeep,     ///< train on them as measured (counted and reported)
+  kExclude,  ///< leave them out (counted and reported)
+};
+const char* to_string(AboveRange a);
+/// Parses "keep" or "exclude"; throws inhap::Error otherwise.
+AboveRange above_range_from_string(const std::string& s);
+
 struct TrainParams {
   int bins = 2;                 ///< bins by ||q - p||, equal counts (thesis: 5; 2 measured best)
   int centers = 300;            ///< M: k-means clusters = selected rows per bin
@@ -148,6 +157,10 @@ struct TrainParams {
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
   /// tangential force).
   bool friction_cone = false;
+  /// Modeling range, N: samples with |f| above it are counted (TrainStats::above_range) and kept
+  /// or excluded as `above_range` says. Training never clips a target.
+  double modeling_range_n = 5.0;
+  AboveRange above_range = AboveRange::kKeep;
   int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
@@ -184,6 +197,10 @@ struct TrainStats {
   std::vector<std::array<int, 3>> cg_iterations;
   std::vector<std::array<double, 3>> lambda;
   std::vector<int> selected_rows;  ///< per bin
+  std::size_t offered = 0;         ///< samples given to training (before any exclusion)
+  std::size_t above_range = 0;     ///< of them, |f| > TrainParams::modeling_range_n
+  std::size_t excluded = 0;        ///< of them, left out (AboveRange::kExclude)
+  double max_force_n = 0;          ///< largest |f| offered, N
 };
 
 struct ForceModel {
@@ -205,6 +222,19 @@ struct ForceModel {
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;
 };
+
+/// Names of the training presets: "best" (the documented pipeline: local-frame features, tangent
+/// mirror, stiffness and shear priors, friction cone, feature weights 1 5 0.5, bins blended over
+/// +-1 mm; needs the normal at q), "world" (world-frame (q - p, q, pdot) features with the
+/// TrainParams defaults; for recordings without normals or a shape mesh) and "thesis" (the
+/// thesis' settings of sec. 4.4: world frame, 5 bins, no tail, equal weights, M x N design, plain
+/// least squares, 10 % clamping margin, hard bin switch).
+std::vector<std::string> preset_names();
+/// TrainParams of a preset; throws inhap::Error naming the presets when unknown.
+TrainParams preset_params(const std::string& name);
+
+/// Counts the samples with |f| > modeling_range_n (a diagnostic; training does it too).
+std::size_t count_above(const std::vector<Vec3>& f, double modeling_range_n);
 
 /// Trains the model. Throws inhap::Error when there are too few samples (fewer than 2 per
 /// bin), non-finite values or bad parameters.
