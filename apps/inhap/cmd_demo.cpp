@@ -106,7 +106,8 @@ std::vector<Step> all_steps() {
        step_force_model},
       {"strokes", "5.3", "Strokes on the 25-model surface, TCA-MESH vs CBA", step_strokes},
       {"study", "5.4", "Virtual user study, TCA-MESH vs CBA", step_study},
-      {"data", "5.3", "Strokes on the real data sets (--data)", step_data_strokes},
+      {"data", "5.3", "Strokes on the real data sets: AFM, bunny, CT head (fig. 5.3, 5.7)",
+       step_data_strokes},
   };
 }
 
@@ -176,7 +177,7 @@ void register_demo(CLI::App& app) {
       "the contact points and reconstructs their shape (ch. 3); palpates the dome's sliding\n"
       "yield surfaces, records free exploration, trains the force model and validates it on a\n"
       "held-out recording (ch. 4); strokes the 25-model surface with TCA-MESH and CBA and runs\n"
-      "a virtual user study (ch. 5); with --data also strokes the bunny, CT head and AFM data.\n"
+      "a virtual user study, and strokes the AFM, bunny and CT head data of data/ (ch. 5).\n"
       "Prints a summary table (measured vs thesis) and writes OUT/report.html (self-contained,\n"
       "opens offline) plus each figure's data as OUT/*.csv / *.json. About 2-4 min on 2 cores,\n"
       "--quick under 20 s. Units: mm, N, s, N/mm.");
@@ -184,7 +185,8 @@ void register_demo(CLI::App& app) {
   cmd->add_flag("--quick", o->quick,
                 "shorter recordings, the dome only, fewer palpation points and a smaller study "
                 "(CI, < 2 min)");
-  cmd->add_option("--data", o->data, "folder with bunny/, headsq/, afm-topography/")
+  cmd->add_option("--data", o->data,
+                  "folder with bunny/, headsq/, afm-topography/ (default: the project's data/)")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--web-dir", o->web_dir,
                   "folder with the report template and node_modules (default: web/ of the "

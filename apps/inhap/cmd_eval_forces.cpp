@@ -24,6 +24,7 @@
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/datadriven/model_io.hpp"
@@ -52,7 +53,7 @@ struct EvalForcesOptions {
   double coverage_share = 0.65, seconds_per_spot = 1.5;
   std::vector<double> coverage_force{lab::ExploreOptions{}.coverage_force_min,
                                      lab::ExploreOptions{}.coverage_force_max};
-  std::string proxy = "estimated", train_operator = "coverage";
+  std::string proxy = "estimated", train_operator = "coverage", physics = "builtin";
 };
 
 json xyz(const std::array<double, 3>& v) {
@@ -155,6 +156,20 @@ json object_json(const ForceLabResult& d) {
   return j;
 }
 
+/// Share of the in-contact test samples outside the training support (dd::CoverageMap of the
+/// training run's proxies and forces, as `model train` writes and `model eval` reports).
+double outside_coverage(const ForceLabResult& d) {
+  std::vector<Vec3> q, f;
+  for (std::size_t i = 0; i < d.train.rec.size(); ++i)
+    if (d.train_track.contact[i]) q.push_back(d.train_track.q[i]), f.push_back(d.train.rec.f[i]);
+  const CoverageMap map(q, f);
+  std::size_t n = 0, out = 0;
+  for (std::size_t i = 0; i < d.test.rec.size(); ++i)
+    if (d.test_track.contact[i])
+      ++n, out += map.outside(d.test_track.q[i], d.test.rec.f[i].norm()) ? 1 : 0;
+  return n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
+}
+
 json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   ForceLabOptions fo;
   fo.scene = name;
@@ -173,9 +188,14 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.coverage_force_max = o.coverage_force[1];
   fo.train_operator = o.train_operator;
   fo.progress = cli::progress;
+  fo.physics = lab::physics_from_string(o.physics);
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   const ForceVariant& v = d.proxy;
   json j = object_json(d);
+  // Training never clips a target (forces above the modeling range are kept and counted).
+  j["clipped_training_samples"] = 0;
+  j["training_samples_above_range"] = v.model.stats.above_range;
+  j["coverage"] = outside_coverage(d);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
       "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
@@ -195,6 +215,7 @@ void run_eval_forces(const EvalForcesOptions& o) {
   json out;
   out["units"] = {{"force", "N"}, {"time", "s"}, {"step", "us"}};
   const bool est = o.proxy == "estimated";
+  out["physics"] = o.physics;
   out["proxy_source"] = est ? "estimated:sys" : "truth";
   out["contact_source"] = est ? "estimated:geometric" : "truth";
   out["note"] =
@@ -266,8 +287,7 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--lambda-ratio", o->params.lambda_ratio, "lambda / ||A~^T f~||_inf")
       ->capture_default_str();
   cmd->add_option("--seed", o->params.seed, "k-means++ seed")->capture_default_str();
-  cmd->add_flag("--tail,!--no-tail", o->params.linear_tail,
-                "Linear tail on every expansion (default on)");
+  cli::add_switch(*cmd, "tail", o->params.linear_tail, "Linear tail on every expansion");
   cmd->add_option(
       "--feature-weights", o->params.feature_weights,
       "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
@@ -289,6 +309,10 @@ void register_eval_forces(CLI::App& app) {
                   "proxy and contact)")
       ->capture_default_str()
       ->check(CLI::IsMember({"estimated", "truth"}));
+  cmd->add_option("--physics", o->physics,
+                  "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   cmd->add_option("--train-operator", o->train_operator,
                   "Training run: coverage (grid of spots, every depth, slides between) or random "
                   "(the ordinary exploration, as the test run)")
@@ -308,9 +332,8 @@ void register_eval_forces(CLI::App& app) {
       ->capture_default_str()
       ->expected(2)
       ->check(CLI::Range(0.1, 6.0));
-  cmd->add_flag("--baselines,!--no-baselines", o->baselines,
-                "Also train the no-proxy and onset-proxy models (default on; off: their fields are "
-                "null)");
+  cli::add_switch(*cmd, "baselines", o->baselines,
+                  "Also train the no-proxy and onset-proxy models (off: their fields are null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o, cmd] {
     if (o->design == "thesis") apply_thesis_defaults(*o, *cmd);

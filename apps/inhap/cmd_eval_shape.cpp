@@ -63,6 +63,7 @@ struct EvalContactsArgs {
   std::uint64_t seed = 1;
   double eps = 0.2;
   std::size_t window = 100;
+  std::string physics = "builtin";
 };
 
 void run_eval_contacts(const EvalContactsArgs& a) {
@@ -71,8 +72,15 @@ void run_eval_contacts(const EvalContactsArgs& a) {
              "estimate mm (med/p95/max)", "threshold mm (med/p95/max)", "ratio");
   for (const std::string& name : lab::tapping_scene_names()) {
     const lab::Scene scene = lab::builtin_scene(name);
+    const lab::Physics physics = lab::physics_from_string(a.physics);
+    if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
+      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", name,
+                 scene.object.shape().type_name());
+      continue;
+    }
     const lab::LabRecording rec = record_taps(
-        scene, a.taps, a.seed, [&](double f) { cli::progress("eval contacts " + name, f, 0); });
+        scene, a.taps, a.seed, [&](double f) { cli::progress("eval contacts " + name, f, 0); },
+        physics);
     ContactOptions est, thr;
     est.eps_f = thr.eps_f = a.eps;
     est.window = thr.window = a.window;
@@ -113,6 +121,7 @@ struct EvalShapeArgs {
   std::uint64_t seed = 1;
   double region_mm = 5.0, rim_margin_mm = 1.0;
   bool icp = false, no_normal_overlap = false;
+  std::string physics = "builtin";
 };
 
 ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std::size_t taps,
@@ -149,9 +158,15 @@ void run_eval_shape(const EvalShapeArgs& a) {
       continue;
     if (a.taps > 0) t.taps = a.taps;
     const lab::Scene scene = lab::builtin_scene(t.name);
-    const lab::LabRecording rec = record_taps(scene, t.taps, a.seed, [&](double f) {
-      cli::progress(std::string("eval shape ") + t.name, f, 0);
-    });
+    const lab::Physics physics = lab::physics_from_string(a.physics);
+    if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
+      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", t.name,
+                 scene.object.shape().type_name());
+      continue;
+    }
+    const lab::LabRecording rec = record_taps(
+        scene, t.taps, a.seed,
+        [&](double f) { cli::progress(std::string("eval shape ") + t.name, f, 0); }, physics);
     const TriMesh reference = reference_mesh(scene.object.shape());
     const ShapeVariant e = run_variant(rec, ContactMethod::Estimate, t.taps, reference, a,
                                        std::string(t.name) + ".estimate");
@@ -202,6 +217,12 @@ void register_eval_shape(CLI::App& app) {
   contacts->add_option("--json", c->json_out, "write the numbers as JSON");
   contacts->add_option("--taps", c->taps, "taps per object")->check(CLI::Range(1, 100000));
   contacts->add_option("--seed", c->seed, "random seed of the lab (same seed, same numbers)");
+  contacts
+      ->add_option("--physics", c->physics,
+                   "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent "
+                   "are skipped)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   contacts->add_option("--eps", c->eps, "contact threshold, N")->check(CLI::PositiveNumber);
   contacts->add_option("--window", c->window, "knee-fit window, samples")
       ->check(CLI::Range(4, 100000));
@@ -215,6 +236,12 @@ void register_eval_shape(CLI::App& app) {
       "and mean distance (mm) to the true surface over the common (tapped) region.");
   shape->add_option("--json", s->json_out, "write the numbers as JSON");
   shape->add_option("--seed", s->seed, "random seed of the lab");
+  shape
+      ->add_option("--physics", s->physics,
+                   "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent are "
+                   "skipped)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   shape->add_option("--objects", s->objects, "only these objects (default: all three)")
       ->delimiter(',')
       ->check(CLI::IsMember({"foam-ball", "ridged-silicone", "silicone-hemisphere"}));

@@ -31,6 +31,7 @@ struct EvalSysOptions {
   double seconds = 60.0;
   std::uint64_t seed = 1;
   bool quick = false;
+  std::string physics = "builtin";  ///< lab contact physics
 };
 
 json eval_scene(const std::string& name, const EvalSysOptions& o) {
@@ -39,6 +40,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   so.seconds = o.seconds;
   so.seed = o.seed;
   so.quick = o.quick;
+  so.physics = o.physics;
   so.progress = cli::progress;
   const SysLabResult res = evaluate_sys_on_lab(so);
   const ScenePalpation& r = res.palpation;
@@ -101,6 +103,9 @@ void register_eval_sys(CLI::App& app) {
   cmd->add_option("--scenes", o->scenes, "comma-separated built-in scenes")->capture_default_str();
   cmd->add_option("--seconds", o->seconds, "length of the exploration recording, s")
       ->capture_default_str();
+  cmd->add_option("--physics", o->physics, "lab contact physics: builtin | mujoco")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   cmd->add_option("--seed", o->seed, "seed of the device noise and the operator")
       ->capture_default_str();
   cmd->add_flag("--quick", o->quick,

@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 
 #include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
@@ -16,11 +18,25 @@ using namespace inhap;
 using namespace inhap::lab;
 
 struct RecordArgs {
-  std::string scene, scene_file, op = "explore", out, probe = "sphere";
+  std::string scene, scene_file, op = "explore", out, probe = "sphere", physics = "builtin";
   double seconds = 60;
   std::uint64_t seed = 1;
   bool no_noise = false, no_gravity = false, no_inertia = false;
 };
+
+constexpr double kLongRecordingS = 600.0, kMaxRecordingS = 3600.0;
+constexpr double kBytesPerTick = 400.0;  // a recording row plus its truth row, roughly
+
+/// A recording with a non-finite time, position or force is refused (inhap could not read
+/// it back): the scene or the operator drove the simulation out of range.
+void require_finite_recording(const Recording& rec, const std::string& out) {
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    if (!std::isfinite(rec.t[i]) || !rec.p[i].allFinite() || !rec.f[i].allFinite())
+      throw Error(fmt::format(
+          "{}: refusing to write row {} (t = {} s): a position or force is not finite (the "
+          "scene's sizes or positions are out of range?)",
+          out, i + 1, rec.t[i]));
+}
 
 Scene pick_scene(const std::string& name, const std::string& file) {
   if (!name.empty() && !file.empty()) throw Error("give either --scene or --scene-file, not both");
@@ -55,13 +71,26 @@ void run_record(const RecordArgs& a) {
   spec.noise = !a.no_noise;
   spec.gravity = !a.no_gravity;
   spec.inertia = !a.no_inertia;
+  // Both outputs are checked before the simulation (which may take minutes) and written
+  // all-or-nothing after it.
+  check_output_path(a.out);
+  check_output_path(truth_path_for(a.out));
+  if (a.seconds > kLongRecordingS)
+    fmt::print(stderr,
+               "note: {:g} s at 1 kHz is {:.0f} rows, about {:.1f} GB of CSV (recording and "
+               "truth)\n",
+               a.seconds, a.seconds * 1000.0, a.seconds * 1000.0 * kBytesPerTick / 1e9);
+  spec.physics = physics_from_string(a.physics);
   const auto t0 = std::chrono::steady_clock::now();
   const std::string what = fmt::format("lab record {}", scene.name);
   const LabRecording lab = record_scene(scene, spec, [&](double f) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cli::progress(what, f, f > 0 ? el * (1 - f) / f : 0);
   });
+  require_finite_recording(lab.rec, a.out);
+  OutputTransaction tx;
   write_lab_recording(a.out, lab);
+  tx.commit();
   fmt::print(stderr, "wrote {} rows to {} and {}\n", lab.rec.size(), a.out, truth_path_for(a.out));
 }
 
@@ -93,13 +122,25 @@ void register_lab(CLI::App& app) {
   rec->add_option("--scene", a->scene, "built-in scene (see `inhap lab scenes`)");
   rec->add_option("--scene-file", a->scene_file, "scene JSON file");
   rec->add_option("--operator", a->op, "tap | explore | air")
+      ->capture_default_str()
       ->check(CLI::IsMember({"tap", "explore", "air"}));
-  rec->add_option("--seconds", a->seconds, "length of the recording, s")
-      ->check(CLI::Range(0.001, 86400.0));
-  rec->add_option("--seed", a->seed, "random seed (same seed, same bytes)");
+  rec->add_option("--seconds", a->seconds,
+                  fmt::format("length of the recording, s (at most {:g}: about {:.0f} MB per "
+                              "minute of CSV)",
+                              kMaxRecordingS, 60e3 * kBytesPerTick / 1e6))
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, kMaxRecordingS));
+  rec->add_option("--seed", a->seed, "random seed (same seed, same bytes)")->capture_default_str();
   rec->add_option("--out,-o", a->out, "output CSV (truth goes to OUT.truth.csv)")->required();
   rec->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
+      ->capture_default_str()
       ->check(CLI::IsMember({"sphere", "tip"}));
+  rec->add_option("--physics", a->physics,
+                  "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
+                  "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
+                  "hemisphere, sphere and box shapes; docs/lab-mujoco.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   rec->add_flag("--no-noise", a->no_noise, "no force-sensor noise in the raw reading");
   rec->add_flag("--no-gravity", a->no_gravity, "no tool weight in the raw reading");
   rec->add_flag("--no-inertia", a->no_inertia, "no tool inertia in the raw reading");

@@ -40,11 +40,15 @@ void run_contacts(const ContactsArgs& a) {
   const ForceSource source = a.force == "raw"        ? ForceSource::Raw
                              : a.force == "recorded" ? ForceSource::Recorded
                                                      : ForceSource::Auto;
+  check_output_path(a.out);
+  if (!a.csv.empty()) check_output_path(a.csv);
   const Recording rec = read_recording(a.rec);
   const TappingResult res = contacts_from_recording(rec, o, source);
   for (const auto& note : res.notes) fmt::print(stderr, "{}: {}\n", a.rec, note);
+  OutputTransaction tx;  // the PLY and the CSV table: both or neither
   write_contact_points(a.out, res.contacts, a.ascii);
   if (!a.csv.empty()) write_contact_table(a.csv, res.contacts);
+  tx.commit();
   std::size_t estimated = 0;
   for (const auto& c : res.contacts) estimated += c.estimated;
   const std::string force =
@@ -136,6 +140,7 @@ void run_compare(const CompareArgs& args) {
     fmt::print("  icp: rotation {:.4f} deg, translation ({:.4f}, {:.4f}, {:.4f}) mm\n",
                aa.angle() * 180.0 / M_PI, r.transform.t.x(), r.transform.t.y(), r.transform.t.z());
   }
+  OutputTransaction tx;  // the coloured mesh and the JSON: both or neither
   if (!args.colored.empty()) {
     TriMesh out = a;
     for (Vec3& p : out.positions) p = r.transform.apply(p);
@@ -165,6 +170,7 @@ void run_compare(const CompareArgs& args) {
     j["normal_overlap"] = o.normal_overlap;
     write_file_atomic(args.json, j.dump(2) + "\n");
   }
+  tx.commit();
 }
 
 void add_contacts(CLI::App& shape);
@@ -195,21 +201,27 @@ void add_contacts(CLI::App& shape_cmd) {
   contacts->add_option("recording", c->rec, "recording CSV")->required()->check(CLI::ExistingFile);
   contacts->add_option("--out,-o", c->out, "output point PLY")->required();
   contacts->add_option("--method", c->method, "estimate (knee fit) | threshold")
+      ->capture_default_str()
       ->check(CLI::IsMember({"estimate", "threshold"}));
   contacts->add_option("--eps", c->eps, "contact threshold on ||f||, N")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
   contacts->add_option("--window", c->window, "knee-fit window before detection, samples")
+      ->capture_default_str()
       ->check(CLI::Range(4, 100000));
-  contacts->add_option("--post", c->post, "samples after detection added to the fit window");
+  contacts->add_option("--post", c->post, "samples after detection added to the fit window")
+      ->capture_default_str();
   contacts
       ->add_option("--min-contact", c->min_contact,
                    "samples ||f|| must stay above eps for a tap (rejects noise spikes)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   contacts->add_flag("--no-refine", c->no_refine,
                      "knee on a sample time only (no continuous refinement between samples)");
   contacts
       ->add_option("--force", c->force,
                    "auto (raw columns compensated offline if present) | recorded | raw")
+      ->capture_default_str()
       ->check(CLI::IsMember({"auto", "recorded", "raw"}));
   contacts->add_option("--csv", c->csv, "also write a per-tap CSV table");
   contacts->add_flag("--ascii", c->ascii, "ASCII PLY");

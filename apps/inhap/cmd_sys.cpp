@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/sys_lab.hpp"
@@ -106,8 +107,10 @@ void run_table(const TableArgs& a) {
   fmt::print("elastic limit: f_T = {:.3f} N{} (commanded load at the border {:.3f} N)\n", r.f_limit,
              note, r.f_limit_load);
   fmt::print("u_elastic_limit: depth {:.3f} mm, tangential {:.3f} mm\n", r.depth, r.radius);
+  OutputTransaction tx;
   if (!a.gs_mesh.empty()) write_mesh(a.gs_mesh, m.points[i].gs.to_mesh(4));
   if (!a.fs_mesh.empty()) write_mesh(a.fs_mesh, m.points[i].fs.to_mesh(4));
+  tx.commit();
 }
 
 std::string stem_of(const std::string& out) {
@@ -123,11 +126,15 @@ struct PalpateArgs {
 void run_palpate(PalpateArgs a) {
   a.opt.progress_label = "sys palpate";
   a.opt.progress = cli::progress;
-  const eval::ScenePalpation r = eval::palpate_scene(a.opt);
   const std::string stem = stem_of(a.out);
+  for (const std::string& path : {stem + ".cycles.csv", stem + ".shape.ply", a.out})
+    check_output_path(path);  // before the palpation, which takes minutes
+  const eval::ScenePalpation r = eval::palpate_scene(a.opt);
+  OutputTransaction tx;  // three outputs: all or none
   write_cycles_csv(stem + ".cycles.csv", r.cycles);
   write_mesh(stem + ".shape.ply", r.shape_mesh);
   write_sys_json(a.out, r.sys);
+  tx.commit();
   print_summary(r.sys);
   fmt::print(
       stderr,
@@ -150,15 +157,26 @@ void run_proxy(const ProxyArgs& a) {
   model.creep = !a.no_creep;
   const ProxyColumns c = proxy_track(model, rec);
   std::vector<double> qx(rec.size()), qy(rec.size()), qz(rec.size());
+  // The estimator's contact flag and surface normal at q, so that `model train` needs no flags.
+  std::vector<double> cf(rec.size()), nx(rec.size()), ny(rec.size()), nz(rec.size());
   for (std::size_t i = 0; i < rec.size(); ++i) {
     qx[i] = c.q[i].x();
     qy[i] = c.q[i].y();
     qz[i] = c.q[i].z();
+    cf[i] = c.contact[i] ? 1.0 : 0.0;
+    const Vec3 n = c.contact[i] ? c.n[i] : Vec3::UnitZ();
+    nx[i] = n.x(), ny[i] = n.y(), nz[i] = n.z();
   }
   const std::size_t contact = c.contact_count, sliding = c.sliding_count;
   rec.set_extra("qx", std::move(qx));
   rec.set_extra("qy", std::move(qy));
   rec.set_extra("qz", std::move(qz));
+  if (!rec.find_extra("contact")) rec.set_extra("contact", std::move(cf));
+  if (!rec.find_extra("nx")) {
+    rec.set_extra("nx", std::move(nx));
+    rec.set_extra("ny", std::move(ny));
+    rec.set_extra("nz", std::move(nz));
+  }
   write_recording(a.out, rec);
   fmt::print(stderr, "{} rows: {} in contact, {} with the proxy sliding -> {}\n", rec.size(),
              contact, sliding, a.out);
@@ -238,6 +256,9 @@ void register_palpate(CLI::App* sys) {
                       "the scene's region");
   palpate->add_option("--seed", pa->opt.seed, "device noise seed")->capture_default_str();
   palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
+  palpate->add_option("--physics", pa->opt.physics, "lab contact physics: builtin | mujoco")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
   palpate->callback([pa] { run_palpate(*pa); });
 }
@@ -247,7 +268,8 @@ void register_proxy(CLI::App* sys) {
   auto* proxy = sys->add_subcommand(
       "proxy",
       "Estimate the proxy q of a recording (thesis 4.3.1) with the sliding yield surfaces and the\n"
-      "shape mesh; writes the recording with columns qx,qy,qz added (mm; q = p out of contact).");
+      "shape mesh; writes the recording with columns qx,qy,qz (mm; q = p out of contact), contact "
+      "(0/1) and nx,ny,nz (outward normal at q) added.");
   proxy->add_option("recording", xa->rec, "recording CSV (t,px,py,pz,fx,fy,fz,...)")
       ->required()
       ->check(CLI::ExistingFile);

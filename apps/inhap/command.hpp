@@ -32,6 +32,22 @@ inline CLI::App* eval_group(CLI::App& app) {
                           "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
 }
 
+/// A boolean set by a pair of flags --NAME and --no-NAME. The help marks the one that matches
+/// the default (CLI11's "--x,!--no-x" shows `{false}`, read as the default, for a default on).
+/// `mark_default` false: `what` already says the default.
+inline void add_switch(CLI::App& cmd, const std::string& name, bool& value, const std::string& what,
+                       bool mark_default = true) {
+  const bool on = value;
+  cmd.add_flag_callback(
+      "--" + name, [&value] { value = true; },
+      what + (!mark_default ? ""
+              : on          ? " (default)"
+                            : " (default: off)"));
+  cmd.add_flag_callback(
+      "--no-" + name, [&value] { value = false; },
+      "Turn --" + name + " off" + (on ? "" : " (the default)"));
+}
+
 /// Progress line on stderr for long work: "[what] 42% (eta 3 s)"; quiet when stderr is not a
 /// terminal unless `force`. While a progress hook is set, the line goes to the hook instead.
 void progress(const std::string& what, double fraction, double eta_s);

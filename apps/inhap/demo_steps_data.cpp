@@ -1,120 +1,251 @@
-// inhap demo: strokes on the real data sets of thesis fig. 5.3 (Stanford bunny, CT head, AFM
-// topography) when --data DIR holds them. Units: mm, N, N/mm, s.
+// inhap demo: thesis sec. 5.3 on the real data sets (fig. 5.3, 5.7): the AFM protein-on-mica
+// topography, the Stanford bunny and the CT head from the project's data/ folder (or --data
+// DIR), loaded as the thesis did (real_data.hpp), stroked through the regions the thesis marks
+// with TCA-MESH and CBA (eval/strokes.hpp). Units: mm, N, N/mm, s.
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <array>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 
 #include "demo.hpp"
 #include "demo_strokes.hpp"
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
-#include "inhap/geometry/heightmap.hpp"
-#include "inhap/geometry/mesh_io.hpp"
-#include "inhap/geometry/volume.hpp"
+#include "inhap/eval/strokes.hpp"
+#include "inhap/rendering/real_data.hpp"
 
 namespace inhap::demo {
-namespace {
 
 namespace fs = std::filesystem;
 
-struct DataSet {
-  std::string name, file;
-  std::function<TriMesh(const std::string&)> load;
-};
+namespace {
 
-// Bunny: metres -> mm, y-up -> z-up; stiffness from height (softer at the top, 0.3-1.0 N/mm).
-TriMesh load_bunny(const std::string& path) {
-  TriMesh m = read_mesh(path);
-  for (auto& p : m.positions) p = Vec3(p.x(), -p.z(), p.y()) * 1000.0;
-  m.normals.clear();
-  m.compute_normals();
-  const Box3 b = m.bbox();
-  std::vector<double> k;
-  for (const auto& p : m.positions)
-    k.push_back(1.0 - 0.7 * (p.z() - b.min.z()) / std::max(1e-9, b.max.z() - b.min.z()));
-  m.set_property("stiffness", k);
-  return m;
+bool has_data(const fs::path& d) {
+  return fs::exists(d / "afm-topography" / "sample_0.top") &&
+         fs::exists(d / "bunny" / "bun_zipper.ply") && fs::exists(d / "headsq" / "quarter.nhdr");
 }
 
-// AFM: levelled, resampled to 129 x 129 over 100 mm, height range 10 mm, stiffness from height.
-TriMesh load_afm(const std::string& path) {
-  Grid raw = read_wsxm_top(path);
-  level_plane(raw);
-  const int n = 129;
-  Grid h(n, n), k(n, n);
-  const double lo = raw.min(), span = std::max(raw.max() - lo, 1e-12);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const int ix = std::min(raw.width - 1, int(std::lround(x * double(raw.width - 1) / (n - 1))));
-      const int iy =
-          std::min(raw.height - 1, int(std::lround(y * double(raw.height - 1) / (n - 1))));
-      const double v = (raw.at(ix, iy) - lo) / span;
-      h.at(x, y) = 10.0 * v;
-      k.at(x, y) = 1.0 - 0.8 * v;
+}  // namespace
+
+std::string find_data_dir(const std::string& given) {
+  if (!given.empty()) {
+    if (!has_data(given))
+      throw Error(
+          fmt::format("{}: expected afm-topography/sample_0.top, bunny/bun_zipper.ply and "
+                      "headsq/quarter.nhdr in it",
+                      given));
+    return given;
+  }
+  std::vector<fs::path> candidates;
+  if (const char* env = std::getenv("INHAP_DATA"); env && *env) candidates.push_back(env);
+  std::array<char, 4096> buf{};
+  const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
+  if (n > 0) {
+    fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
+    for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
+      candidates.push_back(d / "data");
+      candidates.push_back(d / "share/inhap/data");
     }
-  return grid_to_mesh(h, 100.0 / (n - 1), &k);
+  }
+  candidates.push_back(fs::current_path() / "data");
+  for (const auto& c : candidates)
+    if (has_data(c)) return c.string();
+  return {};
 }
 
-TriMesh load_head(const std::string& path) {
-  return head_from_volume(read_nrrd(path)).mesh;
+namespace {
+
+// The thesis' marked points (A-D) as labelled markers just above the original surface.
+nlohmann::json marks_trace(const render::DataStroke& line, const std::vector<double>& u,
+                           const std::vector<double>& h) {
+  nlohmann::json mx = nlohmann::json::array(), my = nlohmann::json::array(),
+                 mt = nlohmann::json::array();
+  for (const auto& mk : line.marks) {
+    double best = std::numeric_limits<double>::infinity(), hz = 0;
+    for (std::size_t i = 0; i < u.size(); ++i)
+      if (std::abs(u[i] - mk.along_mm) < best) {
+        best = std::abs(u[i] - mk.along_mm);
+        hz = h[i];
+      }
+    mx.push_back(rnd(mk.along_mm));
+    my.push_back(rnd(hz + 0.5));
+    mt.push_back(mk.label);
+  }
+  return {{"type", "scatter"},
+          {"mode", "markers+text"},
+          {"x", mx},
+          {"y", my},
+          {"text", mt},
+          {"textposition", "top center"},
+          {"name", "thesis' marked points"},
+          {"marker", {{"color", "#d62728"}, {"size", 9}, {"symbol", "triangle-down"}}}};
+}
+
+// Fig. 5.7: heights along the stroke of the original surface and of HIP, IHIP, CIHIP for both
+// algorithms, the stiffness under the stroke (right axis) and the thesis' marked points.
+Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
+                      const eval::StrokeRun& run, const std::string& id) {
+  const render::DataStroke& line = run.line;
+  const double len = (line.to - line.from).norm();
+  const Vec2 dir = (line.to - line.from) / len;
+  const Box3 b = model.index().bounds();
+  std::vector<double> u, h, k;
+  for (double a = 0; a <= len + 1e-9; a += len / 400) {
+    const Vec2 q = line.from + a * dir;
+    const auto hit = model.index().first_hit(Vec3(q.x(), q.y(), b.max.z() + 1),
+                                             Vec3(q.x(), q.y(), b.min.z() - 1));
+    if (!hit) continue;
+    u.push_back(a);
+    h.push_back(hit->point.z());
+    k.push_back(model.stiffness(*hit));
+  }
+  nlohmann::json data = nlohmann::json::array();
+  data.push_back(line_trace(series(u), series(h), "original surface", "#000000", 2.5));
+  auto add = [&](const std::vector<render::StrokeSample>& s, int which, const std::string& name,
+                 const std::string& colour, const std::string& dash) {
+    std::vector<double> x, z;
+    std::size_t m = 0;
+    for (const auto& e : s) m += e.contact;
+    const std::size_t stride = std::max<std::size_t>(1, m / 600);
+    std::size_t i = 0;
+    for (const auto& e : s) {
+      if (!e.contact || i++ % stride) continue;
+      const double a = (Vec2(e.hip.x(), e.hip.y()) - line.from).dot(dir);
+      if (a < 0.2 || a > len - 0.2) continue;
+      const Vec3& p = which == 0 ? e.hip : which == 1 ? e.ihip : e.cihip;
+      x.push_back(a);
+      z.push_back(p.z());
+    }
+    data.push_back(line_trace(series(x), series(z), name, colour, 1.8, dash));
+  };
+  add(run.samples_tca, 0, "TCA-MESH HIP p", "#1f77b4", "solid");
+  add(run.samples_tca, 1, "TCA-MESH IHIP q", "#d62728", "dot");
+  add(run.samples_tca, 2, "TCA-MESH CIHIP q'", "#2ca02c", "dash");
+  add(run.samples_cba, 0, "CBA HIP p", "#ff7f0e", "solid");
+  add(run.samples_cba, 1, "CBA IHIP q", "#9467bd", "dot");
+  nlohmann::json kt = line_trace(series(u), series(k), "stiffness under the stroke (N/mm)",
+                                 "#7f7f7f", 1.2, "dashdot");
+  kt["yaxis"] = "y2";
+  data.push_back(kt);
+  data.push_back(marks_trace(line, u, h));
+  std::string marks;
+  for (const auto& mk : line.marks) marks += fmt::format(" {}: {}.", mk.label, mk.what);
+  Figure f{
+      id,
+      fmt::format("Fig. 5.7 on the {}: {} at {:.0f} mm/s", ds.name, line.name, run.speed_mm_s),
+      fmt::format("Constant 1 N stroke; heights of the HIP p (what the hand feels), IHIP q and "
+                  "CIHIP q' over the original surface; stiffness under the stroke on the right "
+                  "axis.{} Shape distortion against the original surface (RMS, mean removed): "
+                  "TCA-MESH {:.3f} mm, CBA {:.3f} mm; largest jump at a stiffness boundary: "
+                  "TCA-MESH {:.3f} mm, CBA {:.3f} mm.",
+                  marks, run.tca.distortion_rms_mm, run.cba.distortion_rms_mm, run.tca.max_jump_mm,
+                  run.cba.max_jump_mm),
+      "plotly",
+      {}};
+  f.spec["data"] = data;
+  f.spec["layout"] = {{"xaxis", {{"title", {{"text", "distance along the stroke (mm)"}}}}},
+                      {"yaxis", {{"title", {{"text", "height z (mm)"}}}}},
+                      {"yaxis2",
+                       {{"title", {{"text", "stiffness (N/mm)"}}},
+                        {"overlaying", "y"},
+                        {"side", "right"},
+                        {"range", {0, 1.1}}}},
+                      {"legend", {{"orientation", "h"}}}};
+  return f;
+}
+
+void write_run_csv(const std::string& path, const eval::StrokeRun& run) {
+  const std::vector<std::string> units = {
+      "units: algorithm 0 = TCA-MESH, 1 = CBA; t s; p HIP, q IHIP, c CIHIP in mm; f N; k N/mm"};
+  CsvWriter csv(path,
+                {"algorithm", "t", "px", "py", "pz", "qx", "qy", "qz", "cx", "cy", "cz", "fz", "k",
+                 "contact"},
+                units);
+  for (int a = 0; a < 2; ++a)
+    for (const auto& e : a == 0 ? run.samples_tca : run.samples_cba)
+      csv.row({double(a), e.time, e.hip.x(), e.hip.y(), e.hip.z(), e.ihip.x(), e.ihip.y(),
+               e.ihip.z(), e.cihip.x(), e.cihip.y(), e.cihip.z(), e.force.z(), e.k,
+               e.contact ? 1.0 : 0.0});
+  csv.commit();
+}
+
+void dataset_rows(StepResult& r, const eval::DatasetResult& d) {
+  r.rows.push_back(
+      {fmt::format("{}: shape distortion RMS vs original surface, TCA-MESH / CBA (mm)", d.name),
+       fmt::format("{:.3f} / {:.3f}", d.distortion_tca, d.distortion_cba),
+       "fig. 5.7: TCA-MESH follows, CBA dips"});
+  r.rows.push_back(
+      {fmt::format("{}: largest jump at a stiffness boundary, TCA-MESH / CBA (mm)", d.name),
+       fmt::format("{:.3f} / {:.3f}", d.jump_tca, d.jump_cba), "-"});
+  r.rows.push_back({fmt::format("{}: servo step p50 / p99 ({} triangles, us)", d.name, d.triangles),
+                    fmt::format("{:.1f} / {:.1f}", d.step_p50_us, d.step_p99_us), "1 kHz"});
 }
 
 }  // namespace
 
 StepResult step_data_strokes(const Context& c) {
   StepResult r;
-  if (c.options.data.empty()) {
+  const std::string dir = find_data_dir(c.options.data);
+  if (dir.empty()) {
     r.available = false;
-    r.note = "no --data DIR given (bunny/, headsq/, afm-topography/)";
-    r.rows.push_back({"strokes on bunny / CT head / AFM", "skipped: no --data", "fig. 5.3"});
+    r.note = "no data/ folder found (give --data DIR with bunny/, headsq/, afm-topography/)";
+    r.rows.push_back({"strokes on AFM / bunny / CT head", "skipped: no data", "fig. 5.7"});
     return r;
   }
-  const std::vector<DataSet> sets = {{"bunny", "bunny/bun_zipper.ply", load_bunny},
-                                     {"ct-head", "headsq/quarter.nhdr", load_head},
-                                     {"afm", "afm-topography/sample_0.top", load_afm}};
-  int done = 0;
-  for (const auto& d : sets) {
-    const fs::path file = fs::path(c.options.data) / d.file;
-    if (!fs::exists(file)) {
-      r.rows.push_back({fmt::format("strokes on {}", d.name), "skipped: file missing", "-"});
-      continue;
-    }
-    c.progress(double(done) / double(sets.size()), "loading " + d.name);
-    const render::Model model(d.load(file.string()));
-    const Box3 b = model.mesh().bbox();
-    const Vec2 mid((b.min.x() + b.max.x()) / 2, (b.min.y() + b.max.y()) / 2);
-    const double half = 0.12 * std::min(b.max.x() - b.min.x(), b.max.y() - b.min.y());
-    StrokeCase sc;
-    sc.name = d.name;
-    sc.from = mid - Vec2(half, 0);
-    sc.to = mid + Vec2(half, 0);
-    // True surface: the mesh's top under (x, y) (first hit of a vertical segment), NaN off it.
-    sc.truth = [&model, b](double x, double y) {
-      const auto hit =
-          model.index().first_hit(Vec3(x, y, b.max.z() + 1.0), Vec3(x, y, b.min.z() - 1.0));
-      return hit ? hit->point.z() : std::numeric_limits<double>::quiet_NaN();
-    };
-    try {
-      const StrokePair p = run_stroke_pair(model, sc, c.options.seed);
-      r.figures.push_back(
-          stroke_figure(sc, p, "fig5_data_" + d.name,
-                        fmt::format("Stroke across the {} (fig. 5.3 data)", d.name)));
-      write_stroke_csv(c.file(r, fmt::format("stroke_{}.csv", d.name)), p);
+  eval::StrokesConfig cfg;
+  cfg.seed = c.options.seed;
+  cfg.keep_samples = true;
+  if (c.options.quick) cfg.speeds_mm_s = {20.0};
+  // Quick mode: the AFM and the bunny only (the CT head's isosurfaces, skin-bone distances and
+  // CGAL simplification take most of the step's time).
+  const std::array<std::string, 3> names = {"afm", "bunny", "ct-head"};
+  const std::size_t count = c.options.quick ? 2 : 3;
+  std::vector<eval::DatasetResult> results;
+  for (std::size_t i = 0; i < count; ++i) {
+    c.progress(double(i) / double(count), "loading " + names[i]);
+    const fs::path d(dir);
+    render::RealDataset ds =
+        i == 0   ? render::load_afm((d / "afm-topography" / "sample_0.top").string())
+        : i == 1 ? render::load_bunny((d / "bunny" / "bun_zipper.ply").string())
+                 : render::load_head((d / "headsq" / "quarter.nhdr").string());
+    if (c.options.quick) ds.strokes.resize(1);
+    const render::Model model(ds.mesh, cfg.params);
+    c.progress((double(i) + 0.3) / double(count), "strokes on " + names[i]);
+    eval::DatasetResult res = eval::run_dataset(model, ds, cfg);
+    // Fig. 5.7 profile: the first stroke at 20 mm/s (or the first speed).
+    const eval::StrokeRun* shown = &res.runs.front();
+    for (const auto& run : res.runs)
+      if (run.stroke == ds.strokes.front().name && std::abs(run.speed_mm_s - 20.0) < 1e-9) {
+        shown = &run;
+        break;
+      }
+    r.figures.push_back(profile_figure(model, ds, *shown, "fig5_7_" + ds.name));
+    write_run_csv(c.file(r, fmt::format("stroke_{}.csv", ds.name)), *shown);
+    if (!c.options.quick)
       r.figures.push_back(mesh_figure(
-          model.mesh(), "stiffness", {{p.tca, "#1f77b4"}, {p.cba, "#ff7f0e"}}, "mesh_" + d.name,
-          fmt::format("The {} mesh, coloured by stiffness", d.name),
-          fmt::format("{} triangles; blue soft to red hard. Lines: IHIP paths (TCA-MESH blue, "
-                      "CBA orange).",
-                      model.mesh().num_triangles())));
-      r.rows.push_back({fmt::format("{}: stroke shape distortion RMS, TCA-MESH / CBA (mm)", d.name),
-                        fmt::format("{:.3f} / {:.3f}", p.distortion_tca, p.distortion_cba), "-"});
-    } catch (const Error& e) {
-      r.rows.push_back(
-          {fmt::format("strokes on {}", d.name), fmt::format("failed: {}", e.what()), "-"});
+          model.mesh(), "stiffness",
+          {{shown->samples_tca, "#1f77b4"}, {shown->samples_cba, "#ff7f0e"}}, "fig5_3_" + ds.name,
+          fmt::format("Fig. 5.3: the {} coloured by stiffness", ds.name),
+          fmt::format("{} triangles, scaled into a 100 mm cube; stiffness {} (blue soft to red "
+                      "hard). Lines: IHIP paths of the fig. 5.7 stroke (TCA-MESH blue, CBA "
+                      "orange).",
+                      model.mesh().num_triangles(), ds.stiffness_from)));
+    dataset_rows(r, res);
+    for (auto& run : res.runs) {  // the JSON keeps the metrics only
+      run.samples_tca.clear();
+      run.samples_cba.clear();
     }
-    ++done;
-    c.progress(double(done) / double(sets.size()), d.name);
+    results.push_back(std::move(res));
   }
+  if (count < names.size())
+    r.rows.push_back({"ct-head: strokes", "skipped in --quick (the full run has it)", "fig. 5.7c"});
+  write_file_atomic(c.file(r, "strokes_data.json"), eval::to_json(results).dump(2) + "\n");
+  r.note = fmt::format("data from {}", dir);
   return r;
 }
 

@@ -31,6 +31,11 @@ struct StrokeLine {
   std::string color;
 };
 
+/// Folder with the real data sets (afm-topography/, bunny/, headsq/): `given` (checked; Error
+/// when a file is missing), else INHAP_DATA, else data/ beside or above the executable or in the
+/// working directory; empty when none is found.
+std::string find_data_dir(const std::string& given);
+
 StrokePair run_stroke_pair(const render::Model& model, const StrokeCase& sc, std::uint64_t seed);
 /// HIP / IHIP / CIHIP heights along the stroke for both algorithms (and the true surface).
 Figure stroke_figure(const StrokeCase& sc, const StrokePair& p, const std::string& id,

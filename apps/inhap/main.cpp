@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
+#include <string>
 #include <vector>
 
 #include "command.hpp"
@@ -56,6 +58,64 @@ void progress(const std::string& what, double fraction, double eta_s) {
   std::fflush(stderr);
 }
 
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string did_you_mean(const CLI::App& app, const std::vector<std::string>& args) {
+  const CLI::App* at = &app;
+  std::string path = "inhap";
+  for (const auto& a : args) {
+    if (a.empty() || a[0] == '-') continue;
+    const auto subs = at->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty()) return {};
+    const CLI::App* next = nullptr;
+    for (const auto* s : subs)
+      if (s->check_name(a)) next = s;
+    if (next) {
+      at = next;
+      path += " " + next->get_name();
+      continue;
+    }
+    // `a` stands where a subcommand of `at` is expected: the closest name, if close enough.
+    std::string best;
+    std::size_t best_d = a.size() / 2 + 1;
+    for (const auto* s : subs) {
+      const std::size_t d = edit_distance(a, s->get_name());
+      if (d < best_d) best_d = d, best = s->get_name();
+    }
+    if (best.empty())
+      return fmt::format(" ('{}' is not a subcommand of {}; see {} --help)", a.substr(0, 60), path,
+                         path);
+    return fmt::format(" (did you mean '{} {}'?)", path, best);
+  }
+  return {};
+}
+
+int parse_error_exit(const CLI::App& app, const CLI::ParseError& e,
+                     const std::vector<std::string>& args) {
+  std::string msg = e.what();
+  std::replace(msg.begin(), msg.end(), '\n', ' ');
+  if (msg.size() > 300) msg = msg.substr(0, 300) + "...";
+  fmt::print(stderr, "inhap: error: {}{}\n", msg, did_you_mean(app, args));
+  return 2;
+}
+
+}  // namespace
+
 }  // namespace inhap::cli
 
 int main(int argc, char** argv) {
@@ -73,10 +133,17 @@ int main(int argc, char** argv) {
   for (auto& e : reg) e.fn(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --help-all, --version: exit 0
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // Bad flags or arguments: one line with the inhap prefix, exit 2 (CLI11's own codes vary).
+    return inhap::cli::parse_error_exit(app, e, std::vector<std::string>(argv + 1, argv + argc));
   } catch (const inhap::Error& e) {
     fmt::print(stderr, "inhap: error: {}\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr,
+               "inhap: error: out of memory (an input asks for more than this machine has)\n");
     return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "inhap: internal error: {}\n", e.what());

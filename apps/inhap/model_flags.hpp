@@ -1,40 +1,49 @@
 // Flags shared by `inhap model train` and `inhap eval forces`: the local-frame training options
-// (tangent mirror, stiffness and shear priors, friction cone) of dd::TrainParams. Units: mm, N.
+// (tangent mirror, stiffness and shear priors, friction cone) and the l1 solver of
+// dd::TrainParams. Units: mm, N.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 #include <string>
 
+#include "command.hpp"
+
 #include "inhap/datadriven/force_model.hpp"
 
 namespace inhap::cli {
 
-/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior and
-/// --[no-]friction-cone bound to `p`;
+/// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior,
+/// --[no-]friction-cone and --solver cd|sparsa bound to `p`;
 /// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
                                      const std::string& defaults) {
   struct Flag {
-    const char* names;
+    const char* name;  // --NAME and --no-NAME
     bool dd::TrainParams::*value;
     const char* help;  // completed by defaults + ")"
   };
   static constexpr Flag kFlags[] = {
-      {"--tangent-mirror,!--no-tangent-mirror", &dd::TrainParams::tangent_mirror,
+      {"tangent-mirror", &dd::TrainParams::tangent_mirror,
        "Local features: also train on every sample turned 180 deg about the normal (assumes a "
        "tangentially isotropic material; "},
-      {"--stiffness-prior,!--no-stiffness-prior", &dd::TrainParams::stiffness_prior,
+      {"stiffness-prior", &dd::TrainParams::stiffness_prior,
        "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and let the "
        "RBFs learn the rest; carries shallow stiffness to deep pushes ("},
-      {"--shear-prior,!--no-shear-prior", &dd::TrainParams::shear_prior,
+      {"shear-prior", &dd::TrainParams::shear_prior,
        "Local features: fit a local shear prior f_t = -k_t(q) |u_t|^beta u_t/|u_t| (N, mm; u_t = "
        "tangential part of p - q) first and let the RBFs learn the rest ("},
-      {"--friction-cone,!--no-friction-cone", &dd::TrainParams::friction_cone,
+      {"friction-cone", &dd::TrainParams::friction_cone,
        "Local features: keep the rendered force inside the training data's friction cone, "
        "|f_t| <= c max(f_n, 0.3 N) ("},
   };
-  for (const Flag& f : kFlags) cmd.add_flag(f.names, p.*f.value, f.help + defaults + ")");
+  for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
+  cmd.add_option_function<std::string>(
+         "--solver", [&p](const std::string& s) { p.solver = dd::l1_solver_from_string(s); },
+         "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
+         "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
+         "progress (default cd)")
+      ->check(CLI::IsMember({"cd", "sparsa"}));
 }
 
 }  // namespace inhap::cli

@@ -10,8 +10,44 @@
 
 namespace inhap {
 
+namespace {
+
+long g_fail_write = 0, g_fail_rename = 0;  // fault injection countdowns (0: off)
+
+bool injected(long& countdown) {
+  if (countdown <= 0) return false;
+  if (--countdown > 0) return false;
+  errno = EIO;
+  return true;
+}
+
+int rename_file(const std::string& from, const std::string& to) {
+  if (injected(g_fail_rename)) return -1;
+  return std::rename(from.c_str(), to.c_str());
+}
+
+thread_local OutputTransaction* t_active = nullptr;
+
+std::string pid_suffix() {
+  return std::to_string(::getpid());
+}
+
+}  // namespace
+
+namespace fault {
+void fail_nth_write(long n) {
+  g_fail_write = n;
+}
+void fail_nth_rename(long n) {
+  g_fail_rename = n;
+}
+}  // namespace fault
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-  tmp_ = path_ + ".tmp." + std::to_string(::getpid());
+  tmp_ = path_ + ".tmp." + pid_suffix();
+  std::error_code dir_ec;
+  if (std::filesystem::is_directory(path_, dir_ec))
+    throw Error(path_ + ": expected a file to write, got a directory");
   errno = 0;
   file_ = std::fopen(tmp_.c_str(), "wb");
   if (!file_) throw IoError(path_, "cannot open for writing");
@@ -34,7 +70,8 @@ void AtomicFile::write(std::string_view bytes) {
 void AtomicFile::write(const void* data, std::size_t size) {
   if (size == 0) return;
   errno = 0;
-  if (std::fwrite(data, 1, size, file_) != size) throw IoError(path_, "write failed");
+  if (injected(g_fail_write) || std::fwrite(data, 1, size, file_) != size)
+    throw IoError(path_, "write failed");
 }
 
 void AtomicFile::commit() {
@@ -46,10 +83,100 @@ void AtomicFile::commit() {
     std::remove(tmp_.c_str());
     throw IoError(path_, "write failed");
   }
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    std::remove(tmp_.c_str());
-    throw IoError(path_, "cannot rename temporary file onto");
+  if (OutputTransaction* t = OutputTransaction::active()) {
+    t->defer(tmp_, path_);
+    return;
   }
+  errno = 0;
+  if (rename_file(tmp_, path_) != 0) {
+    const int err = errno;
+    std::remove(tmp_.c_str());
+    errno = err;
+    throw IoError(path_, "cannot move the finished temporary file into place");
+  }
+}
+
+OutputTransaction::OutputTransaction() {
+  if (t_active) throw Error("internal: output transactions do not nest");
+  t_active = this;
+}
+
+OutputTransaction::~OutputTransaction() {
+  if (t_active == this) t_active = nullptr;
+  if (!done_)
+    for (const Pending& p : pending_) std::remove(p.tmp.c_str());
+}
+
+OutputTransaction* OutputTransaction::active() {
+  return t_active;
+}
+
+void OutputTransaction::defer(std::string tmp, std::string path) {
+  // The same path written twice: its temporary (same name) now holds the later content.
+  std::erase_if(pending_, [&](const Pending& p) { return p.path == path; });
+  pending_.push_back({std::move(tmp), std::move(path)});
+}
+
+void OutputTransaction::commit() {
+  if (t_active == this) t_active = nullptr;
+  done_ = true;
+  // A hard link keeps each old output reachable until every rename has succeeded.
+  const std::string bak_suffix = ".bak." + pid_suffix();
+  std::vector<bool> had_old(pending_.size(), false);
+  auto cleanup_backups = [&](std::size_t upto) {
+    for (std::size_t i = 0; i < upto; ++i)
+      if (had_old[i]) std::remove((pending_[i].path + bak_suffix).c_str());
+  };
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    const std::string& path = pending_[i].path;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) continue;
+    const std::string bak = path + bak_suffix;
+    std::remove(bak.c_str());
+    std::filesystem::create_hard_link(path, bak, ec);
+    if (ec) std::filesystem::copy_file(path, bak, ec);
+    if (ec) {
+      cleanup_backups(i);
+      for (const Pending& p : pending_) std::remove(p.tmp.c_str());
+      throw Error(path + ": cannot keep the old file while replacing it (" + ec.message() + ")");
+    }
+    had_old[i] = true;
+  }
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    errno = 0;
+    if (rename_file(pending_[i].tmp, pending_[i].path) == 0) continue;
+    const int err = errno;
+    for (std::size_t j = 0; j < i; ++j) {  // roll back what was renamed
+      if (had_old[j])
+        std::rename((pending_[j].path + bak_suffix).c_str(), pending_[j].path.c_str());
+      else
+        std::remove(pending_[j].path.c_str());
+      had_old[j] = false;
+    }
+    for (std::size_t j = i; j < pending_.size(); ++j) std::remove(pending_[j].tmp.c_str());
+    cleanup_backups(pending_.size());
+    errno = err;
+    throw IoError(
+        pending_[i].path,
+        "cannot move the finished temporary file into place (no output of this command was "
+        "changed)");
+  }
+  cleanup_backups(pending_.size());
+}
+
+void check_output_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(path + ": expected an output file, got a directory");
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    throw Error(path + ": cannot write: the folder " + parent.string() + " does not exist");
+  const std::string probe = path + ".probe." + pid_suffix();
+  errno = 0;
+  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  if (!f) throw IoError(path, "cannot write");
+  std::fclose(f);
+  std::remove(probe.c_str());
 }
 
 void write_file_atomic(const std::string& path, std::string_view content) {
@@ -62,6 +189,9 @@ std::string read_file(const std::string& path) {
   // One allocation of the file's size and one fread (large meshes are read this way); the loop
   // also handles files whose size is unknown or changes while reading.
   errno = 0;
+  std::error_code dir_ec;
+  if (std::filesystem::is_directory(path, dir_ec))
+    throw Error(path + ": expected a file, got a directory");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw IoError(path, "cannot open for reading");
   std::string out;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 
 #include "inhap/core/error.hpp"
 #include "inhap/core/text.hpp"
@@ -50,6 +51,9 @@ bool parse_double(std::string_view token, double& out) {
 
 // ---------------------------------------------------------------------------------------------
 CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
+  std::error_code dir_ec;
+  if (std::filesystem::is_directory(path_, dir_ec))
+    throw Error(path_ + ": expected a CSV file, got a directory");
   errno = 0;
   src_.file = std::fopen(path_.c_str(), "rb");
   if (!src_.file) throw IoError(path_, "cannot open for reading");

@@ -41,10 +41,13 @@ double axis_slope(const FoawParams& prm, const FoawState& s, int axis, int& wind
     s1 += n * yn;
     const double denom = prm.dt * n * (n + 1.0) * (n + 2.0) / 6.0;
     const double b = (n * s0 - 2.0 * s1) / denom;
+    // Inside the band means strictly inside: a deviation equal to d (up to rounding of the
+    // differences of quantised positions, 1e-12 relative) ends the window.
+    const double bound = prm.noise_bound * (1.0 - 1e-12) - 1e-15;
     bool inside = true;
     for (int j = 1; j < n && inside; ++j) {
       const double dev = rel(s, j, axis, yk) + b * j * prm.dt;  // y_{k-j} - (y_k - b j T)
-      inside = std::fabs(dev) <= prm.noise_bound * (1.0 + 1e-12) + 1e-15;
+      inside = std::fabs(dev) < bound;
     }
     if (!inside) break;
     best = b;

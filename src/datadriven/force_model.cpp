@@ -14,6 +14,7 @@
 #include <numeric>
 #include <thread>
 
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/kmeans.hpp"
 
@@ -56,7 +57,10 @@ void TrainParams::validate() const {
   for (double w : feature_weights)
     if (!(w > 0) || !std::isfinite(w))
       throw Error(fmt::format("expected feature weights > 0, got {}", w));
-  if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0)) throw Error("expected positive tolerances");
+  if (!(sparsa_tolerance > 0) || !(cg_tolerance > 0) || !(gap_tolerance > 0))
+    throw Error("expected positive tolerances");
+  if (!(modeling_range_n > 0) || !std::isfinite(modeling_range_n))
+    throw Error(fmt::format("expected a modeling range > 0 N, got {}", modeling_range_n));
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
   if (friction_cone && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
@@ -80,8 +84,8 @@ namespace {
 
 struct BinResult {
   BinModel model;
-  std::array<int, 3> support{}, sparsa_it{}, cg_it{};
-  std::array<double, 3> lambda{};
+  std::array<int, 3> support{}, sparsa_it{}, cg_it{}, nonzeros{};
+  std::array<double, 3> lambda{}, gap{};
   int selected = 0;
 };
 
@@ -173,7 +177,10 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     lambda[static_cast<std::size_t>(c)] = g > 0 ? prm.lambda_ratio * g : 1e-300;
     out.lambda[static_cast<std::size_t>(c)] = lambda[static_cast<std::size_t>(c)];
   }
-  std::vector<SparsaResult> sol = sparsa_multi(pb.a, target, lambda, sp);
+  LassoParams lp;
+  lp.max_nonzeros = sp.max_nonzeros;
+  lp.gap_tolerance = prm.gap_tolerance;
+  const std::vector<L1Fit> sol = solve_l1(prm.solver, pb.a, target, lambda, sp, lp);
   if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
   const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
   for (int c = 0; c < 3; ++c) {
@@ -201,6 +208,8 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     if (t) e.tail = cg.x.tail(t);
     out.support[uc] = static_cast<int>(k);
     out.sparsa_it[uc] = sol[uc].iterations;
+    out.nonzeros[uc] = sol[uc].nonzeros;
+    out.gap[uc] = sol[uc].relative_gap;
     out.cg_it[uc] = cg.iterations;
   }
   return out;
@@ -316,13 +325,9 @@ double fit_friction_cone(const TrainingSet& data) {
   return ratio[static_cast<std::size_t>(k)];
 }
 
-}  // namespace
-
-ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw) {
-  const auto t0 = std::chrono::steady_clock::now();
-  params.validate();
-  foaw.validate();
+// The training proper on the samples kept (train_force_model counts and filters first).
+ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const FoawParams& foaw,
+                      std::chrono::steady_clock::time_point t0) {
   check_training_set(data, params);
   const std::size_t n = data.size();
   ForceModel model;
@@ -392,6 +397,8 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   for (auto& r : results) {
     model.stats.support.push_back(r.support);
     model.stats.sparsa_iterations.push_back(r.sparsa_it);
+    model.stats.gap.push_back(r.gap);
+    model.stats.nonzeros.push_back(r.nonzeros);
     model.stats.cg_iterations.push_back(r.cg_it);
     model.stats.lambda.push_back(r.lambda);
     model.stats.selected_rows.push_back(r.selected);
@@ -401,6 +408,48 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   model.stats.samples = n;
   model.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return model;
+}
+
+}  // namespace
+
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw) {
+  const auto t0 = std::chrono::steady_clock::now();
+  params.validate();
+  foaw.validate();
+  // Forces above the modeling range: counted, then kept or left out; never clipped.
+  std::vector<char> above(data.f.size(), 0);
+  double max_force = 0;
+  for (std::size_t i = 0; i < data.f.size(); ++i) {
+    const double mag = data.f[i].norm();
+    above[i] = mag > params.modeling_range_n;
+    if (std::isfinite(mag)) max_force = std::max(max_force, mag);
+  }
+  const auto n_above = static_cast<std::size_t>(std::count(above.begin(), above.end(), 1));
+  const std::size_t n = data.size();
+  const bool consistent = data.v.size() == n && data.q.size() == n && data.f.size() == n &&
+                          (data.n.empty() || data.n.size() == n);
+  ForceModel model;
+  if (params.above_range == AboveRange::kExclude && n_above > 0 && consistent) {
+    TrainingSet kept;
+    const bool normals = !data.n.empty();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (above[i]) continue;
+      kept.p.push_back(data.p[i]);
+      kept.v.push_back(data.v[i]);
+      kept.q.push_back(data.q[i]);
+      kept.f.push_back(data.f[i]);
+      if (normals) kept.n.push_back(data.n[i]);
+    }
+    model = train_kept(kept, params, foaw, t0);
+    model.stats.excluded = n_above;
+  } else {
+    model = train_kept(data, params, foaw, t0);
+  }
+  model.stats.offered = data.size();
+  model.stats.above_range = n_above;
+  model.stats.max_force_n = max_force;
   return model;
 }
 
@@ -538,45 +587,11 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     if (len > lim) f = fn * fr.n + ft * (lim / len);
   }
   if (!f.allFinite()) return Vec3::Zero();
+  // The device profile's limit caps the model's: a model struct built in code cannot raise it.
+  const double limit = effective_force_limit(model.force_limit);
   const double mag = f.norm();
-  if (mag > model.force_limit) f *= model.force_limit / mag;
+  if (mag > limit) f *= limit / mag;
   return f;
-}
-
-}  // namespace inhap::dd
-
-namespace inhap::dd {
-
-SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                           const Vec3& normal) {
-  SupportCheck out;
-  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return out;
-  out.bin = model.bin_of((q - p).norm());
-  const BinModel& bm = model.bins[static_cast<std::size_t>(out.bin)];
-  const SurfaceFrame fr =
-      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
-  double z[kFeatureDim];
-  make_features(model.features, p, v, q, fr, z);
-  // The box is the training range [lo, hi] widened by margin * (hi - lo) on both sides.
-  const double m = model.params.box_margin;
-  for (int d = 0; d < kFeatureDim; ++d) {
-    const auto ud = static_cast<std::size_t>(d);
-    z[d] = (z[d] - bm.offset[ud]) / bm.scale[ud];
-    const double range = (bm.box_max[ud] - bm.box_min[ud]) / (1 + 2 * m);
-    const double lo = bm.box_min[ud] + m * range, hi = bm.box_max[ud] - m * range;
-    const double e = std::max({lo - z[d], z[d] - hi, 0.0}) / std::max(range, 1e-12);
-    out.excess[ud / 3] = std::max(out.excess[ud / 3], e);
-  }
-  double best = std::numeric_limits<double>::infinity();
-  const Eigen::Index k = bm.union_centres.rows();
-  for (Eigen::Index j = 0; j < k; ++j) {
-    double r2 = 0;
-    for (int d = 0; d < kFeatureDim; ++d)
-      r2 += (z[d] - bm.union_centres(j, d)) * (z[d] - bm.union_centres(j, d));
-    best = std::min(best, r2);
-  }
-  out.nearest = std::sqrt(best);
-  return out;
 }
 
 }  // namespace inhap::dd

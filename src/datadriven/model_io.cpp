@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "inhap/core/atomic_file.hpp"
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/json_guard.hpp"
 
 namespace inhap::dd {
 
@@ -218,6 +220,8 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"normalize_columns", p.normalize_columns},
                 {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
                 {"sparsa_max_iterations", p.sparsa_iterations},
+                {"solver", to_string(p.solver)},
+                {"gap_tolerance", p.gap_tolerance},
                 {"kmeans_iterations", p.kmeans_iterations},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
@@ -228,9 +232,17 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
                 {"sparsa_iterations", arr3(m.stats.sparsa_iterations)},
+                {"gap", arr3(m.stats.gap)},
+                {"l1_nonzeros", arr3(m.stats.nonzeros)},
                 {"cg_iterations", arr3(m.stats.cg_iterations)},
                 {"lambda", arr3(m.stats.lambda)},
-                {"selected_rows", m.stats.selected_rows}};
+                {"selected_rows", m.stats.selected_rows},
+                {"modeling_range_n", p.modeling_range_n},
+                {"above_range", to_string(p.above_range)},
+                {"samples_offered", m.stats.offered},
+                {"samples_above_range", m.stats.above_range},
+                {"samples_excluded", m.stats.excluded},
+                {"max_force_n", m.stats.max_force_n}};
   j["edges_mm"] = m.edges;
   json bins = json::array();
   for (const BinModel& b : m.bins) {
@@ -252,6 +264,7 @@ std::string force_model_to_json(const ForceModel& m) {
         map_json(m.shear,
                  "f_t = -k(q) |u_t|^alpha u_t / |u_t|, u_t = tangential part of p - q, ln k "
                  "trilinear on a grid over q");
+  require_finite_json(j, "force model JSON");
   return j.dump(1) + "\n";
 }
 
@@ -259,6 +272,8 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
   json j;
   try {
     j = json::parse(text);
+  } catch (const json::out_of_range& e) {  // 406: a number such as 1e999
+    throw ParseError(source, 0, fmt::format("expected JSON with finite numbers, got {}", e.what()));
   } catch (const json::parse_error& e) {
     const std::size_t upto = std::min<std::size_t>(e.byte, text.size());
     const std::size_t line =
@@ -319,6 +334,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("feature_weights", m.params.feature_weights);
       get("normalize_columns", m.params.normalize_columns);
       get("sparsa_max_iterations", m.params.sparsa_iterations);
+      // Files written before the solver choice were trained by SpaRSA.
+      m.params.solver = t.contains("solver") ? l1_solver_from_string(t["solver"].get<std::string>())
+                                             : L1Solver::kSparsa;
+      get("gap_tolerance", m.params.gap_tolerance);
       if (t.contains("design"))
         m.params.design = design_from_string(t["design"].get<std::string>());
       if (t.contains("sparsa_stop"))
@@ -335,9 +354,18 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);
       get("sparsa_iterations", m.stats.sparsa_iterations);
+      get("gap", m.stats.gap);
+      get("l1_nonzeros", m.stats.nonzeros);
       get("cg_iterations", m.stats.cg_iterations);
       get("lambda", m.stats.lambda);
       get("selected_rows", m.stats.selected_rows);
+      get("modeling_range_n", m.params.modeling_range_n);
+      if (t.contains("above_range"))
+        m.params.above_range = above_range_from_string(t["above_range"].get<std::string>());
+      get("samples_offered", m.stats.offered);
+      get("samples_above_range", m.stats.above_range);
+      get("samples_excluded", m.stats.excluded);
+      get("max_force_n", m.stats.max_force_n);
     } catch (const json::exception& e) {
       r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
     } catch (const Error& e) {
@@ -374,8 +402,11 @@ void validate_model(const ForceModel& m, const std::string& where) {
   } catch (const Error& e) {
     fail(fmt::format("foaw: {}", e.what()));
   }
-  if (!(m.force_limit > 0) || !std::isfinite(m.force_limit))
-    fail(fmt::format("force_limit_n: expected a positive force, got {}", m.force_limit));
+  if (!(m.force_limit > 0) || !(m.force_limit <= kDeviceForceLimitN))
+    fail(fmt::format(
+        "force_limit_n: expected a force in (0, {}] N (a model may lower the device's limit, "
+        "never raise it), got {}",
+        kDeviceForceLimitN, m.force_limit));
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");

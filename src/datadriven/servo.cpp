@@ -22,6 +22,15 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     state.reset();
     return Vec3::Zero();
   }
+  if (state.foaw.head >= 0 &&
+      (p - state.foaw.buffer[static_cast<std::size_t>(state.foaw.head)]).norm() >= kMaxJumpMm) {
+    // A tracking glitch: the filter's history (and the velocity it would give) is meaningless
+    // across it. Zero force; start afresh from this sample, as a new state would.
+    state.reset();
+    state.velocity = foaw_step(model.foaw, state.foaw, p);
+    state.contact = contact;
+    return Vec3::Zero();
+  }
   state.velocity = foaw_step(model.foaw, state.foaw, p);
   state.contact = contact;
   if (!contact || model.bins.empty()) {

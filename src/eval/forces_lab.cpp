@@ -94,8 +94,9 @@ std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
 
 /// The ordinary random free exploration (the test run; the training run with "random").
 lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::uint64_t seed,
-                                const std::function<void(double)>& prog) {
+                                const std::function<void(double)>& prog, lab::Physics physics) {
   lab::RecordSpec spec;
+  spec.physics = physics;
   spec.operator_name = "explore";
   spec.seconds = seconds;
   spec.seed = seed;
@@ -108,6 +109,7 @@ lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::
                                   const std::function<void(double)>& prog) {
   lab::DeviceParams dp;
   dp.seed = derive_seed(seed, 0);
+  dp.physics = o.physics;
   lab::SimDevice device(scene.object, dp);
   lab::ExploreOptions eo;
   eo.coverage = true;
@@ -337,6 +339,7 @@ ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLa
     po.scene = name;
     po.seed = o.train_seed;
     po.quick = o.quick;
+    po.physics = lab::to_string(o.physics);
     if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
     po.progress_label = label + " palpation";
     po.progress = o.progress;
@@ -371,10 +374,11 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   };
   ForceLabResult d;
   d.name = name;
-  d.train = o.train_operator == "coverage"
-                ? record_coverage(scene, dur.train_s, o.train_seed, o, prog("train recording"))
-                : record_random(scene, dur.train_s, o.train_seed, prog("train recording"));
-  d.test = record_random(scene, dur.test_s, o.test_seed, prog("test recording"));
+  d.train =
+      o.train_operator == "coverage"
+          ? record_coverage(scene, dur.train_s, o.train_seed, o, prog("train recording"))
+          : record_random(scene, dur.train_s, o.train_seed, prog("train recording"), o.physics);
+  d.test = record_random(scene, dur.test_s, o.test_seed, prog("test recording"), o.physics);
   if (!o.keep.empty()) {
     std::filesystem::create_directories(o.keep);
     lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);

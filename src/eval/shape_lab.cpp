@@ -101,8 +101,9 @@ MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOption
 }
 
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress) {
+                              const std::function<void(double)>& progress, lab::Physics physics) {
   lab::RecordSpec spec;
+  spec.physics = physics;
   spec.operator_name = "tap";
   spec.probe = lab::ProbeSpec::tip();
   spec.seed = seed;

@@ -135,6 +135,7 @@ SysLabResult evaluate_sys_on_lab(const SysLabOptions& o) {
   po.scene = name;
   po.seed = o.seed;
   po.quick = o.quick;
+  po.physics = o.physics;
   if (o.quick) po.points = name == "dome" ? "rings:1,3:20" : "grid:2x2:25";
   po.progress_label = "eval sys: palpate " + name;
   po.progress = o.progress;
@@ -150,6 +151,7 @@ SysLabResult evaluate_sys_on_lab(const SysLabOptions& o) {
   spec.operator_name = "explore";
   spec.seconds = o.quick ? std::min(o.seconds, 10.0) : o.seconds;
   spec.seed = o.seed;
+  spec.physics = lab::physics_from_string(o.physics);
   res.exploration_s = spec.seconds;
   const auto t0 = std::chrono::steady_clock::now();
   const lab::LabRecording lab = lab::record_scene(r.scene, spec, [&](double f) {
@@ -171,6 +173,7 @@ ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
                                   : lab::builtin_scene(o.scene.empty() ? "planar" : o.scene);
   lab::DeviceParams dp;
   dp.seed = o.seed;
+  dp.physics = lab::physics_from_string(o.physics);
   lab::SimDevice dev(r.scene.object, dp);
   dev.detach_hand();
   const double radius = dev.probe_radius();

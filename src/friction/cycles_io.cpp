@@ -16,6 +16,8 @@ const std::vector<std::string> kColumns = {
     "ty",    "tz",  "pcx", "pcy", "pcz", "ncx", "ncy",       "ncz",     "fmx",   "fmy",
     "fmz",   "umx", "umy", "umz", "prx", "pry", "prz",       "t_start", "status"};
 
+constexpr double kMaxMagnitude = 1e6;
+
 }  // namespace
 
 void write_cycles_csv(const std::string& path, std::span<const CycleRecord> cycles) {
@@ -74,9 +76,14 @@ std::vector<CycleRecord> read_cycles_csv(const std::string& path) {
 
   std::vector<CycleRecord> out;
   while (r.next()) {
+    // Positions (mm), forces (N) and times (s) beyond 1e6 are absurd, and squaring 1e308
+    // overflows: the fit would write `null` into sys.json.
     for (double v : r.values())
-      if (!std::isfinite(v))
-        throw ParseError(path, r.line(), "expected finite numbers in every column");
+      if (!std::isfinite(v) || std::abs(v) > kMaxMagnitude)
+        throw ParseError(
+            path, r.line(),
+            fmt::format("expected finite numbers within +-{:g} in every column, got {}",
+                        kMaxMagnitude, v));
     auto integer = [&](std::size_t col, const char* name, int lo, int hi) {
       const double v = r[col];
       if (v != std::floor(v) || v < lo || v > hi)

@@ -2,10 +2,12 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/json_guard.hpp"
 #include "inhap/friction/sys_model.hpp"
 
 namespace inhap::friction {
@@ -47,11 +49,20 @@ struct Reader {
   double number(const json& j, const char* key, const std::string& where) const {
     return number(at(j, key, where), where + "." + key);
   }
-  int integer(const json& j, const char* key, const std::string& where) const {
-    const json& v = at(j, key, where);
-    if (!v.is_number_integer()) fail(where + "." + key, "an integer");
-    return v.get<int>();
+  int integer(const json& v, const std::string& where) const {
+    // is_number_integer() also holds for unsigned values past INT_MAX (4e9 must not wrap).
+    if (!v.is_number_integer()) fail(where, "an integer");
+    if (v.is_number_unsigned()
+            ? v.get<std::uint64_t>() > static_cast<std::uint64_t>(kIntMax)
+            : (v.get<std::int64_t>() > kIntMax || v.get<std::int64_t>() < -kIntMax))
+      fail(where, fmt::format("an integer of at most {} in magnitude, got {}", kIntMax,
+                              v.dump().substr(0, 24)));
+    return static_cast<int>(v.get<std::int64_t>());
   }
+  int integer(const json& j, const char* key, const std::string& where) const {
+    return integer(at(j, key, where), where + "." + key);
+  }
+  static constexpr std::int64_t kIntMax = 2147483647;
   bool boolean(const json& j, const char* key, const std::string& where, bool dflt) const {
     if (!j.contains(key)) return dflt;
     if (!j.at(key).is_boolean()) fail(where + "." + key, "true or false");
@@ -130,6 +141,7 @@ void write_sys_json(const std::string& path, const SysModel& m) {
   for (const Tri& t : m.reference_mesh.triangles()) tris.push_back({t[0], t[1], t[2]});
   j["triangles"] = tris;
   j["columns"] = {{"steps", {"f_tangential", "u_short", "u_long", "depth", "radius", "label"}}};
+  require_finite_json(j, path);
   write_file_atomic(path, j.dump(1) + "\n");
 }
 
@@ -164,7 +176,7 @@ SysBorder read_border(const Reader& r, const json& jb, const std::string& wb, do
     st.u_long = r.number(steps[s][2], ws);
     st.depth = r.number(steps[s][3], ws);
     st.radius = r.number(steps[s][4], ws);
-    sb.result.labels.push_back(static_cast<int>(r.number(steps[s][5], ws)) != 0);
+    sb.result.labels.push_back(r.number(steps[s][5], ws) != 0.0);
     sb.steps.push_back(st);
   }
   return sb;
@@ -200,6 +212,8 @@ SysModel read_sys_json(const std::string& path) {
     j = json::parse(text);
   } catch (const json::parse_error& e) {
     throw ParseError(path, 0, fmt::format("expected JSON ({})", e.what()));
+  } catch (const json::exception& e) {  // e.g. out_of_range 406: a number such as 1e999
+    throw ParseError(path, 0, fmt::format("expected JSON with finite numbers ({})", e.what()));
   }
   Reader r{path};
   const json& fmt_name = r.at(j, "format", "$");
@@ -237,8 +251,7 @@ SysModel read_sys_json(const std::string& path) {
     if (!jt[t].is_array() || jt[t].size() != 3) r.fail(w, "3 vertex indices");
     Tri tri;
     for (int v = 0; v < 3; ++v) {
-      if (!jt[t][v].is_number_integer()) r.fail(w, "integer vertex indices");
-      tri[v] = jt[t][v].get<int>();
+      tri[v] = r.integer(jt[t][v], w);
     }
     tris.push_back(tri);
   }

@@ -110,15 +110,20 @@ Grid read_pgm(const std::string& path, const std::string& data) {
   if (maxval < 1 || maxval > 65535)
     throw ParseError(path, line,
                      fmt::format("PGM header: expected maxval in [1, 65535], got {}", maxval));
+  // The declared size is checked against the file before anything is allocated: a 300-byte
+  // file declaring 20000x20000 pixels is truncated, not a 3 GB grid.
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  const std::size_t bytes = maxval > 255 ? 2 : 1;
+  if (binary) ++pos;  // exactly one whitespace after maxval
+  const std::size_t left = data.size() > pos ? data.size() - pos : 0;
+  // ASCII pixels take at least one digit and one separator each (the last one no separator).
+  const std::size_t needed = binary ? n * bytes : 2 * n - 1;
+  if (left < needed)
+    throw ParseError(path, 0,
+                     fmt::format("truncated PGM data: {}x{} pixels need at least {} bytes, got {}",
+                                 w, h, needed, left));
   Grid g(static_cast<int>(w), static_cast<int>(h));
-  const std::size_t n = std::size_t(w) * h;
   if (binary) {
-    ++pos;  // exactly one whitespace after maxval
-    const std::size_t bytes = maxval > 255 ? 2 : 1;
-    if (data.size() < pos + n * bytes)
-      throw ParseError(path, 0,
-                       fmt::format("truncated PGM data: expected {} bytes of pixels, got {}",
-                                   n * bytes, data.size() > pos ? data.size() - pos : 0));
     for (std::size_t i = 0; i < n; ++i) {
       const auto* b = reinterpret_cast<const unsigned char*>(data.data() + pos + i * bytes);
       g.values[i] = bytes == 2 ? double((b[0] << 8) | b[1]) : double(b[0]);  // PGM is big-endian

@@ -361,21 +361,28 @@ Volume read_nrrd(const std::string& path) {
   v.nx = int(sizes[0]);
   v.ny = int(sizes[1]);
   v.nz = int(sizes[2]);
+  // An unknown spacing ("nan", a "none" direction) is an error, not a silent 1 mm: the mesh
+  // built from the volume would have the wrong size.
+  std::size_t spacing_line = 0;
   if (auto it = fields.find("spacings"); it != fields.end()) {
     const auto s = parse_numbers(path, it->second, 3, "spacings");
-    for (int a = 0; a < 3; ++a) v.spacing[a] = std::isnan(s[a]) ? 1.0 : s[a];
+    for (int a = 0; a < 3; ++a) v.spacing[a] = s[a];
+    spacing_line = it->second.line;
   } else if (auto sd = fields.find("space directions"); sd != fields.end()) {
     const auto dirs = parse_vectors(path, sd->second, 3, "space directions");
-    for (int a = 0; a < 3; ++a) v.spacing[a] = dirs[a].allFinite() ? dirs[a].norm() : 1.0;
+    for (int a = 0; a < 3; ++a) v.spacing[a] = dirs[a].allFinite() ? dirs[a].norm() : std::nan("");
+    spacing_line = sd->second.line;
   }
   for (int a = 0; a < 3; ++a)
     if (!(v.spacing[a] > 0) || !std::isfinite(v.spacing[a]))
-      throw ParseError(path, 0,
-                       fmt::format("expected positive spacings in mm, got {} {} {}", v.spacing.x(),
-                                   v.spacing.y(), v.spacing.z()));
+      throw ParseError(path, spacing_line,
+                       fmt::format("expected three positive finite spacings in mm, got {} {} {}",
+                                   v.spacing.x(), v.spacing.y(), v.spacing.z()));
   if (auto it = fields.find("space origin"); it != fields.end()) {
     const auto o = parse_vectors(path, it->second, 1, "space origin");
-    if (o[0].allFinite()) v.origin = o[0];
+    if (!o[0].allFinite())
+      throw ParseError(path, it->second.line, "space origin: expected a finite point in mm");
+    v.origin = o[0];
   }
   long byte_skip = 0;
   if (auto it = fields.find("byte skip"); it != fields.end()) {

@@ -93,6 +93,9 @@ struct VirtualParticipant::Impl {
   std::optional<Label> pending;
 
   Impl(const ParticipantProfile& p, const HandDeviceParams& h) : prof(p), hand(h), rng(p.seed) {
+    if (!(h.max_force_n > 0) || h.max_force_n > kForceCeilingN)
+      throw Error(fmt::format("virtual participant: expected max_force_n in (0, {}] N, got {}",
+                              kForceCeilingN, h.max_force_n));
     if (!(h.mass_kg > 0) || h.substeps < 1 || !(h.servo_rate_hz > 0))
       throw Error("virtual participant: mass, substeps and servo rate must be positive");
     if (!(p.force_n > 0) || !(p.speed_mm_s > 0) || p.strokes_per_model < 1 || p.taps_per_site < 1)

@@ -19,6 +19,8 @@ namespace {
 using nlohmann::json;
 using ojson = nlohmann::ordered_json;  // writer: keys in a readable order
 
+constexpr double kCoordLimitMm = 1e6;
+
 /// Reads typed fields out of a JSON object, naming the key path and the file in errors.
 class Reader {
  public:
@@ -69,9 +71,12 @@ class Reader {
       Reader(json::object(), key(k), file_)
           .fail(fmt::format("expected an array of {} numbers", N), v);
     for (int i = 0; i < N; ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+      // Coordinates and sizes beyond 1 km are absurd and overflow the physics (1e308 -> inf).
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()) ||
+          std::abs(v[i].get<double>()) > kCoordLimitMm)
         Reader(json::object(), key(k), file_)
-            .fail(fmt::format("expected an array of {} numbers", N), v);
+            .fail(fmt::format("expected an array of {} numbers within +-{:g} mm", N, kCoordLimitMm),
+                  v);
       out[i] = v[i].get<double>();
     }
     return out;
@@ -227,6 +232,9 @@ Scene parse_scene_in(std::string_view text, const std::string& source,
     if (auto p = msg.find("syntax error"); p != std::string::npos) msg = msg.substr(p);
     throw ParseError(source, line_of_byte(text, e.byte ? e.byte - 1 : 0),
                      fmt::format("expected a JSON scene: {}", msg));
+  } catch (const json::exception& e) {  // out_of_range 406: a number such as 1e999
+    throw ParseError(source, 0,
+                     fmt::format("expected a JSON scene with finite numbers: {}", e.what()));
   }
   const Reader root(j, "", source);
   if (root.has("format") && root.string("format") != "inhap-scene")

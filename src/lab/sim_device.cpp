@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "inhap/core/error.hpp"
+#include "mujoco_contact.hpp"
 
 namespace inhap::lab {
 
@@ -28,8 +29,9 @@ void check_params(const DeviceParams& p) {
     bad = "servo_rate_hz > 0";
   else if (!nonneg(p.encoder_resolution_mm))
     bad = "encoder_resolution_mm >= 0";
-  else if (!pos(p.max_force_n))
-    bad = "max_force_n > 0";
+  else if (!pos(p.max_force_n) || p.max_force_n > kForceCeilingN)
+    bad = fmt::format("max_force_n in (0, {}] N (the ceiling for any device profile)",
+                      kForceCeilingN);
   else if (!nonneg(p.tool_mass_kg))
     bad = "tool_mass_kg >= 0";
   else if (!nonneg(p.sensor_noise_n))
@@ -53,12 +55,20 @@ SimDevice::SimDevice(SoftObject object, DeviceParams params)
   info_.gravity_mm_s2 = params_.gravity_mm_s2;
   info_.sensor_rotation = Mat3::Identity();
   info_.probe_radius_mm = params_.probe.radius_mm;
+  if (params_.physics == Physics::mujoco) {
+    info_.name = "inhap virtual lab: simulated 3-DOF device, MuJoCo contact";
+    mujoco_ = std::make_unique<MujocoContact>(object_, params_.probe.radius_mm,
+                                              1.0 / (params_.servo_rate_hz * params_.substeps),
+                                              params_.mujoco);
+  }
   const Box3 b = object_.shape().bounds();
   const Vec3 start =
       b.empty() ? Vec3(0, 0, 50)
                 : Vec3(b.center().x(), b.center().y(), b.max.z() + params_.probe.radius_mm + 30.0);
   place(start);
 }
+
+SimDevice::~SimDevice() = default;
 
 void SimDevice::command_force(const Vec3& force) {
   if (!all_finite(force)) {
@@ -75,7 +85,12 @@ void SimDevice::place(const Vec3& position) {
   const auto episode = contact_.episode;
   contact_.reset();
   contact_.episode = episode;
-  contact_force_ = contact_step(object_, probe_radius(), contact_, x_, v_, time(), 0.0);
+  if (mujoco_) {
+    mujoco_->place(x_, contact_, time());
+    contact_force_.setZero();
+  } else {
+    contact_force_ = contact_step(object_, probe_radius(), contact_, x_, v_, time(), 0.0);
+  }
   hand_from_ = hand_to_ = x_;
   truth_.acceleration.setZero();
   truth_.hand_force.setZero();
@@ -127,7 +142,9 @@ void SimDevice::tick() {
   for (int s = 0; s < n; ++s) {
     const Vec3 target = hand_from_ + (double(s + 1) / n) * (hand_to_ - hand_from_);
     substep(dt, target, target_vel);
-    contact_force_ = contact_step(object_, probe_radius(), contact_, x_, v_, t0 + (s + 1) * dt, dt);
+    const double t = t0 + (s + 1) * dt;
+    contact_force_ = mujoco_ ? mujoco_->step(x_, v_, t, contact_)
+                             : contact_step(object_, probe_radius(), contact_, x_, v_, t, dt);
   }
   ++ticks_;
   hand_from_ = hand_to_;

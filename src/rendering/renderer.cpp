@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "surface_walk.hpp"
 
@@ -27,9 +28,10 @@ TriMesh checked(TriMesh mesh, const Params& params) {
   if (mesh.triangles.empty()) throw Error("rendering model: the mesh has no triangles");
   mesh.validate("rendering model");
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!positive(params.force_limit_n))
-    throw Error(fmt::format("rendering params: expected force_limit_n > 0 N, got {}",
-                            params.force_limit_n));
+  if (!positive(params.force_limit_n) || params.force_limit_n > kDeviceForceLimitN)
+    throw Error(fmt::format(
+        "rendering params: expected force_limit_n in (0, {}] N (the device's limit), got {}",
+        kDeviceForceLimitN, params.force_limit_n));
   if (!positive(params.default_stiffness))
     throw Error(fmt::format("rendering params: expected default_stiffness > 0 N/mm, got {}",
                             params.default_stiffness));
@@ -268,7 +270,7 @@ Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm) 
   state.hip_prev = p;
   state.hip_prev_mesh = p - tk.frame_t;
   state.t = restore ? restore_t(tk.frame_t, d_t, prm.a_t) : tk.frame_t;
-  force = clamp_force(force, prm.force_limit_n);
+  force = clamp_force(force, effective_force_limit(prm.force_limit_n));
   if (!force.allFinite() || !state.cihip.allFinite() || !std::isfinite(state.s)) {
     state.reset();
     return Vec3::Zero();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 
@@ -34,6 +35,9 @@ void check(const StrokeOptions& o, const Model& model) {
 
 enum class Phase { kApproach, kSettle, kStroke, kLift, kDone };
 
+constexpr double kSaturated = 0.999;  // |f| at this fraction of the limit counts as clamped
+constexpr double kMaxSettleS = 5.0;   // contact time allowed to reach the force, s
+
 }  // namespace
 
 std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorithm,
@@ -56,6 +60,8 @@ std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorith
   Phase phase = Phase::kApproach;
   double settled = 0, travelled = 0;
   int free_ticks = 0;
+  double contact_time = 0;
+  const double limit = effective_force_limit(model.params().force_limit_n);
   const auto max_ticks = static_cast<long>(o.timeout_s * o.rate_hz);
   for (long n = 0; phase != Phase::kDone; ++n) {
     if (n > max_ticks)
@@ -66,10 +72,18 @@ std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorith
 
     tremor = alpha * tremor + std::sqrt(1 - alpha * alpha) * o.tremor_n * rng.normal();
     const double target = o.force_n + tremor;
-    // Vertical regulation: descend in free space, track the force in contact.
+    // Vertical regulation: descend in free space, track the force in contact. While the force
+    // is clamped at the device's limit it says nothing about the depth (on a stiff mesh the
+    // first millisecond of contact saturates it): the hand then goes by the depth below the
+    // constrained proxy, aiming at the depth of the wanted force (target / k).
     double vz = -o.approach_speed_mm_s;
-    if (st.collision)
-      vz = std::clamp((f.norm() - target) / (st.k * o.force_time_constant_s), -vmax, vmax);
+    if (st.collision) {
+      const double k = std::max(st.k, model.params().min_stiffness);
+      const bool saturated = f.norm() >= kSaturated * limit;
+      const double err = saturated ? k * (st.cihip - p).norm() - target : f.norm() - target;
+      vz = std::clamp(err / (k * o.force_time_constant_s), -vmax, vmax);
+      contact_time += dt;
+    }
     switch (phase) {
       case Phase::kApproach:
         if (st.collision) phase = Phase::kSettle;
@@ -80,6 +94,11 @@ std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorith
         settled =
             (st.collision && std::abs(f.norm() - o.force_n) < 0.05 * o.force_n) ? settled + dt : 0;
         if (settled >= o.settle_s) phase = Phase::kStroke;
+        if (phase == Phase::kSettle && contact_time > o.settle_s + kMaxSettleS)
+          throw Error(fmt::format(
+              "stroke: the hand cannot hold {} N at ({}, {}) mm: after {} s in contact the force "
+              "is {:.3f} N",
+              o.force_n, o.from.x(), o.from.y(), kMaxSettleS, f.norm()));
         break;
       case Phase::kStroke:
         travelled = std::min(length, travelled + o.speed_mm_s * dt);
@@ -98,7 +117,9 @@ std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorith
       case Phase::kDone:
         break;
     }
-    if (p.z() < floor_z && phase != Phase::kLift) vz = std::max(vz, 0.0);  // never wander off below
+    // Never wander off below the mesh in free space (in contact the force regulation decides
+    // the depth: a soft map needs F / k, tens of mm, below the lowest vertex).
+    if (p.z() < floor_z && !st.collision && phase != Phase::kLift) vz = std::max(vz, 0.0);
     p.z() += vz * dt;
   }
   return out;

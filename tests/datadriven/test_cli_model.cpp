@@ -81,7 +81,8 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
   train.set_extra("nz", std::vector<double>(train.size(), 1.0));
   write_recording(dir.path("train.csv"), train);
   const std::string log = dir.path("log.txt");
-  const std::string common = " --bins 2 --centers 40 --seed 3 --recording " + dir.path("train.csv");
+  const std::string common =
+      " --preset world --bins 2 --centers 40 --seed 3 --recording " + dir.path("train.csv");
   ASSERT_EQ(run("model train" + common + " --features local --out " + dir.path("l.json"), log), 0)
       << read_file(log);
   ASSERT_EQ(run("model train" + common + " --features ue_q_v --out " + dir.path("w.json"), log), 0)
@@ -96,7 +97,8 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
   const auto el = nlohmann::json::parse(read_file(dir.path("l-eval.json")));
   const auto ew = nlohmann::json::parse(read_file(dir.path("w-eval.json")));
   EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("l.json")))["features"], "local");
-  // The tangent mirror is off unless asked for (it assumes a tangentially isotropic material).
+  // In the world preset the tangent mirror is off unless asked for (it assumes a tangentially
+  // isotropic material).
   EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("l.json")))["train"]["tangent_mirror"], false);
   ASSERT_EQ(
       run("model train" + common + " --features local --tangent-mirror --out " + dir.path("m.json"),
@@ -104,7 +106,8 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
       0)
       << read_file(log);
   EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("m.json")))["train"]["tangent_mirror"], true);
-  // The stiffness and shear priors and the friction cone are off unless asked for; asked for, all
+  // In the world preset the stiffness and shear priors and the friction cone are off unless asked
+  // for; asked for, all
   // reach the model file (the synthetic object's normal force grows with depth and its
   // tangential force with the shear: both priors are fitted).
   EXPECT_FALSE(nlohmann::json::parse(read_file(dir.path("l.json"))).contains("stiffness_prior"));
@@ -126,7 +129,29 @@ TEST(CliModel, LocalFeaturesOnAFlatObjectMatchTheWorldFrameAndNeedNormals) {
   for (const char* a : {"x", "y", "z"})
     EXPECT_NEAR(el["errors"]["rmse_n"][a].get<double>(), ew["errors"]["rmse_n"][a].get<double>(),
                 1e-9);
-  // Without normal columns and without a mesh, a local-frame model cannot be trained.
+  // With no flags, the default preset is the documented pipeline: local frame, mirror, priors,
+  // cone, weights 1 5 0.5, blend 1 mm.
+  ASSERT_EQ(run("model train --centers 40 --recording " + dir.path("train.csv") + " --out " +
+                    dir.path("d.json"),
+                log),
+            0)
+      << read_file(log);
+  const auto dj = nlohmann::json::parse(read_file(dir.path("d.json")));
+  EXPECT_EQ(dj["features"], "local");
+  for (const char* k : {"tangent_mirror", "stiffness_prior", "shear_prior", "friction_cone"})
+    EXPECT_EQ(dj["train"][k], true) << k;
+  EXPECT_EQ(dj["train"]["feature_weights"], nlohmann::json::array({1.0, 5.0, 0.5}));
+  EXPECT_EQ(dj["bin_blend_mm"], 1.0);
+  // Without normals the default falls back to the world preset and says so.
+  ASSERT_EQ(run("model train --centers 40 --recording " + dir.path("plain.csv") + " --out " +
+                    dir.path("f.json"),
+                log),
+            0)
+      << read_file(log);
+  EXPECT_NE(read_file(log).find("preset 'world'"), std::string::npos) << read_file(log);
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir.path("f.json")))["features"], "ue_q_v");
+  // Without normal columns and without a mesh, a local-frame model cannot be trained when asked
+  // for explicitly.
   EXPECT_EQ(run("model train --features local --recording " + dir.path("plain.csv") + " --out " +
                     dir.path("x.json"),
                 log),

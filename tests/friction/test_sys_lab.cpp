@@ -59,6 +59,14 @@ TEST(SysLab, PalpateThenProxyAgainstGroundTruth) {
   ASSERT_EQ(q.size(), truth.size());
   const auto *qx = q.find_extra("qx"), *qy = q.find_extra("qy"), *qz = q.find_extra("qz");
   ASSERT_TRUE(qx && qy && qz);
+  // The estimator's contact flag and normal at q come along (model train needs no flags then):
+  // on the planar top the normal is +z wherever the estimator is in contact.
+  const auto *cf = q.find_extra("contact"), *nz = q.find_extra("nz");
+  ASSERT_TRUE(cf && nz && q.find_extra("nx") && q.find_extra("ny"));
+  std::size_t in_contact = 0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if ((*cf)[i] != 0) ++in_contact, EXPECT_NEAR((*nz)[i], 1.0, 1e-3) << i;
+  EXPECT_GT(in_contact, 1000u);
   std::vector<double> err;
   for (std::size_t i = 0; i < q.size(); ++i) {
     if (!truth.contact[i]) {

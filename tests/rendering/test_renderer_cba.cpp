@@ -171,8 +171,7 @@ TEST(RendererCba, TorusProxyAndForceMatchTheAnalyticTubeIncludingTheSaddleSide) 
 TEST(RendererCba, ConcaveCornerKeepsProxyOnSurfaceWithForceOutOfTheCorner) {
   for (bool shading : {true, false}) {
     render::Params ps;
-    ps.force_shading = shading;
-    ps.force_limit_n = 100;
+    ps.force_shading = shading;  // (the 6.2 N clamp scales the force, its direction stays)
     render::Model m(test::concave_corner(10.0, 8), ps);
     render::State st;
     // Come down onto the floor, slide into the corner and push into it.

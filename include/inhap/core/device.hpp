@@ -13,11 +13,27 @@
 
 namespace inhap {
 
+/// The force limit of the device profile inhap renders for (PHANToM Premium 1.5, continuous),
+/// N. Rendered forces (data-driven model, CBA, TCA-MESH) never exceed it: a model file, a
+/// rendering parameter or a flag may lower the limit, never raise it.
+inline constexpr double kDeviceForceLimitN = 6.2;
+/// Hard ceiling for the force limit of any device profile (DeviceInfo::max_force_n, a simulated
+/// device's saturation), N. No file or flag raises a limit past it.
+inline constexpr double kForceCeilingN = 40.0;
+/// The clamp a renderer applies: `requested` (a model's or a flag's limit) capped by the device
+/// profile's limit; a non-finite or non-positive request gets the device's limit.
+constexpr double effective_force_limit(double requested, double device_limit = kDeviceForceLimitN) {
+  const double dev =
+      device_limit > 0 && device_limit <= kForceCeilingN ? device_limit : kDeviceForceLimitN;
+  return requested > 0 && requested <= dev ? requested : dev;
+}
+
 /// What a compensation or control algorithm needs to know about the device and its tool.
 struct DeviceInfo {
   std::string name = "device";
   double servo_rate_hz = 1000.0;
-  double max_force_n = 6.2;           ///< output saturation (continuous), N
+  double max_force_n =
+      kDeviceForceLimitN;             ///< output saturation (continuous), N (<= kForceCeilingN)
   double tool_mass_kg = 0.0;          ///< mass of the tool beyond the force sensor, kg
   Vec3 gravity_mm_s2{0, 0, -9810.0};  ///< gravity in the device frame, mm/s^2
   /// Orientation of the force sensor frame in the device frame (readings are rotated by this

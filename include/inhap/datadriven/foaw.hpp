@@ -6,8 +6,10 @@
 // For each new sample y_k the window length n grows from 1 up to the cap; the slope b_n is the
 // least-squares slope of the n+1 samples y_{k-n..k}; the window is accepted while every
 // intermediate sample lies within the noise bound d of the line through y_k with that slope,
-// |y_{k-j} - (y_k - b_n j T)| <= d for j = 1..n-1. The estimate is the slope of the longest
-// accepted window. Each axis has its own window.
+// |y_{k-j} - (y_k - b_n j T)| < d for j = 1..n-1 (strictly: a sample exactly on the band's
+// edge, common when d is a multiple of the encoder quantum, is outside; deviations within 1e-12
+// relative of d count as equal). The estimate is the slope of the longest accepted window. Each
+// axis has its own window.
 //
 // Model/state split: FoawParams is immutable; FoawState is a fixed-size ring buffer (no heap);
 // foaw_step() is servo-safe: no allocation, no exceptions, no I/O.

@@ -13,7 +13,10 @@
 //      a selected row ("random selection" of Sianov and Harders);
 //   4. A~ (M x N_bin): A~(i, j) = psi(||x_sel_i - x_j||), psi(r) = r^3, every sample of the bin
 //      a candidate centre; f~ = forces of the selected rows, one problem per force axis;
-//   5. SpaRSA with lambda = lambda_ratio ||A~^T f~||_inf, stop at the wanted number of non-zeros;
+//   5. the l1 fit with lambda = lambda_ratio ||A~^T f~||_inf: coordinate descent to the optimum
+//      with a duality-gap certificate (default, lasso.hpp; the non-zeros beyond the wanted
+//      number are dropped, smallest first), or SpaRSA, which stops at the wanted number of
+//      non-zeros or on slow progress (sparsa.hpp);
 //   6. CG debiasing on the support (tolerance 1e-9).
 // Bins are trained in parallel (std::thread); results do not depend on the thread count.
 #pragma once
@@ -26,6 +29,7 @@
 
 #include "inhap/core/types.hpp"
 #include "inhap/datadriven/foaw.hpp"
+#include "inhap/datadriven/lasso.hpp"
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/sparsa.hpp"
 #include "inhap/datadriven/stiffness_map.hpp"
@@ -92,6 +96,15 @@ const char* to_string(Design d);
 /// Parses "thesis" or "regression"; throws inhap::Error otherwise.
 Design design_from_string(const std::string& s);
 
+/// What training does with samples whose force magnitude exceeds the modeling range.
+enum class AboveRange {
+  kKeep,     ///< train on them as measured (counted and reported)
+  kExclude,  ///< leave them out (counted and reported)
+};
+const char* to_string(AboveRange a);
+/// Parses "keep" or "exclude"; throws inhap::Error otherwise.
+AboveRange above_range_from_string(const std::string& s);
+
 struct TrainParams {
   int bins = 2;                 ///< bins by ||q - p||, equal counts (thesis: 5; 2 measured best)
   int centers = 300;            ///< M: k-means clusters = selected rows per bin
@@ -102,6 +115,8 @@ struct TrainParams {
   FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
   Design design = Design::kRegression;  ///< measured better than kThesis (docs/force-model.md)
   bool normalize_columns = true;        ///< solve the l1 problem on unit-norm columns of A~
+  L1Solver solver = L1Solver::kCd;      ///< l1 solver (SpaRSA kept for the thesis' comparison)
+  double gap_tolerance = 1e-6;          ///< cd: relative duality gap that ends the fit
   SparsaStop sparsa_stop = SparsaStop::kObjective;
   double sparsa_tolerance = 1e-4;  ///< of sparsa_stop (relative objective change)
   int sparsa_iterations = 5000;    ///< SpaRSA iterations at most (all stages)
@@ -142,6 +157,10 @@ struct TrainParams {
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
   /// tangential force).
   bool friction_cone = false;
+  /// Modeling range, N: samples with |f| above it are counted (TrainStats::above_range) and kept
+  /// or excluded as `above_range` says. Training never clips a target.
+  double modeling_range_n = 5.0;
+  AboveRange above_range = AboveRange::kKeep;
   int threads = 0;  ///< worker threads (0 = hardware concurrency)
   /// Called (from worker threads, serialised) with the fraction done and a message.
   std::function<void(double, const std::string&)> progress;
@@ -169,10 +188,19 @@ struct TrainStats {
   double seconds = 0;
   std::size_t samples = 0;
   std::vector<std::array<int, 3>> support;  ///< per bin and axis: non-zeros kept
-  std::vector<std::array<int, 3>> sparsa_iterations;
+  std::vector<std::array<int, 3>> sparsa_iterations;  ///< l1 solver iterations (cd: sweeps)
+  /// Per bin and axis: relative duality gap (P - D) / P of the l1 fit at its lambda (cd and
+  /// SpaRSA alike; <= TrainParams::gap_tolerance certifies the optimum) and its non-zeros
+  /// before any were dropped. Empty in model files written before they were kept.
+  std::vector<std::array<double, 3>> gap;
+  std::vector<std::array<int, 3>> nonzeros;
   std::vector<std::array<int, 3>> cg_iterations;
   std::vector<std::array<double, 3>> lambda;
   std::vector<int> selected_rows;  ///< per bin
+  std::size_t offered = 0;         ///< samples given to training (before any exclusion)
+  std::size_t above_range = 0;     ///< of them, |f| > TrainParams::modeling_range_n
+  std::size_t excluded = 0;        ///< of them, left out (AboveRange::kExclude)
+  double max_force_n = 0;          ///< largest |f| offered, N
 };
 
 struct ForceModel {
@@ -194,6 +222,19 @@ struct ForceModel {
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;
 };
+
+/// Names of the training presets: "best" (the documented pipeline: local-frame features, tangent
+/// mirror, stiffness and shear priors, friction cone, feature weights 1 5 0.5, bins blended over
+/// +-1 mm; needs the normal at q), "world" (world-frame (q - p, q, pdot) features with the
+/// TrainParams defaults; for recordings without normals or a shape mesh) and "thesis" (the
+/// thesis' settings of sec. 4.4: world frame, 5 bins, no tail, equal weights, M x N design, plain
+/// least squares, 10 % clamping margin, hard bin switch).
+std::vector<std::string> preset_names();
+/// TrainParams of a preset; throws inhap::Error naming the presets when unknown.
+TrainParams preset_params(const std::string& name);
+
+/// Counts the samples with |f| > modeling_range_n (a diagnostic; training does it too).
+std::size_t count_above(const std::vector<Vec3>& f, double modeling_range_n);
 
 /// Trains the model. Throws inhap::Error when there are too few samples (fewer than 2 per
 /// bin), non-finite values or bad parameters.

@@ -38,10 +38,15 @@ struct ServoState {
 /// Positions farther than this from the origin are treated as absurd input, mm.
 inline constexpr double kAbsurdPositionMm = 1e5;
 
+/// A probe step of at least this length in one tick is a tracking glitch (20 mm/tick = 20 m/s
+/// at 1 kHz, as the mesh renderer's max_jump_mm): zero force and a state reset, mm.
+inline constexpr double kMaxJumpMm = 20.0;
+
 /// One servo tick: probe centre p (mm), proxy q (mm) and contact flag in, force (N) out.
 /// Zero force out of contact; the FOAW filter is updated every tick. Non-finite or absurd p or
-/// q gives zero force and a state reset. The force is always finite and clamped to
-/// model.force_limit.
+/// q gives zero force and a state reset, as does a jump of p by kMaxJumpMm or more in one tick
+/// (the tick after it renders as from a fresh state). The force is always finite and clamped
+/// to model.force_limit, itself capped by the device's limit (kDeviceForceLimitN).
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 bool contact);
 /// The same with the outward surface normal at q (the proxy estimator's frame; needed by

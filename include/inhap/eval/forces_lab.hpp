@@ -52,6 +52,7 @@ struct ForceLabOptions {
   /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
   /// "random" (the ordinary random exploration, as the test run).
   std::string train_operator = "coverage";
+  lab::Physics physics = lab::Physics::builtin;  ///< contact physics of the lab device
   double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
   double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
   /// lab::ExploreOptions::coverage_force_min/max (slides between spots and strokes), N

@@ -36,7 +36,8 @@ MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOption
 /// (about 0.7 taps per second). `progress(fraction)` is called while recording (may be empty).
 /// Throws inhap::Error when the operator keeps missing.
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress);
+                              const std::function<void(double)>& progress,
+                              lab::Physics physics = lab::Physics::builtin);
 
 /// Exact closed, outward triangle mesh of a lab shape (sphere, hemisphere, dome, box, ridged
 /// slab). Throws inhap::Error for other shapes.

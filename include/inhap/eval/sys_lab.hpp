@@ -23,6 +23,7 @@ struct ScenePalpationOptions {
   std::string points;          ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
   std::uint64_t seed = 1;      ///< device noise
   bool quick = false;          ///< f_N {1, 3} N, 4 directions (tests)
+  std::string physics = "builtin";  ///< lab contact physics: builtin | mujoco
   std::string progress_label;  ///< "what" of the progress calls
   Progress progress;           ///< empty: silent
 };
@@ -76,6 +77,7 @@ struct SysLabOptions {
   double seconds = 60.0;   ///< exploration length, s (at most 10 s with quick)
   std::uint64_t seed = 1;  ///< device noise and operator
   bool quick = false;      ///< few reference points, f_N {1, 3} N, 4 directions (tests)
+  std::string physics = "builtin";  ///< lab contact physics: builtin | mujoco
   Progress progress;       ///< empty: silent
 };
 struct SysLabResult {

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "inhap/lab/physics.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/lab/sim_device.hpp"
@@ -92,6 +93,7 @@ struct RecordSpec {
   std::uint64_t seed = 1;
   ProbeSpec probe;
   bool noise = true, gravity = true, inertia = true;
+  Physics physics = Physics::builtin;  ///< contact physics of the device (physics.hpp)
 };
 
 /// Builds the device (noise seed and operator seed derived from spec.seed), runs the operator

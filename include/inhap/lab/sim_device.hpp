@@ -19,9 +19,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "inhap/core/device.hpp"
 #include "inhap/core/random.hpp"
+#include "inhap/lab/physics.hpp"
 #include "inhap/lab/soft_contact.hpp"
 
 namespace inhap::lab {
@@ -51,6 +53,10 @@ struct DeviceParams {
   Vec3 gravity_mm_s2{0, 0, -9810.0};
   ProbeSpec probe;
   std::uint64_t seed = 1;  ///< sensor-noise stream
+  /// Contact physics: builtin (soft_contact.hpp) or mujoco (physics.hpp, docs/lab-mujoco.md;
+  /// one MuJoCo step per physics substep).
+  Physics physics = Physics::builtin;
+  MujocoParams mujoco;  ///< settings of the MuJoCo backend
 };
 
 /// Simulated operator hand holding the stylus (above the force sensor).
@@ -71,9 +77,16 @@ struct DeviceTruth {
   Vec3 hand_force = Vec3::Zero();    ///< at the end of the last tick, N
 };
 
+class MujocoContact;
+
 class SimDevice final : public Device {
  public:
+  /// Throws inhap::Error on bad parameters, or when params.physics is mujoco and this build has
+  /// no MuJoCo or the shape cannot be represented there.
   SimDevice(SoftObject object, DeviceParams params = {});
+  ~SimDevice() override;
+  SimDevice(const SimDevice&) = delete;
+  SimDevice& operator=(const SimDevice&) = delete;
 
   // --- inhap::Device ---
   const DeviceInfo& info() const override { return info_; }
@@ -107,6 +120,7 @@ class SimDevice final : public Device {
 
   SoftObject object_;
   DeviceParams params_;
+  std::unique_ptr<MujocoContact> mujoco_;  ///< set when params_.physics == Physics::mujoco
   DeviceInfo info_;
   Rng rng_;
   long ticks_ = 0;
