@@ -42,7 +42,7 @@ inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
          "--solver", [&p](const std::string& s) { p.solver = dd::l1_solver_from_string(s); },
          "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
          "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
-         "progress (default cd)")
+         "progress (default sparsa)")
       ->check(CLI::IsMember({"cd", "sparsa"}));
 }
 
