@@ -36,7 +36,7 @@ void check(const StrokeOptions& o, const Model& model) {
 enum class Phase { kApproach, kSettle, kStroke, kLift, kDone };
 
 constexpr double kSaturated = 0.999;  // |f| at this fraction of the limit counts as clamped
-constexpr double kMaxSettleS = 5.0;   // contact time allowed to reach the force, s
+constexpr double kMaxSettleS = 60.0;  // contact time allowed to reach the force, s
 
 }  // namespace
 
