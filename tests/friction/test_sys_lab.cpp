@@ -65,7 +65,10 @@ TEST(SysLab, PalpateThenProxyAgainstGroundTruth) {
   ASSERT_TRUE(cf && nz && q.find_extra("nx") && q.find_extra("ny"));
   std::size_t in_contact = 0;
   for (std::size_t i = 0; i < q.size(); ++i)
-    if ((*cf)[i] != 0) ++in_contact, EXPECT_NEAR((*nz)[i], 1.0, 1e-3) << i;
+    if ((*cf)[i] != 0) {
+      ++in_contact;
+      EXPECT_NEAR((*nz)[i], 1.0, 1e-3) << i;
+    }
   EXPECT_GT(in_contact, 1000u);
   std::vector<double> err;
   for (std::size_t i = 0; i < q.size(); ++i) {
