@@ -256,8 +256,12 @@ std::string model_mesh(const ReplayOptions& o, const ForceModel& m) {
 Replayed replay_file(const ReplayOptions& o, const ForceModel& m) {
   Replayed r{read_recording(o.recording), {}, {}};
   r.track = track_of(r.rec, o.recording, o.proxy);
-  if (m.features == FeatureSet::kLocalFrame)
-    add_normals(r.track, r.rec, o.recording, model_mesh(o, m));
+  if (m.features == FeatureSet::kLocalFrame) {
+    // Normal columns in the recording come first; the mesh is only looked for without them.
+    const bool has_normals =
+        r.rec.find_extra("nx") && r.rec.find_extra("ny") && r.rec.find_extra("nz");
+    add_normals(r.track, r.rec, o.recording, has_normals ? std::string() : model_mesh(o, m));
+  }
   r.forces = replay(m, r.rec, r.track);
   return r;
 }

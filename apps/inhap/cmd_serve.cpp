@@ -131,6 +131,9 @@ class Recorder {
   void drain() {
     haptics::LoopSample s;
     while (ring_.pop(s)) {
+      // A tick without a new device sample (a silent bridge client) is not a measurement.
+      if (rows_ > 0 && !(s.t_s > last_t_)) continue;
+      last_t_ = s.t_s;
       const Vec3 f = compensate_step(config_, state_, s.p_mm, s.sensor_force_n);
       const Vec3& q = s.out.ihip_mm;
       const Vec3& c = s.out.cihip_mm;
@@ -172,6 +175,7 @@ class Recorder {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::size_t rows_ = 0;
+  double last_t_ = 0;
 };
 
 void print_stats(const haptics::LoopStats& s, const haptics::BridgeStats& b) {

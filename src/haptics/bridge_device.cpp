@@ -42,6 +42,9 @@ BridgeDevice::BridgeDevice(BridgeOptions options) : options_(std::move(options))
     throw Error("bridge: listening on " + options_.listen +
                 " (not loopback) needs a shared key (--key), so nothing else on the network can "
                 "drive the arm");
+  if (!(options_.info.max_force_n > 0.0) || options_.info.max_force_n > kForceCeilingN)
+    throw Error("bridge: the device force limit must be in (0, " + std::to_string(kForceCeilingN) +
+                "] N");
   if (!(options_.timeout_s > 0.0) || !std::isfinite(options_.timeout_s))
     throw Error("bridge: the time-out must be a positive number of seconds");
   key_ = BridgeKey(options_.key);
@@ -83,7 +86,8 @@ void BridgeDevice::command_force(const Vec3& force) {
     return;
   }
   const double n = force.norm();
-  const double limit = options_.info.max_force_n;
+  // The device's limit, never past the hard ceiling of any profile.
+  const double limit = effective_force_limit(options_.info.max_force_n, kForceCeilingN);
   command_ = (n > limit && n > 0.0) ? Vec3(force * (limit / n)) : force;
 }
 

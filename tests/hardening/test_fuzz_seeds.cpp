@@ -22,7 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(FuzzSeeds, EverySeedIsAValidInput) {
-  const fs::path corpus = fs::path(__FILE__).parent_path().parent_path() / "fuzz" / "corpus";
+  // From CMake, absolute (__FILE__ may be relative under a compiler cache).
+  const fs::path corpus = fs::path(INHAP_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
   const std::map<std::string, std::function<void(const std::string&)>> readers = {
       {"ply", [](const std::string& p) { read_mesh(p); }},
       {"obj", [](const std::string& p) { read_mesh(p); }},

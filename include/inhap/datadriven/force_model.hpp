@@ -115,8 +115,9 @@ struct TrainParams {
   FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
   Design design = Design::kRegression;  ///< measured better than kThesis (docs/force-model.md)
   bool normalize_columns = true;        ///< solve the l1 problem on unit-norm columns of A~
-  /// l1 solver. SpaRSA stays the default: at lambda_ratio 0.001 the certified optimum (kCd)
-  /// keeps few centres and underfits the plain synthetic law (docs/force-model.md, issue 19).
+  /// l1 solver. SpaRSA is the default of these bare parameters: at lambda_ratio 0.001 the
+  /// certified optimum (kCd) keeps few centres and underfits the plain synthetic law without
+  /// priors (docs/force-model.md). The preset "best" (what `model train` runs) uses kCd.
   L1Solver solver = L1Solver::kSparsa;
   double gap_tolerance = 1e-6;  ///< cd: relative duality gap that ends the fit
   SparsaStop sparsa_stop = SparsaStop::kObjective;

@@ -20,20 +20,11 @@
 
 namespace inhap::eval {
 
-/// Model settings measured best on the lab (docs/force-model.md): local-frame features,
-/// location weight 5, bins blended over +-1 mm around their edge, tangentially mirrored
-/// training samples, the local stiffness and shear priors and the friction-cone guard (TrainParams
-/// defaults otherwise).
+/// Model settings measured best on the lab (docs/force-model.md): the training preset "best"
+/// (local-frame features, location weight 5, bins blended over +-1 mm, tangentially mirrored
+/// samples, stiffness and shear priors, friction-cone guard, the l1 fit to its certified optimum).
 inline dd::TrainParams lab_train_params() {
-  dd::TrainParams p;
-  p.features = dd::FeatureSet::kLocalFrame;
-  p.feature_weights = {1.0, 5.0, 0.5};
-  p.bin_blend = 1.0;
-  p.tangent_mirror = true;
-  p.stiffness_prior = true;
-  p.shear_prior = true;
-  p.friction_cone = true;
-  return p;
+  return dd::preset_params("best");
 }
 
 struct ForceLabOptions {
