@@ -65,14 +65,7 @@ struct Setup {
       t.q[i] = t.contact[i] ? c.q[i] : rec.p[i];
       if (t.contact[i]) t.n[i] = c.n[i];
     }
-    dd::TrainParams p;
-    p.features = dd::FeatureSet::kLocalFrame;
-    p.feature_weights = {1.0, 5.0, 0.5};
-    p.bin_blend = 1.0;
-    p.tangent_mirror = true;
-    p.stiffness_prior = true;
-    p.shear_prior = true;
-    p.friction_cone = true;
+    dd::TrainParams p = dd::preset_params("best");  // what `model train` runs
     p.centers = 150;
     force = dd::train_force_model(dd::make_training_set(rec, t, dd::FoawParams{}), p);
   }
