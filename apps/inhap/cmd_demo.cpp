@@ -11,6 +11,7 @@
 
 #include "command.hpp"
 #include "demo.hpp"
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 
 namespace inhap::demo {
@@ -144,7 +145,11 @@ void run_demo(const Options& o) {
     std::erase_if(steps, [&](const Step& s) {
       return std::find(o.only.begin(), o.only.end(), s.name) == o.only.end();
     });
-  std::filesystem::create_directories(o.out);
+  // All outputs or none: OUT is created (or checked) before the steps, which take minutes, and
+  // every file is renamed into place after the report, the last one, is written.
+  OutputFolder folder(o.out);
+  check_output_path((std::filesystem::path(o.out) / "report.html").string());
+  OutputTransaction tx;
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t c0 = std::clock();
   std::vector<StepRecord> done;
@@ -165,6 +170,8 @@ void run_demo(const Options& o) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   write_report(o, web, done, total, cpu);
+  tx.commit();
+  folder.keep();
   print_summary(done, total, cpu);
   fmt::print("report: {}\n", (std::filesystem::path(o.out) / "report.html").string());
 }
@@ -179,12 +186,12 @@ void register_demo(CLI::App& app) {
       "held-out recording (ch. 4); strokes the 25-model surface with TCA-MESH and CBA and runs\n"
       "a virtual user study, and strokes the AFM, bunny and CT head data of data/ (ch. 5).\n"
       "Prints a summary table (measured vs thesis) and writes OUT/report.html (self-contained,\n"
-      "opens offline) plus each figure's data as OUT/*.csv / *.json. About 2-4 min on 2 cores,\n"
-      "--quick under 20 s. Units: mm, N, s, N/mm.");
+      "opens offline) plus each figure's data as OUT/*.csv / *.json (all files or none). About\n"
+      "2-4 min on 2 cores; --quick about 20 s. Units: mm, N, s, N/mm.");
   cmd->add_option("--out,-o", o->out, "output folder")->capture_default_str();
   cmd->add_flag("--quick", o->quick,
                 "shorter recordings, the dome only, fewer palpation points and a smaller study "
-                "(CI, < 2 min)");
+                "(the CI variant, about 20 s)");
   cmd->add_option("--data", o->data,
                   "folder with bunny/, headsq/, afm-topography/ (default: the project's data/)")
       ->check(CLI::ExistingDirectory);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -132,8 +133,7 @@ ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std
   co.rim_margin_mm = a.rim_margin_mm;
   co.normal_overlap = !a.no_normal_overlap;
   ShapeVariant v = reconstruct_and_compare(rec, method, taps, reference, co);
-  if (!a.out_dir.empty()) {
-    std::filesystem::create_directories(a.out_dir);
+  if (!a.out_dir.empty()) {  // temporaries of the command's OutputTransaction
     write_contact_points(a.out_dir + "/" + tag + ".points.ply", v.matched.contacts);
     TriMesh colored = v.mesh;
     colored.set_property("error", v.cmp.a_vertex_error);
@@ -143,6 +143,12 @@ ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std
 }
 
 void run_eval_shape(const EvalShapeArgs& a) {
+  // All outputs or none: the folder and the JSON path are checked before the taps (minutes), and
+  // every file is renamed into place after the last one is written.
+  std::optional<OutputFolder> folder;
+  if (!a.out_dir.empty()) folder.emplace(a.out_dir);
+  if (!a.json_out.empty()) check_output_path(a.json_out);
+  OutputTransaction tx;
   struct Target {
     const char* name;
     std::size_t taps;
@@ -195,10 +201,11 @@ void run_eval_shape(const EvalShapeArgs& a) {
       {"icp", a.icp},
       {"normal_overlap", !a.no_normal_overlap},
       {"seed", a.seed}};
-  if (!a.json_out.empty()) {
-    write_file_atomic(a.json_out, out.dump(2) + "\n");
-    fmt::print("wrote {}\n", a.json_out);
-  }
+  if (!a.json_out.empty()) write_file_atomic(a.json_out, out.dump(2) + "\n");
+  tx.commit();
+  if (folder) folder->keep();
+  if (!a.json_out.empty()) fmt::print("wrote {}\n", a.json_out);
+  if (!a.out_dir.empty()) fmt::print("wrote the meshes and points into {}\n", a.out_dir);
 }
 
 void register_eval_shape(CLI::App& app) {
@@ -260,8 +267,10 @@ void register_eval_shape(CLI::App& app) {
                   "common region: keep samples whose normal line misses the other surface (the\n"
                   "rim test alone, as before; counts e.g. the slab's untapped end walls)");
   shape->add_flag("--icp", s->icp, "ICP-align each reconstruction onto the reference first");
-  shape->add_option("--out-dir", s->out_dir,
-                    "also write points, meshes (vertex property 'error', mm) and references");
+  shape->add_option(
+      "--out-dir", s->out_dir,
+      "also write points, meshes (vertex property 'error', mm) and references (created if\n"
+      "missing; all files of the run or none)");
   shape->callback([s] { run_eval_shape(*s); });
 }
 

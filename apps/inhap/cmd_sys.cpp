@@ -2,6 +2,7 @@
 // Table 4.1, estimate the proxy of a recording. Units: mm, N, s, rad.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/friction/cycles_io.hpp"
+#include "inhap/friction/mesh_rim.hpp"
 #include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/proxy_track.hpp"
 #include "inhap/friction/sys_model.hpp"
@@ -59,7 +61,6 @@ void print_summary(const SysModel& m) {
 }
 
 void run_fit(const FitArgs& a) {
-  const std::vector<CycleRecord> cycles = read_cycles_csv(a.cycles);
   FitOptions opt;
   opt.border = a.border;
   opt.tangent_reference = parse_vec3(a.tangent_reference, "--tangent-reference");
@@ -69,6 +70,9 @@ void run_fit(const FitArgs& a) {
     shape = std::make_unique<MeshSurface>(read_mesh(a.mesh), a.probe_radius);
     opt.shape = shape.get();
   }
+  // Rows without ncx,ncy,ncz / tx,ty,tz take them from the mesh and the angle column.
+  const std::vector<CycleRecord> cycles =
+      read_cycles_csv(a.cycles, CycleGeometry{opt.shape, opt.tangent_reference});
   SysModel m = fit_sys(cycles, opt);
   write_sys_json(a.out, m);
   print_summary(m);
@@ -149,13 +153,39 @@ struct ProxyArgs {
   bool no_creep = false;
 };
 
+/// In-contact samples whose probe lies beyond the rim of the shape mesh (column beyond_mesh).
+struct BeyondRim {
+  std::vector<double> flag;
+  std::size_t count = 0;
+  double max_mm = 0;
+};
+
+BeyondRim beyond_rim(const TriMesh& mesh, const Recording& rec, const ProxyColumns& c) {
+  constexpr double kToleranceMm = 0.01;  // encoder quantisation and round-off
+  const MeshRim rim(mesh);
+  BeyondRim b;
+  b.flag.assign(rec.size(), 0.0);
+  if (!rim.has_rim()) return b;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    if (!c.contact[i]) continue;
+    const double d = rim.beyond_mm(rec.p[i]);
+    if (d <= kToleranceMm) continue;
+    b.flag[i] = 1.0;
+    ++b.count;
+    b.max_mm = std::max(b.max_mm, d);
+  }
+  return b;
+}
+
 void run_proxy(const ProxyArgs& a) {
   const SysModel sys = read_sys_json(a.sys);
-  const MeshSurface shape(read_mesh(a.mesh), a.probe_radius);
+  const TriMesh mesh = read_mesh(a.mesh);
+  const MeshSurface shape(mesh, a.probe_radius);
   Recording rec = read_recording(a.rec);
   ProxyModel model{&sys, &shape};
   model.creep = !a.no_creep;
   const ProxyColumns c = proxy_track(model, rec);
+  BeyondRim beyond = beyond_rim(mesh, rec, c);
   std::vector<double> qx(rec.size()), qy(rec.size()), qz(rec.size());
   // The estimator's contact flag and surface normal at q, so that `model train` needs no flags.
   std::vector<double> cf(rec.size()), nx(rec.size()), ny(rec.size()), nz(rec.size());
@@ -177,9 +207,19 @@ void run_proxy(const ProxyArgs& a) {
     rec.set_extra("ny", std::move(ny));
     rec.set_extra("nz", std::move(nz));
   }
+  rec.set_extra("beyond_mesh", std::move(beyond.flag));
   write_recording(a.out, rec);
-  fmt::print(stderr, "{} rows: {} in contact, {} with the proxy sliding -> {}\n", rec.size(),
-             contact, sliding, a.out);
+  fmt::print(stderr,
+             "{} rows: {} in contact, {} with the proxy sliding, {} beyond the mesh rim -> {}\n",
+             rec.size(), contact, sliding, beyond.count, a.out);
+  if (beyond.count > 0)
+    fmt::print(stderr,
+               "inhap: warning: {} of {} in-contact samples ({:.1f} %) lie beyond the rim of the "
+               "shape mesh {} (up to {:.2f} mm; column beyond_mesh): the proxy there follows the "
+               "rim, not the object; model a wider area of the object\n",
+               beyond.count, contact,
+               100.0 * double(beyond.count) / double(std::max<std::size_t>(contact, 1)), a.mesh,
+               beyond.max_mm);
 }
 
 void register_fit(CLI::App* sys) {
@@ -195,7 +235,9 @@ void register_fit(CLI::App* sys) {
       ->check(CLI::ExistingFile);
   fit->add_option("--mesh", fa->mesh,
                   "shape mesh (PLY/OBJ), optional: depths of g_s are then measured from the "
-                  "undeformed surface and forces decomposed at the surface under the probe")
+                  "undeformed surface, forces decomposed at the surface under the probe, and "
+                  "cycles without normal (ncx,ncy,ncz) or direction (tx,ty,tz) columns take "
+                  "them from the mesh and the angle column")
       ->check(CLI::ExistingFile);
   fit->add_option("--probe-radius", fa->probe_radius,
                   "mm; 0 when the mesh is the probe-centre surface, else the probe radius")
@@ -269,7 +311,9 @@ void register_proxy(CLI::App* sys) {
       "proxy",
       "Estimate the proxy q of a recording (thesis 4.3.1) with the sliding yield surfaces and the\n"
       "shape mesh; writes the recording with columns qx,qy,qz (mm; q = p out of contact), contact "
-      "(0/1) and nx,ny,nz (outward normal at q) added.");
+      "(0/1),\nnx,ny,nz (outward normal at q) and beyond_mesh (1: in contact with the probe "
+      "beyond the rim of the\nshape mesh, where the proxy follows the rim; counted, with a "
+      "warning) added.");
   proxy->add_option("recording", xa->rec, "recording CSV (t,px,py,pz,fx,fy,fz,...)")
       ->required()
       ->check(CLI::ExistingFile);

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
 #include <string>
 #include <vector>
 
 #include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 
 namespace inhap::cli {
@@ -105,6 +107,18 @@ std::string did_you_mean(const CLI::App& app, const std::vector<std::string>& ar
   return {};
 }
 
+/// Fault injection across the process boundary, for the tests of all-or-nothing outputs:
+/// INHAP_TEST_FAIL_NTH_WRITE=n / INHAP_TEST_FAIL_NTH_RENAME=n make the n-th file write / rename
+/// onto a final path fail as an I/O error would (inhap::fault). Not for production use.
+void fault_injection_from_env() {
+  auto nth = [](const char* name) -> long {
+    const char* v = std::getenv(name);
+    return v && *v ? std::strtol(v, nullptr, 10) : 0;
+  };
+  if (const long n = nth("INHAP_TEST_FAIL_NTH_WRITE"); n > 0) inhap::fault::fail_nth_write(n);
+  if (const long n = nth("INHAP_TEST_FAIL_NTH_RENAME"); n > 0) inhap::fault::fail_nth_rename(n);
+}
+
 int parse_error_exit(const CLI::App& app, const CLI::ParseError& e,
                      const std::vector<std::string>& args) {
   std::string msg = e.what();
@@ -131,6 +145,7 @@ int main(int argc, char** argv) {
     return a.order < b.order || (a.order == b.order && a.name < b.name);
   });
   for (auto& e : reg) e.fn(app);
+  inhap::cli::fault_injection_from_env();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

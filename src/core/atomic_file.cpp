@@ -164,6 +164,32 @@ void OutputTransaction::commit() {
   cleanup_backups(pending_.size());
 }
 
+OutputFolder::OutputFolder(std::string path) : path_(std::move(path)) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path_, ec)) return;
+  // The folders this creates, deepest first (removed again, when empty, on failure).
+  for (fs::path p = path_; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    created_.push_back(p.string());
+    if (p == p.parent_path()) break;
+  }
+  fs::create_directories(path_, ec);
+  if (ec || !fs::is_directory(path_)) {
+    created_.clear();
+    throw Error(path_ + ": cannot create the output folder (" +
+                (ec ? ec.message() : std::string("a file of that name exists")) + ")");
+  }
+}
+
+OutputFolder::~OutputFolder() {
+  if (keep_) return;
+  std::error_code ec;
+  for (const std::string& p : created_) {
+    if (!std::filesystem::is_empty(p, ec) || ec) return;
+    std::filesystem::remove(p, ec);
+  }
+}
+
 void check_output_path(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;

@@ -2,21 +2,26 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/surface_frame.hpp"
 
 namespace inhap::friction {
 
 namespace {
 
 const std::vector<std::string> kColumns = {
-    "point", "cx",  "cy",  "cz",  "fn",  "ft",  "t_plateau", "dir",     "angle", "tx",
-    "ty",    "tz",  "pcx", "pcy", "pcz", "ncx", "ncy",       "ncz",     "fmx",   "fmy",
-    "fmz",   "umx", "umy", "umz", "prx", "pry", "prz",       "t_start", "status"};
+    "point", "cx",  "cy",  "cz",  "fn",  "ft",  "t_plateau", "dir",     "angle",  "tx",
+    "ty",    "tz",  "pcx", "pcy", "pcz", "ncx", "ncy",       "ncz",     "fmx",    "fmy",
+    "fmz",   "umx", "umy", "umz", "prx", "pry", "prz",       "t_start", "status", "t_measurement"};
 
 constexpr double kMaxMagnitude = 1e6;
+// A measurement taken on the servo tick after the plateau's end is still "in the plateau".
+constexpr double kMeasurementSlack_s = 2e-3;
 
 }  // namespace
 
@@ -54,25 +59,79 @@ void write_cycles_csv(const std::string& path, std::span<const CycleRecord> cycl
            c.pr.y(),
            c.pr.z(),
            c.t_start,
-           static_cast<double>(static_cast<int>(c.status))});
+           static_cast<double>(static_cast<int>(c.status)),
+           c.t_measurement_s});
   }
   w.commit();
 }
 
-std::vector<CycleRecord> read_cycles_csv(const std::string& path) {
+namespace {
+
+using Cols = std::optional<std::array<std::size_t, 3>>;
+
+/// x,y,z columns `<stem>x`,`<stem>y`,`<stem>z`: all three or none (a partial set is an error).
+Cols vec_columns(const CsvReader& r, const std::string& stem) {
+  const auto x = r.find(stem + "x"), y = r.find(stem + "y"), z = r.find(stem + "z");
+  if (!x && !y && !z) return std::nullopt;
+  if (!x || !y || !z)
+    throw ParseError(r.path(), r.header_line(),
+                     fmt::format("expected all of {0}x,{0}y,{0}z or none of them", stem));
+  return std::array<std::size_t, 3>{*x, *y, *z};
+}
+
+Vec3 vec_at(const CsvReader& r, const std::array<std::size_t, 3>& c) {
+  return Vec3(r[c[0]], r[c[1]], r[c[2]]);
+}
+
+/// n_c and t_k of the current row: from the columns, else from the shape and the angle.
+void frame_of_row(const CsvReader& r, const Cols& t_cols, const Cols& n_cols,
+                  std::optional<std::size_t> i_angle, const CycleGeometry& g, CycleRecord& c) {
+  if (n_cols) {
+    c.nc = vec_at(r, *n_cols);
+  } else {
+    Vec3 point;
+    if (!g.shape->closest(c.pc, point, c.nc, g.max_distance_mm) || !c.nc.allFinite())
+      throw ParseError(r.path(), r.line(),
+                       fmt::format("expected p_c within {:g} mm of the shape mesh to take the "
+                                   "normal from (no ncx,ncy,ncz columns)",
+                                   g.max_distance_mm));
+  }
+  if (t_cols) {
+    c.tdir = vec_at(r, *t_cols);
+  } else {
+    Vec3 t0, t1;
+    tangent_basis(c.nc.normalized(), g.tangent_reference, t0, t1);
+    c.tdir = std::cos(r[*i_angle]) * t0 + std::sin(r[*i_angle]) * t1;
+  }
+  if (std::abs(c.tdir.norm() - 1.0) > 0.05 || std::abs(c.nc.norm() - 1.0) > 0.05)
+    throw ParseError(r.path(), r.line(), "expected unit vectors in tx,ty,tz and ncx,ncy,ncz");
+  c.tdir.normalize();
+  c.nc.normalize();
+}
+
+}  // namespace
+
+std::vector<CycleRecord> read_cycles_csv(const std::string& path, const CycleGeometry& geometry) {
   CsvReader r(path);
   auto req = [&](const char* name) { return r.require(name); };
   auto opt = [&](const char* name) { return r.find(name); };
   const std::size_t i_point = req("point"), i_fn = req("fn"), i_ft = req("ft"),
                     i_tp = req("t_plateau"), i_dir = req("dir");
-  const std::size_t i_t[3] = {req("tx"), req("ty"), req("tz")};
+  const Cols t_cols = vec_columns(r, "t"), n_cols = vec_columns(r, "nc");
+  const auto i_angle = opt("angle");
+  if (!n_cols && !geometry.shape)
+    throw ParseError(path, r.header_line(),
+                     "expected columns ncx,ncy,ncz (or a shape mesh to take the normal from: "
+                     "sys fit --mesh)");
+  if (!t_cols && !i_angle)
+    throw ParseError(path, r.header_line(),
+                     "expected columns tx,ty,tz, or angle to derive the direction from");
   const std::size_t i_pc[3] = {req("pcx"), req("pcy"), req("pcz")};
-  const std::size_t i_nc[3] = {req("ncx"), req("ncy"), req("ncz")};
   const std::size_t i_fm[3] = {req("fmx"), req("fmy"), req("fmz")};
   const std::size_t i_um[3] = {req("umx"), req("umy"), req("umz")};
   const std::size_t i_pr[3] = {req("prx"), req("pry"), req("prz")};
   const auto i_cx = opt("cx"), i_cy = opt("cy"), i_cz = opt("cz");
-  const auto i_angle = opt("angle"), i_ts = opt("t_start"), i_status = opt("status");
+  const auto i_ts = opt("t_start"), i_status = opt("status"), i_tm = opt("t_measurement");
 
   std::vector<CycleRecord> out;
   while (r.next()) {
@@ -103,19 +162,20 @@ std::vector<CycleRecord> read_cycles_csv(const std::string& path) {
     c.t_plateau = r[i_tp];
     if (c.f_normal <= 0 || c.f_tangential < 0 || c.t_plateau < 0)
       throw ParseError(path, r.line(), "expected fn > 0 N, ft >= 0 N and t_plateau >= 0 s");
-    c.tdir = vec(i_t);
-    c.nc = vec(i_nc);
-    if (std::abs(c.tdir.norm() - 1.0) > 0.05 || std::abs(c.nc.norm() - 1.0) > 0.05)
-      throw ParseError(path, r.line(), "expected unit vectors in tx,ty,tz and ncx,ncy,ncz");
-    c.tdir.normalize();
-    c.nc.normalize();
     c.pc = vec(i_pc);
+    frame_of_row(r, t_cols, n_cols, i_angle, geometry, c);
     c.f_meas = vec(i_fm);
     c.u_meas = vec(i_um);
     c.pr = vec(i_pr);
     c.reference = (i_cx && i_cy && i_cz) ? Vec3(r[*i_cx], r[*i_cy], r[*i_cz]) : c.pc;
     c.angle = i_angle ? r[*i_angle] : 0.0;
     c.t_start = i_ts ? r[*i_ts] : 0.0;
+    if (i_tm) c.t_measurement_s = r[*i_tm];
+    if (c.t_measurement_s > c.t_plateau + kMeasurementSlack_s)
+      throw ParseError(path, r.line(),
+                       fmt::format("expected t_measurement <= t_plateau ({} s; seconds after the "
+                                   "plateau start), got {}",
+                                   c.t_plateau, c.t_measurement_s));
     c.status =
         i_status ? static_cast<CycleStatus>(integer(*i_status, "status", 0, 5)) : CycleStatus::ok;
     out.push_back(c);

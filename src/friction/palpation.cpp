@@ -270,6 +270,7 @@ Vec3 PalpationProtocol::load_step(const Tick& k) {
 void PalpationProtocol::measure(const Tick& k) {
   cur_.f_meas = k.sensor - bias_;
   cur_.u_meas = k.position - cur_.pc;
+  cur_.t_measurement_s = k.tau - profile_.plateau_start();
   measured_ = true;
 }
 

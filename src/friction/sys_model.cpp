@@ -154,6 +154,15 @@ namespace {
 
 using StepPair = std::pair<const CycleRecord*, const CycleRecord*>;  // short, long plateau
 
+// The cycle of a step whose force and displacement to use: the one measured closest to the
+// protocol's measurement point (90 ms into the plateau, ProfileRates::measurement_offset), so
+// that every step is compared at the same point of its loading history; the short-plateau cycle
+// on a tie (the lab measures both at 90 ms).
+const CycleRecord& measured_cycle(const CycleRecord& s, const CycleRecord& l) {
+  const double ref = ProfileRates{}.measurement_offset;
+  return std::abs(l.t_measurement_s - ref) < std::abs(s.t_measurement_s - ref) ? l : s;
+}
+
 BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, const FitOptions& opt) {
   BorderStep st;
   st.f_tangential = ft;
@@ -161,13 +170,14 @@ BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, cons
   st.u_long = l.up_tangential();
   st.capped = s.status == CycleStatus::slip_capped || l.status == CycleStatus::slip_capped;
   st.f_normal = s.f_normal;
-  st.depth = -s.u_meas.dot(s.nc);
-  st.ratio = contact_ratio(s, opt.shape);
+  const CycleRecord& m = measured_cycle(s, l);
+  st.depth = -m.u_meas.dot(m.nc);
+  st.ratio = contact_ratio(m, opt.shape);
   if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
-    const double d0 = opt.shape->depth(s.pc);
+    const double d0 = opt.shape->depth(m.pc);
     if (std::isfinite(d0)) st.depth += d0;
   }
-  st.radius = (s.u_meas - s.u_meas.dot(s.nc) * s.nc).norm();
+  st.radius = (m.u_meas - m.u_meas.dot(m.nc) * m.nc).norm();
   return st;
 }
 

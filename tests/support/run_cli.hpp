@@ -14,10 +14,11 @@ struct CliResult {
   std::string out;  ///< stdout and stderr, interleaved
 };
 
-/// `args` is appended to the program path as is (quote paths yourself if they contain spaces).
-inline CliResult run_cli(const std::string& args) {
+/// `args` is appended to the program path as is (quote paths yourself if they contain spaces);
+/// `env` (e.g. "NAME=value") is put before it, for the program's environment.
+inline CliResult run_cli(const std::string& args, const std::string& env = {}) {
   CliResult r;
-  std::string cmd = std::string(INHAP_CLI) + " " + args + " 2>&1";
+  std::string cmd = (env.empty() ? "" : env + " ") + std::string(INHAP_CLI) + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buf;

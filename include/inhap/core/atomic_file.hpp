@@ -63,6 +63,25 @@ class OutputTransaction {
   bool done_ = false;
 };
 
+/// A folder for a command's outputs (`--out-dir`, the demo's OUT): created with its missing
+/// parents, before long work. Destroyed before keep() (an error on the way), it removes the
+/// folders it created again when they are empty, so a failed command leaves the file system as
+/// it found it. Declare it before the OutputTransaction whose files go into it. Throws inhap::Error
+/// naming the path when it is a file or cannot be created.
+class OutputFolder {
+ public:
+  explicit OutputFolder(std::string path);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  void keep() { keep_ = true; }
+
+ private:
+  std::string path_;
+  std::vector<std::string> created_;  ///< folders this created, deepest first
+  bool keep_ = false;
+};
+
 /// Checks, before long work, that `path` can be written: its folder exists and takes a new
 /// file, and it is not a directory. Throws inhap::Error naming the path and the reason.
 void check_output_path(const std::string& path);

@@ -68,6 +68,9 @@ struct CycleRecord {
   Vec3 u_meas = Vec3::Zero();     ///< displacement p - p_c at t_measurement, mm
   Vec3 pr = Vec3::Zero();         ///< release point p_r, mm
   double t_start = 0;             ///< device time at the start of the cycle, s
+  /// When f_meas and u_meas were taken, s after the start of the plateau (negative: during the
+  /// loading ramps, e.g. a slip-capped cycle). Default: the protocol's 90 ms.
+  double t_measurement_s = 0.09;
   CycleStatus status = CycleStatus::ok;
 
   Vec3 up() const { return pr - pc; }  ///< plastic displacement u^p, eq. 4.24
