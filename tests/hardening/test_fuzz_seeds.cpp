@@ -28,7 +28,11 @@ TEST(FuzzSeeds, EverySeedIsAValidInput) {
       {"ply", [](const std::string& p) { read_mesh(p); }},
       {"obj", [](const std::string& p) { read_mesh(p); }},
       {"recording", [](const std::string& p) { read_recording(p); }},
-      {"cycles", [](const std::string& p) { friction::read_cycles_csv(p); }},
+      {"cycles",  // seeds without normal columns take them from a plane, as the target does
+       [](const std::string& p) {
+         const friction::PlaneShape plane(Vec3::Zero(), Vec3::UnitZ());
+         friction::read_cycles_csv(p, {&plane, Vec3::UnitX(), 5.0});
+       }},
       {"model", [](const std::string& p) { dd::load_force_model(p); }},
       {"sys", [](const std::string& p) { friction::read_sys_json(p); }},
       {"scene", [](const std::string& p) { lab::load_scene(p); }},
