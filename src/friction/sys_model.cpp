@@ -154,13 +154,20 @@ namespace {
 
 using StepPair = std::pair<const CycleRecord*, const CycleRecord*>;  // short, long plateau
 
-// The cycle of a step whose force and displacement to use: the one measured closest to the
-// protocol's measurement point (90 ms into the plateau, ProfileRates::measurement_offset), so
-// that every step is compared at the same point of its loading history; the short-plateau cycle
-// on a tie (the lab measures both at 90 ms).
+// The cycle of a step whose force and displacement to use: of two cycles measured in their
+// plateaus (t_measurement >= 0), the one measured nearer the protocol's point, 90 ms into the
+// plateau (ProfileRates::measurement_offset), so that every step is compared at the same point of
+// its loading history; otherwise, and within 2 ms (a tie), the short-plateau cycle (the lab
+// measures both at 90 ms, to a tick; a cycle that slipped during its ramp was measured then), as
+// before the column existed.
 const CycleRecord& measured_cycle(const CycleRecord& s, const CycleRecord& l) {
   const double ref = ProfileRates{}.measurement_offset;
-  return std::abs(l.t_measurement_s - ref) < std::abs(s.t_measurement_s - ref) ? l : s;
+  constexpr double kTie_s = 2e-3;  // servo ticks (1 ms) apart is the same point
+  const bool both_in_plateau = s.t_measurement_s >= 0 && l.t_measurement_s >= 0;
+  return both_in_plateau &&
+                 std::abs(l.t_measurement_s - ref) + kTie_s < std::abs(s.t_measurement_s - ref)
+             ? l
+             : s;
 }
 
 BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, const FitOptions& opt) {

@@ -36,11 +36,9 @@ std::size_t check_all_or_nothing(const std::string& args, const fs::path& out) {
   EXPECT_EQ(first.status, 0) << first.out;
   std::map<std::string, std::string> old = snapshot(out);
   EXPECT_GE(old.size(), 2u);
-  for (auto& [name, content] : old) {
-    content = "old " + name + "\n";
-    write_file_atomic((out / name).string(), content);
-  }
+  for (auto& [name, content] : old) content = "old " + name + "\n";
   for (const char* kind : {"WRITE", "RENAME"}) {
+    for (const auto& [name, content] : old) write_file_atomic((out / name).string(), content);
     int failed = 0;
     for (long n = 1; n < 1'000'000; n = kind[0] == 'W' ? 2 * n : n + 1) {
       const auto r =
