@@ -28,9 +28,9 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
 }
 
 /// Runs `args` once to learn its outputs in `out`, marks each as old, then fails the n-th write
-/// (n = 1, 2, 4, ... until the run gets past its last write) and the n-th rename (n = 1, 2, ...
-/// until it gets past its last rename): every failed run must exit 1 with the inhap prefix and
-/// leave exactly the old files. Returns the number of outputs.
+/// (n = 1, 4, 16, ... until the run gets past its last write) and the n-th rename (n = 1, 3, 5,
+/// ... until it gets past its last rename; the library test fails every one): every failed run must
+/// exit 1 with the inhap prefix and leave exactly the old files. Returns the number of outputs.
 std::size_t check_all_or_nothing(const std::string& args, const fs::path& out) {
   const auto first = test::run_cli(args);
   EXPECT_EQ(first.status, 0) << first.out;
@@ -40,7 +40,7 @@ std::size_t check_all_or_nothing(const std::string& args, const fs::path& out) {
   for (const char* kind : {"WRITE", "RENAME"}) {
     for (const auto& [name, content] : old) write_file_atomic((out / name).string(), content);
     int failed = 0;
-    for (long n = 1; n < 1'000'000; n = kind[0] == 'W' ? 2 * n : n + 1) {
+    for (long n = 1; n < 1'000'000; n = kind[0] == 'W' ? 4 * n : n + 2) {
       const auto r =
           test::run_cli(args, "INHAP_TEST_FAIL_NTH_" + std::string(kind) + "=" + std::to_string(n));
       if (r.status == 0) break;  // n is past the last write / rename
