@@ -274,8 +274,8 @@ void supervise(haptics::ServoLoop& loop, DeviceSetup& d, const ServeArgs& a) {
 }
 
 void run_serve(const ServeArgs& a) {
+  DeviceSetup d = make_device(a);  // flag errors first, then the (slower) model files
   RenderSetup setup = make_renderer(a);
-  DeviceSetup d = make_device(a);
   Device& dev = d.device();
   // The recorder opens its temporary file now: a bad output path fails before the session.
   auto ring = std::make_unique<haptics::ObserverRing>();

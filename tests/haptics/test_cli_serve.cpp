@@ -55,7 +55,9 @@ TEST(CliServe, ADeviceClientFeelsTheRenderedPlaneAndTheSessionIsRecorded) {
       last_fz = f[2];
       EXPECT_EQ(f[0], 0.0);
       EXPECT_EQ(f[1], 0.0);
-      if (z > 0.01) EXPECT_EQ(f[2], 0.0) << "tick " << i;
+      if (z > 0.01) {
+        EXPECT_EQ(f[2], 0.0) << "tick " << i;
+      }
     }
     usleep(500);
   }
