@@ -2,6 +2,8 @@
 // bumpy heightmap with a stiffness map: 257 x 257 grid at 0.39 mm (131,072 triangles, the
 // protein-on-mica size of thesis sec. 5.3) and a 708 x 708 grid (1.0 M triangles).
 // Each step() is timed on its own; counters report p50/p99/max in microseconds (target p99 <= 5).
+// BM_ServoStep calls render::step directly; BM_RendererInterface runs the same strokes through
+// the common servo interface (haptics::Renderer, a virtual call per tick, as the servo loop does).
 // Units: mm, N, N/mm, s.
 #include <benchmark/benchmark.h>
 
@@ -13,6 +15,7 @@
 
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/heightmap.hpp"
+#include "inhap/haptics/renderers.hpp"
 #include "inhap/rendering/renderer.hpp"
 
 using namespace inhap;
@@ -110,7 +113,54 @@ void BM_ServoStep(benchmark::State& bs) {
   bs.counters["triangles"] = double(m.mesh().num_triangles());
 }
 
+// The same strokes through the common servo interface (haptics::Renderer, one virtual call per
+// tick, as the servo loop runs every renderer). args: grid size, algorithm (0 CBA, 1 TCA), mm/s.
+void BM_RendererInterface(benchmark::State& bs) {
+  const int n = static_cast<int>(bs.range(0));
+  const auto alg = bs.range(1) ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  const double speed = static_cast<double>(bs.range(2));
+  const render::Model& m = model(n);
+  std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::MeshRenderer>(m, alg);
+  const auto& st = static_cast<const haptics::MeshRenderer&>(*r).state();
+  const double dt = 1e-3, F = 1.5, tau = 0.03, w = speed / 45.0;
+  haptics::ServoInput in;
+  in.p_mm = Vec3(50, 50, 10);
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(bs.max_iterations));
+  long contact = 0;
+  for (auto _ : bs) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const haptics::ServoOutput o = r->step(in);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(o);
+    const double sec = std::chrono::duration<double>(t1 - t0).count();
+    bs.SetIterationTime(sec);
+    us.push_back(sec * 1e6);
+    contact += o.contact;
+    in.t_s += dt;
+    const double vz =
+        o.contact ? std::clamp((o.force_n.norm() - F) / (st.k * tau), -100.0, 100.0) : -20.0;
+    in.p_mm = Vec3(50 + 45 * std::sin(w * in.t_s), 50 + 45 * std::sin(1.37 * w * in.t_s + 0.5),
+                   in.p_mm.z() + vz * dt);
+  }
+  bs.counters["p50_us"] = percentile(us, 0.50);
+  bs.counters["p99_us"] = percentile(us, 0.99);
+  bs.counters["max_us"] = *std::max_element(us.begin(), us.end());
+  bs.counters["contact_frac"] = double(contact) / static_cast<double>(us.size());
+  bs.counters["triangles"] = double(m.mesh().num_triangles());
+}
+
 }  // namespace
+
+BENCHMARK(BM_RendererInterface)
+    ->ArgNames({"grid", "tca", "mm_s"})
+    ->Args({257, 0, 50})
+    ->Args({257, 1, 50})
+    ->Args({257, 0, 500})
+    ->Args({257, 1, 500})
+    ->Iterations(200000)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(BM_ServoStep)
     ->ArgNames({"grid", "tca", "mm_s"})

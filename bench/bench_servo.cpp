@@ -4,7 +4,8 @@
 //                       haptics module: friction::proxy_step, the contact/normal gating, then
 //                       dd::servo_step;
 //   BM_ServoHaptics     haptics::step(DataDrivenModel, DataDrivenState, ServoInput) (no virtual);
-//   BM_ServoRenderer    the same through the virtual haptics::Renderer (a device loop).
+//   BM_ServoRenderer    the same through the virtual haptics::Renderer (a device loop);
+//   BM_ServoRendererMesh131k  the same with the shape a 131,072-triangle grid mesh.
 // Input: a 12 s free exploration of the lab's planar cylinder (seed 3), replayed cyclically
 // (states reset between laps, outside the timing); Coulomb sliding yield surfaces on its top
 // plane (3 x 3 reference points, with creep) and a force model with `eval forces`' settings
@@ -21,7 +22,9 @@
 
 #include "friction/sys_helpers.hpp"
 #include "inhap/datadriven/dataset.hpp"
+#include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/proxy_track.hpp"
+#include "inhap/geometry/heightmap.hpp"
 #include "inhap/haptics/renderers.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
@@ -34,6 +37,9 @@ struct Setup {
   Recording rec;
   friction::SysModel sys;
   std::unique_ptr<friction::PlaneShape> plane;
+  /// The same top plane as a 257 x 257 grid mesh over the explored region: 131,072 triangles
+  /// (the size of the thesis' protein-on-mica map), so the proxy queries a real mesh index.
+  std::unique_ptr<friction::MeshSurface> mesh;
   dd::ForceModel force;
 
   Setup() {
@@ -55,6 +61,12 @@ struct Setup {
     }
     sys.rebuild();
     plane = std::make_unique<friction::PlaneShape>(Vec3(0, 0, top), Vec3::UnitZ());
+    Grid h(257, 257);
+    for (int j = 0; j < 257; ++j)
+      for (int i = 0; i < 257; ++i) h.at(i, j) = top;
+    TriMesh m = grid_to_mesh(h, 160.0 / 256);
+    for (Vec3& v : m.positions) v += Vec3(-80, -80, 0);
+    mesh = std::make_unique<friction::MeshSurface>(m, 0.0);
     const friction::ProxyColumns c = friction::proxy_track({&sys, plane.get()}, rec);
     dd::ProxyTrack t;
     t.q.resize(c.size());
@@ -170,8 +182,25 @@ void BM_ServoRenderer(benchmark::State& state) {
       [&] { r->reset(); });
 }
 
+// The data-driven renderer through the interface with the shape a 131,072-triangle mesh.
+void BM_ServoRendererMesh131k(benchmark::State& state) {
+  const Setup& s = setup();
+  const haptics::DataDrivenModel model(s.sys, *s.mesh, s.force);
+  std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::DataDrivenRenderer>(model);
+  run(
+      state,
+      [&](std::size_t i) {
+        const haptics::ServoOutput o = r->step(input_at(i));
+        benchmark::DoNotOptimize(o);
+        return o.contact;
+      },
+      [&] { r->reset(); });
+  state.counters["triangles"] = 131072;
+}
+
 }  // namespace
 
+BENCHMARK(BM_ServoRendererMesh131k);
 // Interleaved three times (old, new, virtual, old, new, ...): on a shared machine the load drifts
 // within a run, so compare the rounds, not one pair.
 BENCHMARK(BM_ServoByHand);

@@ -22,6 +22,7 @@
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/heightmap.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "inhap/haptics/bridge_device.hpp"
 #include "inhap/lab/sim_device.hpp"
 
 namespace {
@@ -125,18 +126,98 @@ std::string stem_of(const std::string& out) {
 struct PalpateArgs {
   eval::ScenePalpationOptions opt;
   std::string out;
+  // --device udp: a real (or `inhap lab device`) device over the bridge
+  std::string device, shape, refs;
+  double probe_radius = 0, tool_mass = 0, connect = 60;
 };
 
+// Reference points for a device palpation: CSV columns x,y,z (probe centre, mm) and optionally
+// nx,ny,nz; without normals the closest point of the shape mesh gives point and normal.
+void read_refs(const std::string& path, const MeshSurface& shape, std::vector<Vec3>& points,
+               std::vector<Vec3>& normals) {
+  static constexpr std::string_view kXyz[] = {"x", "y", "z"};
+  const CsvTable t = read_csv(path, kXyz);
+  const bool has_n = t.find("nx") && t.find("ny") && t.find("nz");
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const Vec3 p(t.column("x")[i], t.column("y")[i], t.column("z")[i]);
+    if (has_n) {
+      const Vec3 n(t.column("nx")[i], t.column("ny")[i], t.column("nz")[i]);
+      if (!(std::abs(n.norm() - 1.0) < 1e-6))
+        throw IoError(path,
+                      fmt::format("row {}: the normal (nx, ny, nz) must have length 1", i + 1));
+      points.push_back(p);
+      normals.push_back(n);
+      continue;
+    }
+    Vec3 c, n;
+    if (!shape.closest(p, c, n)) throw IoError(path, "the shape mesh has no closest point");
+    points.push_back(c);
+    normals.push_back(n);
+  }
+  if (points.empty()) throw IoError(path, "no reference points (expected rows x,y,z)");
+}
+
+void write_refs(const std::string& path, const std::vector<Vec3>& points,
+                const std::vector<Vec3>& normals) {
+  CsvWriter w(path, {"x", "y", "z", "nx", "ny", "nz"},
+              std::vector<std::string>{"reference points (probe centre, mm) and surface normals "
+                                       "of a palpation: `sys palpate --device udp --refs`"});
+  for (std::size_t i = 0; i < points.size(); ++i)
+    w.row({points[i].x(), points[i].y(), points[i].z(), normals[i].x(), normals[i].y(),
+           normals[i].z()});
+  w.commit();
+}
+
+// `sys palpate --device udp[:PORT]`: the protocol over the bridge, on a shape mesh the user gives.
+void run_palpate_device(const PalpateArgs& a) {
+  if (a.shape.empty() || a.refs.empty())
+    throw Error("--device needs --shape MESH (probe-centre surface) and --refs REFS.csv");
+  const std::string stem = stem_of(a.out);
+  for (const std::string& path : {stem + ".cycles.csv", a.out}) check_output_path(path);
+  const MeshSurface shape(read_mesh(a.shape), a.probe_radius);
+  std::vector<Vec3> points, normals;
+  read_refs(a.refs, shape, points, normals);
+  haptics::BridgeOptions bo;
+  const std::string& d = a.device;
+  double port = haptics::kBridgeDefaultPort;
+  if (d != "udp" && !(d.rfind("udp:", 0) == 0 && parse_double(d.substr(4), port) && port >= 1 &&
+                      port <= 65535 && port == std::floor(port)))
+    throw Error(fmt::format("--device: expected udp or udp:PORT, got {}", quote_token(d)));
+  bo.port = static_cast<std::uint16_t>(port);
+  bo.info.tool_mass_kg = a.tool_mass;
+  bo.info.probe_radius_mm = a.probe_radius;
+  haptics::BridgeDevice dev(bo);
+  fmt::print(stderr, "sys palpate: waiting for a device on udp 127.0.0.1:{}\n", dev.port());
+  if (!dev.connect(a.connect))
+    throw Error(fmt::format("no device joined within {:g} s", a.connect));
+  const friction::PalpationConfig cfg = eval::palpation_config(a.opt.quick);
+  const eval::DevicePalpation r =
+      eval::palpate_points(dev, shape, points, normals, cfg, cli::progress, "sys palpate");
+  dev.stop();
+  const SysModel sys = eval::fit_palpation(r.cycles, shape, cfg);
+  OutputTransaction tx;  // two outputs: both or neither
+  write_cycles_csv(stem + ".cycles.csv", r.cycles);
+  write_sys_json(a.out, sys);
+  tx.commit();
+  print_summary(sys);
+  fmt::print(stderr,
+             "{} cycles, {} ticks, bridge: {} time-outs, {} lost; wrote {}, {}.cycles.csv\n",
+             r.cycles.size(), r.ticks, dev.stats().timeouts, dev.stats().lost, a.out, stem);
+}
+
 void run_palpate(PalpateArgs a) {
+  if (!a.device.empty()) return run_palpate_device(a);
   a.opt.progress_label = "sys palpate";
   a.opt.progress = cli::progress;
   const std::string stem = stem_of(a.out);
-  for (const std::string& path : {stem + ".cycles.csv", stem + ".shape.ply", a.out})
+  for (const std::string& path :
+       {stem + ".cycles.csv", stem + ".shape.ply", stem + ".refs.csv", a.out})
     check_output_path(path);  // before the palpation, which takes minutes
   const eval::ScenePalpation r = eval::palpate_scene(a.opt);
-  OutputTransaction tx;  // three outputs: all or none
+  OutputTransaction tx;  // four outputs: all or none
   write_cycles_csv(stem + ".cycles.csv", r.cycles);
   write_mesh(stem + ".shape.ply", r.shape_mesh);
+  write_refs(stem + ".refs.csv", r.points, r.normals);
   write_sys_json(a.out, r.sys);
   tx.commit();
   print_summary(r.sys);
@@ -144,7 +225,8 @@ void run_palpate(PalpateArgs a) {
       stderr,
       "{} cycles, {:.2f} simulated hours, {:.1f} s wall ({:.1f} s per point, {:.1f} s CPU)\n",
       r.cycles.size(), r.ticks / 3.6e6, r.wall_s, r.wall_s / r.points.size(), r.cpu_s);
-  fmt::print(stderr, "wrote {}, {}.cycles.csv, {}.shape.ply\n", a.out, stem, stem);
+  fmt::print(stderr, "wrote {}, {}.cycles.csv, {}.shape.ply, {}.refs.csv\n", a.out, stem, stem,
+             stem);
 }
 
 struct ProxyArgs {
@@ -287,8 +369,10 @@ void register_palpate(CLI::App* sys) {
       "Automatic palpation (thesis 4.3.2) of a virtual-lab scene: at each reference point the\n"
       "device (hand detached) runs loading-unloading cycles at f_N 1, 3, 5 N, 8 tangential\n"
       "directions, rising f_T and plateaus 100/600 ms; the sliding yield surfaces are fitted and\n"
-      "written to sys.json, with the cycles (<out>.cycles.csv) and the probe-centre shape mesh\n"
-      "(<out>.shape.ply) beside it.");
+      "written to sys.json, with the cycles (<out>.cycles.csv), the probe-centre shape mesh\n"
+      "(<out>.shape.ply) and the reference points (<out>.refs.csv) beside it. With --device udp\n"
+      "the same protocol runs on a device over the bridge (a real one, or `inhap lab device\n"
+      "--operator none`). Units: mm, N, s.");
   palpate->add_option("--scene", pa->opt.scene, "built-in scene (see `inhap lab scenes`)");
   palpate->add_option("--scene-file", pa->opt.scene_file, "scene JSON file")
       ->check(CLI::ExistingFile);
@@ -302,6 +386,24 @@ void register_palpate(CLI::App* sys) {
       ->capture_default_str()
       ->check(CLI::IsMember({"builtin", "mujoco"}));
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
+  palpate->add_option("--device", pa->device,
+                      "udp or udp:PORT: palpate a device that joins over the bridge "
+                      "(docs/bridge.md) instead of the lab; needs --shape and --refs");
+  palpate->add_option("--shape", pa->shape,
+                      "--device: shape mesh (PLY/OBJ, mm; the probe-centre surface as sys palpate "
+                      "writes it, or the object surface with --probe-radius)");
+  palpate->add_option("--refs", pa->refs,
+                      "--device: reference points CSV x,y,z[,nx,ny,nz] (mm; as sys palpate writes "
+                      "<out>.refs.csv)");
+  palpate->add_option("--probe-radius", pa->probe_radius, "--device: probe radius, mm")
+      ->capture_default_str();
+  palpate
+      ->add_option("--tool-mass", pa->tool_mass, "--device: tool mass beyond the force sensor, kg")
+      ->capture_default_str();
+  palpate
+      ->add_option("--connect-timeout", pa->connect,
+                   "--device: give up if no device joins within this, s")
+      ->capture_default_str();
   palpate->callback([pa] { run_palpate(*pa); });
 }
 

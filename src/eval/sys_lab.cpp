@@ -164,6 +164,65 @@ SysLabResult evaluate_sys_on_lab(const SysLabOptions& o) {
   return res;
 }
 
+friction::PalpationConfig palpation_config(bool quick) {
+  friction::PalpationConfig cfg;
+  if (quick) {
+    cfg.normal_forces = {1.0, 3.0};
+    cfg.directions = 4;
+  }
+  return cfg;
+}
+
+DevicePalpation palpate_points(Device& dev, const friction::MeshSurface& shape,
+                               const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                               const friction::PalpationConfig& cfg, const Progress& progress,
+                               const std::string& label) {
+  using namespace inhap::friction;
+  if (points.size() != normals.size() || points.empty())
+    throw Error("palpation: expected as many normals as reference points, and at least one");
+  DevicePalpation r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    PalpationProtocol proto(cfg, dev.info(), static_cast<int>(i), points[i], normals[i], &shape);
+    for (long n = 0; !proto.done() && n < 36'000'000; ++n) {  // 10 simulated hours
+      // A device without a fresh state this tick (a late bridge datagram) gets zero force and
+      // the protocol does not advance: it only ever sees real samples.
+      const Vec3 f =
+          dev.faulted() ? Vec3::Zero() : proto.step(dev.time(), dev.position(), dev.force_sensor());
+      if (!dev.faulted()) ++r.ticks;
+      dev.command_force(f);
+      dev.tick();
+      if (progress && n % 5000 == 0) {
+        const double frac = (i + proto.progress()) / points.size();
+        const double el =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        progress(label, frac, frac > 0 ? el * (1 - frac) / frac : 0);
+      }
+    }
+    if (proto.failed() || !proto.done())
+      throw Error(
+          fmt::format("palpation of reference point {} at ({:.2f}, {:.2f}, {:.2f}) mm failed: {}",
+                      i, points[i].x(), points[i].y(), points[i].z(),
+                      proto.failed() ? proto.error() : "did not finish"));
+    r.cycles.insert(r.cycles.end(), proto.cycles().begin(), proto.cycles().end());
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  if (progress) progress(label, 1.0, 0);
+  return r;
+}
+
+friction::SysModel fit_palpation(const std::vector<friction::CycleRecord>& cycles,
+                                 const friction::MeshSurface& shape,
+                                 const friction::PalpationConfig& cfg) {
+  friction::FitOptions fo;
+  fo.shape = &shape;
+  fo.load_damping = cfg.load_damping;
+  fo.tangent_reference = cfg.tangent_reference;
+  return friction::fit_sys(cycles, fo);
+}
+
 ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
   using namespace inhap::friction;
   ScenePalpation r;
@@ -192,42 +251,15 @@ ScenePalpation palpate_scene(const ScenePalpationOptions& o) {
     r.points.push_back(c);
     r.normals.push_back(n);
   }
-  PalpationConfig cfg;
-  if (o.quick) {
-    cfg.normal_forces = {1.0, 3.0};
-    cfg.directions = 4;
-  }
+  const PalpationConfig cfg = palpation_config(o.quick);
   dev.place(r.points.front() + (cfg.hover + 3.0) * r.normals.front());
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::clock_t c0 = std::clock();
-  for (std::size_t i = 0; i < r.points.size(); ++i) {
-    PalpationProtocol proto(cfg, dev.info(), static_cast<int>(i), r.points[i], r.normals[i],
-                            r.shape.get());
-    for (long n = 0; !proto.done() && n < 36'000'000; ++n, ++r.ticks) {  // 10 simulated hours
-      dev.command_force(proto.step(dev.time(), dev.position(), dev.force_sensor()));
-      dev.tick();
-      if (o.progress && n % 5000 == 0) {
-        const double f = (i + proto.progress()) / r.points.size();
-        const double el =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        o.progress(o.progress_label, f, f > 0 ? el * (1 - f) / f : 0);
-      }
-    }
-    if (proto.failed() || !proto.done())
-      throw Error(
-          fmt::format("palpation of reference point {} at ({:.2f}, {:.2f}, {:.2f}) mm failed: {}",
-                      i, r.points[i].x(), r.points[i].y(), r.points[i].z(),
-                      proto.failed() ? proto.error() : "did not finish"));
-    r.cycles.insert(r.cycles.end(), proto.cycles().begin(), proto.cycles().end());
-  }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-  if (o.progress) o.progress(o.progress_label, 1.0, 0);
-  FitOptions fo;
-  fo.shape = r.shape.get();
-  fo.load_damping = cfg.load_damping;
-  fo.tangent_reference = cfg.tangent_reference;
-  r.sys = fit_sys(r.cycles, fo);
+  DevicePalpation d =
+      palpate_points(dev, *r.shape, r.points, r.normals, cfg, o.progress, o.progress_label);
+  r.cycles = std::move(d.cycles);
+  r.ticks = d.ticks;
+  r.wall_s = d.wall_s;
+  r.cpu_s = d.cpu_s;
+  r.sys = fit_palpation(r.cycles, *r.shape, cfg);
   return r;
 }
 

@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -98,7 +99,12 @@ void BridgeDevice::tick() {
     send_force(command_, status_);
   }
   command_.setZero();
-  if (wait_state(options_.timeout_s)) {
+  // The deadline runs from the last state's arrival, not from this call: a loop that took part of
+  // the period to render does not stretch the fault detection.
+  const double left = faulted_
+                          ? options_.timeout_s
+                          : std::max(0.0, last_arrival_s_ + options_.timeout_s - monotonic_s());
+  if (wait_state(left)) {
     faulted_ = false;
   } else {
     faulted_ = true;
@@ -168,6 +174,7 @@ bool BridgeDevice::wait_state(double timeout_s) {
       if (!accept(p)) continue;
       if (got) ++stats_.superseded;
       got = true;
+      last_arrival_s_ = monotonic_s();
       ++stats_.accepted;
       std::memcpy(peer_, &from, sizeof from);
       have_peer_ = true;

@@ -165,14 +165,21 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
   const double step_us = (now_s() - t0) * 1e6;
   step_.add(step_us);
 
-  const bool fault = device_.faulted() || missed_in_row_ >= options_.watchdog_misses;
-  if (fault) {
+  // A device fault zeroes the force at once. A short one (fewer than short_fault_ticks: a late
+  // datagram) releases as soon as the device is back; a long one, or missed deadlines, holds zero
+  // for recover_ticks good ticks and resets the renderer (no kick from a stale proxy).
+  const bool device_fault = device_.faulted();
+  fault_in_row_ = device_fault ? fault_in_row_ + 1 : 0;
+  if (missed_in_row_ >= options_.watchdog_misses || fault_in_row_ >= options_.short_fault_ticks)
+    long_fault_ = true;
+  if (device_fault || missed_in_row_ >= options_.watchdog_misses) {
     if (!holding_) ++trips_;
     holding_ = true;
     good_in_row_ = 0;
-  } else if (holding_ && ++good_in_row_ >= options_.recover_ticks) {
+  } else if (holding_ && (!long_fault_ || ++good_in_row_ >= options_.recover_ticks)) {
     holding_ = false;
-    renderer_.reset();  // the next contact starts from a fresh proxy, not a stale one
+    if (long_fault_) renderer_.reset();
+    long_fault_ = false;
   }
   if (holding_) ++watchdog_ticks_;
   const Vec3 cmd = (holding_ || !out.force_n.allFinite()) ? Vec3::Zero() : out.force_n;
@@ -188,6 +195,7 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
     s.commanded_n = cmd;
     s.watchdog = holding_;
     s.step_us = static_cast<float>(step_us);
+    s.wall_s = t0;
     for (ObserverRing* r : observers_) r->push(s);
   }
   device_.tick();

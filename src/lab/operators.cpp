@@ -110,29 +110,38 @@ LabRecording record(SimDevice& device, HandOperator& op, double seconds,
   return log.take();
 }
 
+RecordSetup make_record_setup(const Scene& scene, const RecordSpec& spec) {
+  RecordSetup s;
+  s.params.probe = spec.probe;
+  s.params.noise = spec.noise;
+  s.params.gravity = spec.gravity;
+  s.params.inertia = spec.inertia;
+  s.params.seed = derive_seed(spec.seed, 0);
+  s.params.physics = spec.physics;
+  s.device = std::make_unique<SimDevice>(scene.object, s.params);
+  s.op = make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
+  return s;
+}
+
+std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& spec,
+                                         const RecordSetup& setup) {
+  const DeviceParams& dp = setup.params;
+  return {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius "
+                      "{:g} mm), physics {}",
+                      scene.name, setup.op->name(), spec.seconds, spec.seed,
+                      spec.probe.kind == ProbeKind::tip ? "tip" : "sphere", spec.probe.radius_mm,
+                      to_string(spec.physics)),
+          fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
+                      "gravity {}, inertia {}",
+                      dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",
+                      spec.gravity ? "on" : "off", spec.inertia ? "on" : "off")};
+}
+
 LabRecording record_scene(const Scene& scene, const RecordSpec& spec,
                           const std::function<void(double)>& progress) {
-  DeviceParams dp;
-  dp.probe = spec.probe;
-  dp.noise = spec.noise;
-  dp.gravity = spec.gravity;
-  dp.inertia = spec.inertia;
-  dp.seed = derive_seed(spec.seed, 0);
-  dp.physics = spec.physics;
-  SimDevice device(scene.object, dp);
-  auto op = make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
-  LabRecording lab = record(device, *op, spec.seconds, progress);
-  lab.comments = {
-      fmt::format(
-          "inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius {:g} "
-          "mm), physics {}",
-          scene.name, op->name(), spec.seconds, spec.seed,
-          spec.probe.kind == ProbeKind::tip ? "tip" : "sphere", spec.probe.radius_mm,
-          to_string(spec.physics)),
-      fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
-                  "gravity {}, inertia {}",
-                  dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",
-                  spec.gravity ? "on" : "off", spec.inertia ? "on" : "off")};
+  RecordSetup setup = make_record_setup(scene, spec);
+  LabRecording lab = record(*setup.device, *setup.op, spec.seconds, progress);
+  lab.comments = record_comments(scene, spec, setup);
   return lab;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "inhap/core/error.hpp"
 
@@ -92,6 +93,32 @@ std::string truth_path_for(const std::string& csv_path) {
   return csv_path + ".truth.csv";
 }
 
+std::unique_ptr<CsvWriter> truth_writer(const std::string& truth_path, const TruthTable& tr,
+                                        const std::vector<std::string>& comments) {
+  std::vector<std::string> tcomments = comments;
+  tcomments.push_back(
+      "ground truth per tick; units: t tc s; cx cy cz ax ay az mm; tfx tfy tfz N; k N/mm (F/depth "
+      "at 5 N); contact 0/1; tap = contact episode index or -1; nan = not in contact");
+  auto tw = std::make_unique<CsvWriter>(
+      truth_path,
+      std::vector<std::string>{"t", "contact", "tap", "tc", "cx", "cy", "cz", "ax", "ay", "az",
+                               "tfx", "tfy", "tfz", "k", "mu"},
+      tcomments);
+  std::vector<double> trow(15);
+  for (std::size_t i = 0; i < tr.size(); ++i) {
+    trow[0] = tr.t[i];
+    trow[1] = tr.contact[i];
+    trow[2] = static_cast<double>(tr.tap[i]);
+    trow[3] = tr.tc[i];
+    for (int k = 0; k < 3; ++k)
+      trow[4 + k] = tr.c[i][k], trow[7 + k] = tr.anchor[i][k], trow[10 + k] = tr.force[i][k];
+    trow[13] = tr.k[i];
+    trow[14] = tr.mu[i];
+    tw->row(trow);
+  }
+  return tw;
+}
+
 void write_lab_recording(const std::string& csv_path, const LabRecording& lab) {
   const Recording& rec = lab.rec;
   std::vector<std::string> comments = lab.comments;
@@ -109,29 +136,9 @@ void write_lab_recording(const std::string& csv_path, const LabRecording& lab) {
     w.row(row);
   }
 
-  const TruthTable& tr = lab.truth;
-  std::vector<std::string> tcomments = lab.comments;
-  tcomments.push_back(
-      "ground truth per tick; units: t tc s; cx cy cz ax ay az mm; tfx tfy tfz N; k N/mm (F/depth "
-      "at 5 N); contact 0/1; tap = contact episode index or -1; nan = not in contact");
-  CsvWriter tw(truth_path_for(csv_path),
-               {"t", "contact", "tap", "tc", "cx", "cy", "cz", "ax", "ay", "az", "tfx", "tfy",
-                "tfz", "k", "mu"},
-               tcomments);
-  std::vector<double> trow(15);
-  for (std::size_t i = 0; i < tr.size(); ++i) {
-    trow[0] = tr.t[i];
-    trow[1] = tr.contact[i];
-    trow[2] = static_cast<double>(tr.tap[i]);
-    trow[3] = tr.tc[i];
-    for (int k = 0; k < 3; ++k)
-      trow[4 + k] = tr.c[i][k], trow[7 + k] = tr.anchor[i][k], trow[10 + k] = tr.force[i][k];
-    trow[13] = tr.k[i];
-    trow[14] = tr.mu[i];
-    tw.row(trow);
-  }
+  auto tw = truth_writer(truth_path_for(csv_path), lab.truth, lab.comments);
   w.commit();
-  tw.commit();
+  tw->commit();
 }
 
 TruthTable read_truth(const std::string& path) {

@@ -32,7 +32,7 @@ TEST(CliServe, ADeviceClientFeelsTheRenderedPlaneAndTheSessionIsRecorded) {
   std::thread server([&] {
     serve = test::run_cli("serve --device udp:" + std::to_string(port) + " --render cba --mesh " +
                           mesh + " --record " + rec +
-                          " --seconds 4 --no-realtime --connect-timeout 20");
+                          " --seconds 4 --no-realtime --connect-timeout 20 --timeout 0.2");
   });
   inhap_bridge c;
   ASSERT_EQ(inhap_bridge_open(&c, "127.0.0.1", static_cast<unsigned short>(port), nullptr), 0);
@@ -55,7 +55,9 @@ TEST(CliServe, ADeviceClientFeelsTheRenderedPlaneAndTheSessionIsRecorded) {
       last_fz = f[2];
       EXPECT_EQ(f[0], 0.0);
       EXPECT_EQ(f[1], 0.0);
-      if (z > 0.01) EXPECT_EQ(f[2], 0.0) << "tick " << i;
+      if (z > 0.01) {
+        EXPECT_EQ(f[2], 0.0) << "tick " << i;
+      }
     }
     usleep(500);
   }
@@ -67,6 +69,26 @@ TEST(CliServe, ADeviceClientFeelsTheRenderedPlaneAndTheSessionIsRecorded) {
   EXPECT_NE(serve.out.find("step p50/p99"), std::string::npos) << serve.out;
   const Recording r = read_recording(rec);
   EXPECT_GE(r.size(), static_cast<std::size_t>(answered));
+}
+
+TEST(CliServe, TheVirtualLabServesInProcessAndItsSessionHasTruth) {
+  test::TempDir dir;
+  TriMesh plane = test::make_grid_mesh(21, 21, 5.0);
+  plane.set_property("stiffness", std::vector<double>(plane.positions.size(), 0.5));
+  write_mesh(dir.path("plane.ply"), plane);
+  const std::string rec = dir.path("lab.csv");
+  const auto r = test::run_cli(
+      "serve --device lab:planar --operator explore --seed 2 --render cba "
+      "--mesh " +
+      dir.path("plane.ply") + " --seconds 1.5 --no-realtime --record " + rec);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("virtual lab"), std::string::npos) << r.out;
+  const Recording rows = read_recording(rec);
+  const CsvTable truth = read_csv(dir.path("lab.truth.csv"));
+  EXPECT_GT(rows.size(), 1000u) << "1.5 s at 1 kHz";
+  EXPECT_EQ(truth.rows(), rows.size()) << "one truth row per recorded tick";
+  for (std::size_t i = 0; i < std::min(rows.size(), truth.rows()); ++i)
+    ASSERT_EQ(truth.column("t")[i], rows.t[i]) << "row " << i;
 }
 
 TEST(CliServe, BadFlagsGetOneLineErrors) {

@@ -118,6 +118,24 @@ TEST(ServoLoop, TheWatchdogHoldsZeroForceWhileTheDeviceFaultsAndResetsTheRendere
   EXPECT_EQ(loop.stats().watchdog_ticks, 79u);
 }
 
+TEST(ServoLoop, AShortDeviceFaultZeroesOnlyItsTicksAndKeepsTheRendererState) {
+  ScriptDevice dev;
+  dev.commanded.reserve(2000);
+  dev.fault_from = 300;
+  dev.fault_to = 302;  // two late datagrams
+  Wall wall;
+  LoopOptions o = quiet(600);
+  ServoLoop loop(dev, wall, o);
+  loop.run();
+  EXPECT_EQ(dev.commanded[299], wall_force(2.0 - 0.01 * 299));
+  EXPECT_EQ(dev.commanded[300], Vec3::Zero());
+  EXPECT_EQ(dev.commanded[301], Vec3::Zero());
+  EXPECT_EQ(dev.commanded[302], wall_force(2.0 - 0.01 * 302)) << "force back with the device";
+  EXPECT_EQ(wall.resets, 0);
+  EXPECT_EQ(loop.stats().watchdog_trips, 1u);
+  EXPECT_EQ(loop.stats().watchdog_ticks, 2u);
+}
+
 TEST(ServoLoop, ObserversGetEveryTickInOrderAndAFullRingNeverBlocksTheLoop) {
   ScriptDevice dev;
   dev.info_.servo_rate_hz = 20000.0;  // 8,692 ticks in 0.43 s

@@ -18,14 +18,14 @@
 namespace inhap::eval {
 
 struct ScenePalpationOptions {
-  std::string scene;           ///< built-in scene name
-  std::string scene_file;      ///< or a scene JSON file
-  std::string points;          ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
-  std::uint64_t seed = 1;      ///< device noise
-  bool quick = false;          ///< f_N {1, 3} N, 4 directions (tests)
+  std::string scene;                ///< built-in scene name
+  std::string scene_file;           ///< or a scene JSON file
+  std::string points;               ///< grid:RxC[:H], rings:1,6,11[:R], file:xy.csv ("": default)
+  std::uint64_t seed = 1;           ///< device noise
+  bool quick = false;               ///< f_N {1, 3} N, 4 directions (tests)
   std::string physics = "builtin";  ///< lab contact physics: builtin | mujoco
-  std::string progress_label;  ///< "what" of the progress calls
-  Progress progress;           ///< empty: silent
+  std::string progress_label;       ///< "what" of the progress calls
+  Progress progress;                ///< empty: silent
 };
 
 struct ScenePalpation {
@@ -44,6 +44,28 @@ struct ScenePalpation {
 /// around its region (the shape model a real lab gets from chapter 3); the table (z = 0 plus
 /// the probe radius) where the probe misses the object. Normals computed.
 TriMesh shape_height_field(const lab::Scene& scene, double probe_radius, double half);
+
+/// The protocol settings of `sys palpate` (quick: f_N {1, 3} N, 4 directions).
+friction::PalpationConfig palpation_config(bool quick);
+
+/// Palpation through any Device (the lab's with the hand detached, or a real one over the
+/// bridge): each reference point (probe centre on `shape`, with its normal) in turn. The protocol
+/// steps only on fresh device states: a faulted tick (a late bridge datagram) commands zero force
+/// and does not advance it. Throws inhap::Error when a point fails.
+struct DevicePalpation {
+  std::vector<friction::CycleRecord> cycles;
+  long ticks = 0;     ///< protocol ticks (1 ms)
+  double wall_s = 0;  ///< wall time, s
+  double cpu_s = 0;   ///< CPU time of this process, s
+};
+DevicePalpation palpate_points(Device& device, const friction::MeshSurface& shape,
+                               const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                               const friction::PalpationConfig& config, const Progress& progress,
+                               const std::string& label);
+/// The sliding yield surfaces of palpation cycles (thesis 4.3.2).
+friction::SysModel fit_palpation(const std::vector<friction::CycleRecord>& cycles,
+                                 const friction::MeshSurface& shape,
+                                 const friction::PalpationConfig& config);
 
 /// Builds the shape mesh, chooses the reference points, palpates each one through the device
 /// interface (hand detached) and fits the sliding yield surfaces. Throws inhap::Error.
@@ -74,11 +96,11 @@ ProxyErrors proxy_errors(const ScenePalpation& palpation, const lab::LabRecordin
 /// without creep) against the true anchor.
 struct SysLabOptions {
   std::string scene = "planar";
-  double seconds = 60.0;   ///< exploration length, s (at most 10 s with quick)
-  std::uint64_t seed = 1;  ///< device noise and operator
-  bool quick = false;      ///< few reference points, f_N {1, 3} N, 4 directions (tests)
+  double seconds = 60.0;            ///< exploration length, s (at most 10 s with quick)
+  std::uint64_t seed = 1;           ///< device noise and operator
+  bool quick = false;               ///< few reference points, f_N {1, 3} N, 4 directions (tests)
   std::string physics = "builtin";  ///< lab contact physics: builtin | mujoco
-  Progress progress;       ///< empty: silent
+  Progress progress;                ///< empty: silent
 };
 struct SysLabResult {
   ScenePalpation palpation;

@@ -6,7 +6,8 @@
 // Units: positions mm, forces N, time s.
 //
 // Pacing: the device paces the loop. tick() answers the last state with the commanded force and
-// waits (poll) for the next state up to `timeout_s`; if none comes, the device is *faulted*:
+// waits (poll) for the next state until `timeout_s` after the last one arrived (default two
+// periods: one period after the next state was due); if none comes, the device is *faulted*:
 // position and sensor hold their last values, the next forces sent are zero (status
 // kStatusZeroed) until a state arrives again. Late, lost, out-of-order, foreign and malformed
 // datagrams are counted in BridgeStats and never trusted. tick() and the accessors do not
@@ -25,8 +26,10 @@ struct BridgeOptions {
   std::string listen = "127.0.0.1";         ///< IPv4 address to bind; non-loopback needs a key
   std::uint16_t port = kBridgeDefaultPort;  ///< UDP port; 0 = any free port (see port())
   std::string key;                          ///< shared secret for HMAC-SHA256; empty = unsigned
-  DeviceInfo info;          ///< what the client's device is (rate, force limit, ...)
-  double timeout_s = 0.05;  ///< no state for this long -> fault, zero force
+  DeviceInfo info;  ///< what the client's device is (rate, force limit, ...)
+  /// No new state for this long after the last one -> fault, zero force. Default: two servo
+  /// periods at 1 kHz, i.e. one period after the next state was due.
+  double timeout_s = 0.002;
 };
 
 struct BridgeStats {
@@ -90,6 +93,7 @@ class BridgeDevice final : public Device {
   StatePacket state_;
   bool session_locked_ = false;
   bool faulted_ = false;
+  double last_arrival_s_ = 0;  ///< monotonic time the last state was accepted, s
   Vec3 command_ = Vec3::Zero();
   std::uint32_t status_ = 0;
   BridgeStats stats_;

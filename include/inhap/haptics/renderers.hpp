@@ -51,4 +51,19 @@ class DataDrivenRenderer final : public Renderer {
   DataDrivenState state_;
 };
 
+/// No rendering: zero force, never in contact (recording a device, or a protocol that commands
+/// its own forces).
+class NullRenderer final : public Renderer {
+ public:
+  ServoOutput step(const ServoInput& input) noexcept override {
+    ServoOutput out;
+    out.hip_mm = input.p_mm;
+    out.ihip_mm = input.p_mm;
+    out.cihip_mm = input.p_mm;
+    return out;
+  }
+  void reset() noexcept override {}
+  const char* name() const noexcept override { return "none"; }
+};
+
 }  // namespace inhap::haptics

@@ -8,8 +8,10 @@
 //   device's next state).
 // - Real time: SCHED_FIFO and mlockall when permitted (LoopOptions::realtime); rt_status() says
 //   what was granted, and why not.
-// - Watchdog: zero force after `watchdog_misses` deadlines missed in a row or while the device
-//   reports a fault; the renderer is reset when it recovers (no kick from a stale proxy).
+// - Watchdog: zero force while the device reports a fault (from the first faulted tick) and after
+//   `watchdog_misses` deadlines missed in a row. A short device fault (a late datagram) releases
+//   when the device is back; a long one holds zero for `recover_ticks` and resets the renderer
+//   (no kick from a stale proxy).
 // - Observers read the loop through lock-free SPSC rings (spsc_ring.hpp); the loop never
 //   blocks on them: a full ring drops the sample and counts it.
 // - The loop's steady state allocates nothing and takes no lock; on stop it commands zero force
@@ -38,6 +40,7 @@ struct LoopSample {
   Vec3 commanded_n = Vec3::Zero();     ///< force actually commanded (zero when the watchdog holds)
   bool watchdog = false;               ///< the watchdog held the force at zero
   float step_us = 0;                   ///< renderer step time, us
+  double wall_s = 0;                   ///< monotonic clock when the step began, s
 };
 
 using ObserverRing = SpscRing<LoopSample, 8192>;
@@ -47,7 +50,10 @@ struct LoopOptions {
   int priority = 80;         ///< SCHED_FIFO priority when granted
   int watchdog_misses = 10;  ///< deadlines missed in a row before zero force
   int recover_ticks = 100;   ///< good ticks before force comes back after a trip
-  long max_ticks = -1;       ///< stop by itself after this many ticks (-1: until stop())
+  /// A device fault shorter than this many ticks (a late datagram) releases as soon as the device
+  /// is back, without recover_ticks and without a renderer reset.
+  int short_fault_ticks = 5;
+  long max_ticks = -1;  ///< stop by itself after this many ticks (-1: until stop())
 };
 
 /// Latency histogram with fixed bins (allocated once, before the loop starts).
@@ -114,8 +120,9 @@ class ServoLoop {
   LatencyHistogram jitter_{1.0, 100000.0};
   LatencyHistogram step_{0.02, 2000.0};
   std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
-  int missed_in_row_ = 0, good_in_row_ = 0;
+  int missed_in_row_ = 0, good_in_row_ = 0, fault_in_row_ = 0;
   bool holding_ = false;
+  bool long_fault_ = false;  ///< the current hold needs recover_ticks and a renderer reset
   std::string rt_status_ = "not started";
 };
 

@@ -96,6 +96,19 @@ struct RecordSpec {
   Physics physics = Physics::builtin;  ///< contact physics of the device (physics.hpp)
 };
 
+/// The device and operator of a recording: the device's noise seed and the operator's seed are
+/// derived from spec.seed. record_scene runs them; a bridge client (eval/lab_device.hpp) runs the
+/// same pair tick by tick, so both give the same samples.
+struct RecordSetup {
+  std::unique_ptr<SimDevice> device;
+  std::unique_ptr<HandOperator> op;
+  DeviceParams params;
+};
+RecordSetup make_record_setup(const Scene& scene, const RecordSpec& spec);
+/// The provenance comments record_scene writes.
+std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& spec,
+                                         const RecordSetup& setup);
+
 /// Builds the device (noise seed and operator seed derived from spec.seed), runs the operator
 /// and returns the recording with provenance comments.
 LabRecording record_scene(const Scene& scene, const RecordSpec& spec,

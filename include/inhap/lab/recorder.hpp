@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,9 @@ class TickLogger {
 
 /// "rec.csv" -> "rec.truth.csv" (other names get ".truth.csv" appended).
 std::string truth_path_for(const std::string& csv_path);
+/// A truth sidecar's rows in a writer, not yet committed (commit() renames it into place).
+std::unique_ptr<CsvWriter> truth_writer(const std::string& truth_path, const TruthTable& truth,
+                                        const std::vector<std::string>& comments);
 /// Writes the recording and its truth sidecar atomically.
 void write_lab_recording(const std::string& csv_path, const LabRecording& lab);
 /// Reads a truth sidecar back (NaN fields allowed).

@@ -1,0 +1,104 @@
+// `inhap lab device`: the virtual lab as a bridge device client (docs/bridge.md), so `inhap
+// serve`, `inhap record` and `inhap sys palpate --device udp` run without hardware, across a
+// process boundary. Units: mm, N, s.
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+
+#include "command.hpp"
+#include "inhap/core/csv.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/eval/lab_device.hpp"
+
+namespace inhap::cli {
+namespace {
+
+struct LabDeviceArgs {
+  eval::LabDeviceOptions o;
+  std::string probe = "sphere", place;
+  int port = 47110;
+};
+
+Vec3 parse_point(const std::string& s, const char* flag) {
+  Vec3 p;
+  std::size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t end = s.find(',', start);
+    const std::string tok = s.substr(start, end == std::string::npos ? end : end - start);
+    double v = 0;
+    if (!parse_double(tok, v) || (k < 2 && end == std::string::npos) ||
+        (k == 2 && end != std::string::npos))
+      throw Error(fmt::format("{}: expected X,Y,Z in mm, got {}", flag, quote_token(s)));
+    p[k] = v;
+    start = end + 1;
+  }
+  return p;
+}
+
+void run_lab_device(LabDeviceArgs a) {
+  if (a.port < 1 || a.port > 65535) throw Error("--port: expected 1-65535");
+  a.o.port = static_cast<std::uint16_t>(a.port);
+  a.o.probe = a.probe == "tip" ? lab::ProbeSpec::tip() : lab::ProbeSpec::sphere();
+  if (!a.place.empty()) a.o.place = parse_point(a.place, "--place");
+  a.o.progress = [](const std::string& what, double f, double eta) { progress(what, f, eta); };
+  fmt::print(stderr, "inhap lab device: scene {}, operator {}, joining inhap on {}:{}\n",
+             a.o.scene_file.empty() ? a.o.scene : a.o.scene_file, a.o.operator_name, a.o.host,
+             a.o.port);
+  const eval::LabDeviceResult r = eval::run_lab_device(a.o);
+  fmt::print(stderr,
+             "\n{} ticks, {} answered, {} time-outs (zero force){}; largest force {:.3f} N\n",
+             r.ticks, r.answered, r.timeouts, r.stopped ? ", inhap stopped the session" : "",
+             r.max_force_n);
+}
+
+void register_lab_device(CLI::App& app) {
+  CLI::App* lab = subcommand_group(app, "lab", "Virtual lab");
+  auto a = std::make_shared<LabDeviceArgs>();
+  auto* c = lab->add_subcommand(
+      "device",
+      "Run the virtual lab as a device client of the UDP bridge (docs/bridge.md): each tick it\n"
+      "sends the simulated probe's state (t s, p mm, raw sensor N) to inhap and applies the force\n"
+      "(N) it gets back. Start `inhap serve`, `inhap record` or `inhap sys palpate --device udp`\n"
+      "first. With an operator and the same scene and seed, its samples are those of\n"
+      "`inhap lab record`.");
+  c->add_option("--scene", a->o.scene, "built-in scene")->capture_default_str();
+  c->add_option("--scene-file", a->o.scene_file, "scene JSON file");
+  c->add_option("--operator", a->o.operator_name,
+                "tap | explore | air | none (hand detached: the probe only moves under inhap's "
+                "forces, e.g. for sys palpate)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"tap", "explore", "air", "none"}));
+  c->add_option("--seconds", a->o.seconds, "simulated seconds to run")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  c->add_option("--seed", a->o.seed, "seed, as `inhap lab record --seed`")->capture_default_str();
+  c->add_option("--physics", a->o.physics, "builtin | mujoco")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  c->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sphere", "tip"}));
+  c->add_option("--place", a->place,
+                "start position X,Y,Z of the probe centre, mm (operator none)");
+  c->add_option("--host", a->o.host, "IPv4 address inhap listens on")->capture_default_str();
+  c->add_option("--port", a->port, "UDP port inhap listens on")->capture_default_str();
+  c->add_option("--key", a->o.key, "shared secret (HMAC-SHA256), as given to inhap");
+  c->add_flag("--lockstep", a->o.lockstep,
+              "wait for every answer and run as fast as the exchange allows (deterministic; for "
+              "tests): a real device cannot wait");
+  c->add_option("--answer-timeout", a->o.answer_timeout_s,
+                "no answer within this -> zero force for the tick, s (lockstep: 2 s)")
+      ->capture_default_str();
+  c->add_option("--connect-timeout", a->o.connect_timeout_s,
+                "give up if inhap does not answer within this, s")
+      ->capture_default_str();
+  c->add_option("--out,-o", a->o.out,
+                "also write the device side's own recording and truth (OUT.truth.csv)");
+  c->callback([a] { run_lab_device(*a); });
+}
+
+INHAP_COMMAND(61, "lab device", register_lab_device);
+
+}  // namespace
+}  // namespace inhap::cli
