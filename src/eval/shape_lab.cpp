@@ -9,7 +9,10 @@
 
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
+#include "inhap/lab/reach.hpp"
+#include "inhap/surface/points.hpp"
 #include "inhap/surface/reconstruct.hpp"
 
 namespace inhap::eval {
@@ -100,14 +103,49 @@ MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOption
   return m;
 }
 
+EntrySideCounts count_far_side_contacts(const lab::LabRecording& lab, const lab::SoftObject& object,
+                                        double probe_radius_mm, double approach_mm,
+                                        double reversal_n) {
+  EntrySideCounts out;
+  const lab::TruthTable& tr = lab.truth;
+  const std::size_t n = std::min(tr.size(), lab.rec.size());
+  Vec3 dir = Vec3::Zero(), last_normal = Vec3::Zero();
+  bool reversed = false, went_away = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool starts = tr.contact[i] && (i == 0 || !tr.contact[i - 1]);
+    if (starts) {
+      if (reversed) ++out.force_reversals;
+      reversed = false;
+      ++out.episodes;
+      dir = tr.force[i].norm() > 1e-12 ? Vec3(tr.force[i].normalized()) : Vec3::Zero();
+      if (all_finite(tr.c[i])) {
+        const Vec3 normal = object.query(tr.c[i]).normal;
+        if (!went_away && normal.dot(last_normal) < -0.5) ++out.far_side_first_contacts;
+        last_normal = normal;
+      }
+      went_away = false;
+    } else if (tr.contact[i] && tr.force[i].dot(dir) < -reversal_n) {
+      reversed = true;
+    }
+    if (!tr.contact[i] && !went_away &&
+        object.query(lab.rec.p[i]).distance - probe_radius_mm >= approach_mm)
+      went_away = true;
+  }
+  if (reversed) ++out.force_reversals;
+  return out;
+}
+
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress, lab::Physics physics) {
+                              const std::function<void(double)>& progress, lab::Physics physics,
+                              const lab::TapOptions& tap) {
   lab::RecordSpec spec;
   spec.physics = physics;
   spec.operator_name = "tap";
   spec.probe = lab::ProbeSpec::tip();
   spec.seed = seed;
-  spec.seconds = 10.0 + 1.7 * static_cast<double>(taps);  // about 0.7 taps per second
+  spec.tap = tap;
+  // About 0.7 taps per second in region mode, 1.1 going round the object.
+  spec.seconds = 10.0 + (tap.whole_object ? 0.95 : 1.7) * static_cast<double>(taps);
   for (int attempt = 0; attempt < 4; ++attempt) {
     lab::LabRecording rec = lab::record_scene(scene, spec, [&](double f) {
       if (progress) progress(f);
@@ -121,8 +159,52 @@ lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::ui
       fmt::format("eval: the tapping operator gave fewer than {} taps on {}", taps, scene.name));
 }
 
+double taps_per_minute(const lab::LabRecording& rec) {
+  long n = 0;
+  for (long t : rec.truth.tap) n = std::max(n, t + 1);
+  const double seconds = rec.rec.size() > 1 ? rec.rec.t.back() - rec.rec.t.front() : 0.0;
+  return seconds > 0 ? 60.0 * static_cast<double>(n) / seconds : 0.0;
+}
+
+double tap_coverage(const lab::SoftObject& object, const std::vector<Vec3>& taps, double radius_mm,
+                    std::size_t samples, const lab::ReachOptions& reach) {
+  const std::vector<lab::SurfaceSample> s = lab::reachable_samples(object, 0.0, samples, 99, reach);
+  if (s.empty() || taps.empty()) return 0.0;
+  std::vector<Vec3> pts;
+  for (const auto& x : s) pts.push_back(x.point);
+  const std::vector<double> d = nearest_distances(taps, pts);
+  std::size_t near = 0;
+  for (double v : d) near += v <= radius_mm;
+  return static_cast<double>(near) / static_cast<double>(d.size());
+}
+
+lab::Scene bunny_scene(const std::string& ply_path, double size_mm) {
+  TriMesh m = read_mesh(ply_path);
+  for (Vec3& p : m.positions) p = Vec3(p.x(), -p.z(), p.y());  // y up -> z up
+  Box3 b;
+  for (const Vec3& p : m.positions) b.extend(p);
+  const double scale = size_mm / std::max(b.size().maxCoeff(), 1e-12);
+  const Vec3 base(b.center().x(), b.center().y(), b.min.z());
+  for (Vec3& p : m.positions) p = scale * (p - base);
+  lab::Scene scene;
+  scene.name = "bunny";
+  scene.description =
+      fmt::format("Stanford bunny scaled to {:g} mm, standing on z = 0, Ecoflex 00-30", size_mm);
+  scene.object = lab::SoftObject(lab::make_mesh_shape(std::move(m), ply_path),
+                                 lab::builtin_scene("planar").object.material());
+  scene.region = lab::default_region(scene.object.shape());
+  scene.source = ply_path;
+  return scene;
+}
+
 TriMesh reference_mesh(const lab::Shape& shape) {
   TriMesh m;
+  if (const auto* mesh = std::get_if<lab::MeshShape>(&shape.variant())) {
+    if (!mesh->mesh) throw Error("eval shape: the mesh shape has no mesh");
+    m = *mesh->mesh;
+    m.compute_normals();
+    return m;
+  }
   if (const auto* s = std::get_if<lab::SphereShape>(&shape.variant())) {
     m = sphere_mesh(s->center, s->radius);
   } else if (const auto* h = std::get_if<lab::HemisphereShape>(&shape.variant())) {
@@ -181,6 +263,7 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
     if (rep.used[i]) region.push_back(m.truth[i]);
   CompareOptions co;
   co.icp = options.icp;
+  co.crop_sides = options.uncropped_reconstruction ? CropSides::kB : CropSides::kBoth;
   co.region = region;
   co.region_radius = options.region_mm;
   co.exclude_boundary = true;
@@ -190,6 +273,7 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   v.vertices = v.mesh.num_vertices();
   v.faces = v.mesh.num_triangles();
   v.cmp = compare_surfaces(v.mesh, reference, co);
+  v.region = std::move(region);
   for (Vec3& p : v.mesh.positions) p = v.cmp.transform.apply(p);
   return v;
 }

@@ -120,15 +120,20 @@ LabRecording record_scene(const Scene& scene, const RecordSpec& spec,
   dp.seed = derive_seed(spec.seed, 0);
   dp.physics = spec.physics;
   SimDevice device(scene.object, dp);
-  auto op = make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
+  auto op = spec.operator_name == "tap"
+                ? make_tap_operator(scene, derive_seed(spec.seed, 1), spec.tap)
+                : make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
   LabRecording lab = record(device, *op, spec.seconds, progress);
   lab.comments = {
       fmt::format(
           "inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius {:g} "
           "mm), physics {}",
-          scene.name, op->name(), spec.seconds, spec.seed,
-          spec.probe.kind == ProbeKind::tip ? "tip" : "sphere", spec.probe.radius_mm,
-          to_string(spec.physics)),
+          scene.name,
+          op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
+                            ? std::string(" (whole object)")
+                            : std::string()),
+          spec.seconds, spec.seed, spec.probe.kind == ProbeKind::tip ? "tip" : "sphere",
+          spec.probe.radius_mm, to_string(spec.physics)),
       fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
                   "gravity {}, inertia {}",
                   dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",

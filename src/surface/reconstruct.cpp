@@ -55,6 +55,7 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   for (std::size_t i = 0; i < n; ++i) both.push_back(pts[i] - depth * normals[i]);
   AlphaShapeOptions ao;
   ao.alpha = o.alpha;
+  ao.one_component = !o.patches;
   AlphaShapeResult as = alpha_shape(both, ao);
   rep.alpha = as.alpha;
   rep.solid_components = as.solid_components;
@@ -121,14 +122,22 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
     soup = shell_surface(pts, dirs, o, rep);
   }
   ManifoldReport mr;
-  TriMesh mesh = make_manifold(soup, true, &mr);
+  const bool patches = o.mode == SurfaceMode::Shell && o.patches;
+  TriMesh mesh = make_manifold(soup, !patches, &mr, patches ? o.min_patch_faces : 0);
   rep.duplicated_vertices = mr.duplicated_vertices;
-  rep.components_dropped = mr.components > 0 ? mr.components - 1 : 0;
+  rep.components_dropped = mr.components - mr.kept_components;
+  rep.components = mr.kept_components;
   // Shell: where a twin showed through the outer side a few faces are missing; close such
   // small holes (the patch's own rim is long and stays open).
   if (o.mode == SurfaceMode::Shell) rep.holes_filled = fill_small_holes(mesh, 16, 0.1);
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
+  if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {
+    const double max_move =
+        0.5 * std::max(rep.shell_depth, median(knn_mean_distances(pts, 6), 0.0));
+    mesh.positions = project_onto_jets(pts, mesh.positions, o.jet_k, max_move);
+    mesh.compute_normals();
+  }
   rep.vertices = mesh.num_vertices();
   rep.faces = mesh.num_triangles();
   if (report) *report = rep;
