@@ -64,6 +64,7 @@ struct ReconstructArgs {
   std::string points, out, alpha = "auto", mode = "shell", directions = "auto";
   std::size_t taubin = 10, subdivide = 1, jet_k = 18, outlier_k = 8;
   double outlier_sigmas = 6.0, shell_depth = 0, lambda = 0.5, mu = -0.53;
+  double max_face_normal_deg = ReconstructOptions{}.max_face_normal_deg;
   bool ascii = false;
 };
 
@@ -84,6 +85,7 @@ void run_reconstruct(const ReconstructArgs& a) {
   o.outlier_k = a.outlier_k;
   o.outlier_sigmas = a.outlier_sigmas;
   o.shell_depth = a.shell_depth;
+  o.max_face_normal_deg = a.max_face_normal_deg;
   const PointSet pts = read_points(a.points);
   const bool use_dirs = a.directions == "auto" && !pts.directions.empty();
   ReconstructReport rep;
@@ -278,6 +280,11 @@ void add_reconstruct(CLI::App& shape_cmd) {
   rec->add_option("--outlier-sigmas", r->outlier_sigmas, "robust z-score of an outlier")
       ->check(CLI::PositiveNumber);
   rec->add_option("--shell-depth", r->shell_depth, "shell twin depth, mm (0: point spacing)");
+  rec->add_option("--max-face-normal", r->max_face_normal_deg,
+                  "shell: drop faces whose normal is more than this from a point's normal, deg\n"
+                  "(faces across a thin part sampled on both sides; 0: keep all)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
   rec->add_option("--directions", r->directions,
                   "auto (orient normals by the PLY's nx,ny,nz when present) | none")
       ->check(CLI::IsMember({"auto", "none"}));

@@ -141,10 +141,14 @@ StepResult step_shape(const Context& c) {
     c.progress((done_taps + 0.8 * static_cast<double>(t.taps)) / total_taps,
                fmt::format("reconstruct the {}", t.label));
     const TriMesh reference = eval::reference_mesh(scene.object.shape());
+    const TriMesh reachable = eval::reachable_part(reference, scene.object, tap.reach);
+    eval::ShapeCompareOptions co;
+    co.reachable_reference = &reachable;
     ShapeOutcome o;
     o.target = t;
-    o.estimate = eval::reconstruct_and_compare(rec, ContactMethod::Estimate, t.taps, reference);
-    o.threshold = eval::reconstruct_and_compare(rec, ContactMethod::Threshold, t.taps, reference);
+    o.estimate = eval::reconstruct_and_compare(rec, ContactMethod::Estimate, t.taps, reference, co);
+    o.threshold =
+        eval::reconstruct_and_compare(rec, ContactMethod::Threshold, t.taps, reference, co);
     o.coverage = eval::tap_coverage(scene.object, o.estimate.matched.truth, 5.0,
                                     quick ? 5000 : 20000, tap.reach);
     o.taps_per_minute = eval::taps_per_minute(rec);

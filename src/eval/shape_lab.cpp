@@ -159,6 +159,22 @@ lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::ui
       fmt::format("eval: the tapping operator gave fewer than {} taps on {}", taps, scene.name));
 }
 
+TriMesh reachable_part(const TriMesh& reference, const lab::SoftObject& object,
+                       const lab::ReachOptions& reach) {
+  TriMesh out;
+  out.positions = reference.positions;
+  for (std::size_t f = 0; f < reference.num_triangles(); ++f) {
+    const Tri& t = reference.triangles[f];
+    const Vec3 c = (reference.positions[static_cast<std::size_t>(t[0])] +
+                    reference.positions[static_cast<std::size_t>(t[1])] +
+                    reference.positions[static_cast<std::size_t>(t[2])]) /
+                   3.0;
+    if (lab::reachable(object, 0.0, c, reference.face_normal(f), reach)) out.triangles.push_back(t);
+  }
+  out.compute_normals();
+  return out;
+}
+
 double taps_per_minute(const lab::LabRecording& rec) {
   long n = 0;
   for (long t : rec.truth.tap) n = std::max(n, t + 1);
@@ -273,6 +289,16 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   v.vertices = v.mesh.num_vertices();
   v.faces = v.mesh.num_triangles();
   v.cmp = compare_surfaces(v.mesh, reference, co);
+  if (options.reachable_reference) {
+    // Reference side: only its reachable part (within the region of the taps) is scored.
+    const CompareResult r = compare_surfaces(v.mesh, *options.reachable_reference, co);
+    v.cmp.b_to_a = r.b_to_a;
+    v.cmp.b_vertex_error.clear();
+    v.cmp.hausdorff = std::max(v.cmp.a_to_b.max, v.cmp.b_to_a.max);
+    v.cmp.mean = 0.5 * (v.cmp.a_to_b.mean + v.cmp.b_to_a.mean);
+    v.cmp.rms = std::sqrt(
+        0.5 * (v.cmp.a_to_b.rms * v.cmp.a_to_b.rms + v.cmp.b_to_a.rms * v.cmp.b_to_a.rms));
+  }
   v.region = std::move(region);
   for (Vec3& p : v.mesh.positions) p = v.cmp.transform.apply(p);
   return v;

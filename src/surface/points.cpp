@@ -140,6 +140,24 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
   return out;
 }
 
+std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
+                             std::span<const Vec3> directions) {
+  if (directions.size() != points.size()) return jet_smooth(points, k);
+  std::vector<Vec3> out(points.begin(), points.end());
+  const KnnTable t = knn_table(points, 3 * k);
+  if (t.k < 5) return out;
+  std::vector<std::int32_t> nb;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    nb.clear();
+    for (std::size_t j = 0; j < t.k && nb.size() < k; ++j) {
+      const auto m = t.index[i * t.k + j];
+      if (directions[static_cast<std::size_t>(m)].dot(directions[i]) > 0) nb.push_back(m);
+    }
+    out[i] = project_on_jet(points[i], nb, points);
+  }
+  return out;
+}
+
 std::vector<Vec3> pca_normals(std::span<const Vec3> points, std::size_t k) {
   std::vector<Vec3> out(points.size(), Vec3::UnitZ());
   const KnnTable t = knn_table(points, k);

@@ -56,16 +56,37 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   AlphaShapeOptions ao;
   ao.alpha = o.alpha;
   ao.one_component = !o.patches;
+  // Patches: alpha from the point spacing, patch_alpha_factor times the median 6-NN spacing, so
+  // no sheet spans a gap between separately tapped parts wider than about twice that (the
+  // hollow between a bunny's ears); points sparser than that stay off the shell.
+  if (o.patches && !(o.alpha > 0) && o.patch_alpha_factor > 0)
+    ao.alpha = o.patch_alpha_factor * median(knn_mean_distances(pts, 6), 0.0);
   AlphaShapeResult as = alpha_shape(both, ao);
   rep.alpha = as.alpha;
   rep.solid_components = as.solid_components;
   TriMesh soup;
   soup.positions = as.mesh.positions;
+  const double min_cos = o.max_face_normal_deg > 0 && o.max_face_normal_deg < 180
+                             ? std::cos(o.max_face_normal_deg * 3.14159265358979323846 / 180.0)
+                             : -2.0;
   for (const Tri& t : as.mesh.triangles) {
     bool outer = true;
     for (auto v : t)
       outer = outer && as.input_index[static_cast<std::size_t>(v)] < static_cast<std::int32_t>(n);
-    if (outer) soup.triangles.push_back(t);
+    if (!outer) continue;
+    // A face across a thin part (an ear sampled on both sides) joins points whose normals
+    // face away from it: it lies inside the object, not on the sampled surface.
+    const Vec3& a = soup.positions[static_cast<std::size_t>(t[0])];
+    const Vec3 fn = (soup.positions[static_cast<std::size_t>(t[1])] - a)
+                        .cross(soup.positions[static_cast<std::size_t>(t[2])] - a)
+                        .normalized();
+    bool agrees = true;
+    for (auto v : t)
+      agrees =
+          agrees &&
+          fn.dot(normals[static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(v)])]) >=
+              min_cos;
+    if (agrees) soup.triangles.push_back(t);
   }
   return soup;
 }
@@ -106,7 +127,7 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   if (pts.size() < 4)
     throw Error("surface reconstruction: expected at least 4 points, got " +
                 std::to_string(pts.size()) + " after outlier removal");
-  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k);
+  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs);
   if (o.jitter_mm > 0) pts = jitter(pts, o.jitter_mm, o.seed);
   rep.points_used = pts.size();
 

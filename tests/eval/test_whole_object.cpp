@@ -15,12 +15,13 @@ namespace {
 
 // A 2 mm plate of the softest tapping silicone (Ecoflex 00-10), floating 29-31 mm above the
 // table, tapped at 1-4 N with the sharp tip: the static depth at 4 N is
-// (4 / k)^(1 / 1.5) = 5.9 mm, three times the plate, so a contact that pushed toward the nearest
-// surface would carry the tip out underneath and touch the plate from below on the way back.
+// (4 / k)^(1 / 1.5) = 5.9 mm, almost three times the plate, so a contact that pushed toward the
+// nearest surface would carry the tip out underneath and touch the plate from below on the way
+// back.
 TEST(WholeObject, ThinPlateTappedAtFullForceIsNeverTouchedFromItsFarSide) {
   lab::Scene scene = lab::builtin_scene("silicone-hemisphere");
   const lab::ContactLaw law = scene.object.material();
-  ASSERT_GT(law.depth_at(4.0), 3 * 2.0);
+  ASSERT_GT(law.depth_at(4.0), 2.5 * 2.0);
   scene.object = lab::SoftObject(lab::BoxShape{Vec3(0, 0, 30), Vec3(40, 40, 1)}, law);
   scene.region = {Vec2(0, 0), 25.0};
   lab::RecordSpec spec;

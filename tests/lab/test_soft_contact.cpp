@@ -169,9 +169,6 @@ TEST(SoftContact, NonFiniteInputResets) {
   EXPECT_EQ(st.episode, 0);
 }
 
-}  // namespace
-}  // namespace inhap::lab
-
 // A sharp tip pushed straight and obliquely through a 2 mm plate far past the force at which
 // the tapping operator pulls back (1.4 x 4 N): the contact remembers the side it entered, so
 // it never ends on the far side, the force keeps pointing along the entry normal (+z) and its
@@ -213,3 +210,6 @@ TEST(SoftContact, ThinPlateIsNeverLeftThroughItsFarSide) {
     EXPECT_EQ(st.episode, 0);  // one contact episode: never re-entered from below
   }
 }
+
+}  // namespace
+}  // namespace inhap::lab

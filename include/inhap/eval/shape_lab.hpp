@@ -85,7 +85,16 @@ struct ShapeCompareOptions {
   /// The reference is complete: crop only its side to the common region and score every part
   /// of the reconstruction (CropSides::kB); false crops both sides (the top-cap protocol).
   bool uncropped_reconstruction = true;
+  /// When set: the reference's reachable part (reachable_part()), used for the reference ->
+  /// reconstruction side instead of `reference` (the thesis crops to the reachable, tapped part:
+  /// the base band and the underside near the table are never tapped).
+  const TriMesh* reachable_reference = nullptr;
 };
+
+/// The faces of `reference` whose centroid is reachable (lab/reach.hpp, tip probe, approach
+/// along the face normal).
+TriMesh reachable_part(const TriMesh& reference, const lab::SoftObject& object,
+                       const lab::ReachOptions& reach = {});
 
 /// One reconstruction (from estimated or thresholded contact points) and its comparison.
 struct ShapeVariant {

@@ -48,6 +48,12 @@ std::vector<std::size_t> remove_knn_outliers(std::span<const Vec3> points, std::
 /// jet, Cazals & Pouget 2005, as CGAL's jet_smooth_point_set with degree 2) and moves the point
 /// onto it along the frame normal. Points whose fit is singular are kept as they are.
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k);
+/// The same with outward directions known per point (e.g. contact force directions): only
+/// neighbours whose direction is within 90 deg of the point's count (of its 3k nearest, the
+/// first k such), so the two sides of a thin part (an ear tapped front and back) are not
+/// averaged into its middle. Empty `directions`: jet_smooth(points, k).
+std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
+                             std::span<const Vec3> directions);
 
 /// Moves each query onto the second-order jet (as jet_smooth) fitted to its k nearest
 /// `points` alone, along the jet frame's normal: puts the vertices of a mesh built from the

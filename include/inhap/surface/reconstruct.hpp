@@ -40,6 +40,13 @@ struct ReconstructOptions {
   /// that was never tapped. false: one connected solid (the thesis' rule), largest piece kept.
   bool patches = true;
   std::size_t min_patch_faces = 12;
+  /// Patches: alpha = this x the median 6-NN spacing (0: the smallest alpha putting every
+  /// point on the shell, scanned up to a closed manifold of one or more components).
+  double patch_alpha_factor = 1.2;
+  /// Shell: drop a face whose normal is more than this from one of its points' normals (a face
+  /// across a thin part sampled on both sides, e.g. an ear, joins points facing away from it);
+  /// 0 or >= 180: keep every face.
+  double max_face_normal_deg = 0;
   double shell_depth = 0;  ///< Shell: twin depth, mm; 0: the median 6-NN spacing
   std::size_t taubin_iterations = 10;
   double taubin_lambda = 0.5, taubin_mu = -0.53;
