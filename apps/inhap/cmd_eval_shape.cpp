@@ -126,13 +126,15 @@ struct EvalShapeArgs {
 };
 
 ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std::size_t taps,
-                         const TriMesh& reference, const EvalShapeArgs& a, const std::string& tag) {
+                         const TriMesh& reference, const TriMesh* reachable, const EvalShapeArgs& a,
+                         const std::string& tag) {
   ShapeCompareOptions co;
   co.icp = a.icp;
   co.region_mm = a.region_mm;
   co.rim_margin_mm = a.rim_margin_mm;
   co.normal_overlap = !a.no_normal_overlap;
   co.uncropped_reconstruction = !a.top_only;
+  co.reachable_reference = reachable;
   ShapeVariant v = reconstruct_and_compare(rec, method, taps, reference, co);
   if (!a.out_dir.empty()) {
     std::filesystem::create_directories(a.out_dir);
@@ -157,10 +159,12 @@ json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const Eval
       scene, t.taps, a.seed, [&](double f) { cli::progress("eval shape " + t.name, f, 0); },
       lab::physics_from_string(a.physics), tap);
   const TriMesh reference = reference_mesh(scene.object.shape());
+  const TriMesh reachable = reachable_part(reference, scene.object, tap.reach);
+  const TriMesh* reach = a.top_only ? nullptr : &reachable;
   const ShapeVariant e =
-      run_variant(rec, ContactMethod::Estimate, t.taps, reference, a, t.name + ".estimate");
-  const ShapeVariant s =
-      run_variant(rec, ContactMethod::Threshold, t.taps, reference, a, t.name + ".threshold");
+      run_variant(rec, ContactMethod::Estimate, t.taps, reference, reach, a, t.name + ".estimate");
+  const ShapeVariant s = run_variant(rec, ContactMethod::Threshold, t.taps, reference, reach, a,
+                                     t.name + ".threshold");
   if (!a.out_dir.empty()) write_mesh(a.out_dir + "/" + t.name + ".reference.ply", reference);
   const double coverage =
       tap_coverage(scene.object, e.matched.truth, 5.0, a.quick ? 5000 : 20000, tap.reach);

@@ -109,7 +109,7 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& lab, const lab:
   EntrySideCounts out;
   const lab::TruthTable& tr = lab.truth;
   const std::size_t n = std::min(tr.size(), lab.rec.size());
-  Vec3 dir = Vec3::Zero(), last_normal = Vec3::Zero();
+  Vec3 dir = Vec3::Zero(), last_normal = Vec3::Zero(), exit_normal = Vec3::Zero();
   bool reversed = false, went_away = true;
   for (std::size_t i = 0; i < n; ++i) {
     const bool starts = tr.contact[i] && (i == 0 || !tr.contact[i - 1]);
@@ -120,13 +120,16 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& lab, const lab:
       dir = tr.force[i].norm() > 1e-12 ? Vec3(tr.force[i].normalized()) : Vec3::Zero();
       if (all_finite(tr.c[i])) {
         const Vec3 normal = object.query(tr.c[i]).normal;
-        if (!went_away && normal.dot(last_normal) < -0.5) ++out.far_side_first_contacts;
+        if (!went_away && normal.dot(last_normal) < -0.5 && exit_normal.dot(last_normal) < -0.5)
+          ++out.far_side_first_contacts;
         last_normal = normal;
       }
       went_away = false;
     } else if (tr.contact[i] && tr.force[i].dot(dir) < -reversal_n) {
       reversed = true;
     }
+    if (i > 0 && !tr.contact[i] && tr.contact[i - 1])
+      exit_normal = object.query(lab.rec.p[i]).normal;  // the side the last contact ended on
     if (!tr.contact[i] && !went_away &&
         object.query(lab.rec.p[i]).distance - probe_radius_mm >= approach_mm)
       went_away = true;

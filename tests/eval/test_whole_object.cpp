@@ -45,7 +45,8 @@ TEST(WholeObject, ThinPlateTappedAtFullForceIsNeverTouchedFromItsFarSide) {
 // in through the top, out underneath, and back up into the bottom face without getting 5 mm
 // away: the second episode touches the bottom (normal -z) right after the top (+z) within the
 // same tap: a far-side first contact. The same two episodes with a retreat to 40 mm between
-// them are two taps (one from above, one from below) and count nothing.
+// them are two taps (one from above, one from below), and a contact left through the top
+// followed by one on the bottom is the stylus going round: neither counts.
 TEST(WholeObject, FarSideCounterComparesTheNormalWithWhereTheStylusCameFrom) {
   const lab::SoftObject plate(lab::BoxShape{Vec3(0, 0, 30), Vec3(40, 40, 1)}, lab::ContactLaw{});
   lab::LabRecording rec;
@@ -73,6 +74,15 @@ TEST(WholeObject, FarSideCounterComparesTheNormalWithWhereTheStylusCameFrom) {
   for (double z = 31; z > 28.9; z -= 0.5) add(z, true, Vec3(0, 0, 31), Vec3(0, 0, 1));
   for (double z = 31.5; z < 40; z += 0.5) add(z, false, none, Vec3::Zero());
   for (double z = 20; z < 28.9; z += 0.5) add(z, false, none, Vec3::Zero());
+  for (double z = 29; z < 30; z += 0.5) add(z, true, Vec3(0, 0, 29), Vec3(0, 0, -1));
+  EXPECT_EQ(count_far_side_contacts(rec, plate).far_side_first_contacts, 0u);
+  // Out through the top (the side it entered) and, staying within 5 mm, onto the bottom face
+  // (as when the back of an ear is tapped right after its front): not a far-side contact.
+  rec = {};
+  for (double z = 40; z > 31; z -= 0.5) add(z, false, none, Vec3::Zero());
+  for (double z = 31; z > 29.4; z -= 0.5) add(z, true, Vec3(0, 0, 31), Vec3(0, 0, 1));
+  add(31.5, false, none, Vec3::Zero());
+  for (double z = 28.0; z < 28.9; z += 0.5) add(z, false, none, Vec3::Zero());
   for (double z = 29; z < 30; z += 0.5) add(z, true, Vec3(0, 0, 29), Vec3(0, 0, -1));
   EXPECT_EQ(count_far_side_contacts(rec, plate).far_side_first_contacts, 0u);
 }

@@ -33,12 +33,14 @@ struct MatchedContacts {
 MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOptions& options,
                                std::size_t limit);
 
-/// Contact episodes of a lab recording that start on the far side: the true outward normal at
-/// the first-contact point is opposite (dot < -0.5) to that of the previous episode while the
-/// probe never got `approach_mm` or more from the surface in between — the tip passed through a
-/// thin part and touched its far side within the same tap. A force reversal is an episode in
-/// which the (noise-free) force's component along its first-tick direction falls below
-/// -reversal_n newtons.
+/// Contact episodes of a lab recording that start on the far side: the previous episode ended
+/// with the probe on the far side of where it entered (the closest surface's normal there
+/// opposite, dot < -0.5, to the previous entry normal), and this one starts with an entry normal
+/// opposite to the previous one while the probe never got `approach_mm` or more from the
+/// surface in between — the tip passed through a thin part and touched its far side within the
+/// same tap. (Tapping the back of an ear right after its front, going round its rim, is not.) A
+/// force reversal is an episode in which the (noise-free) force's component along its first-tick
+/// direction falls below -reversal_n newtons.
 struct EntrySideCounts {
   std::size_t episodes = 0;
   std::size_t far_side_first_contacts = 0;

@@ -42,7 +42,7 @@ struct ReconstructOptions {
   std::size_t min_patch_faces = 12;
   /// Patches: alpha = this x the median 6-NN spacing (0: the smallest alpha putting every
   /// point on the shell, scanned up to a closed manifold of one or more components).
-  double patch_alpha_factor = 1.2;
+  double patch_alpha_factor = 0;
   /// Shell: drop a face whose normal is more than this from one of its points' normals (a face
   /// across a thin part sampled on both sides, e.g. an ear, joins points facing away from it);
   /// 0 or >= 180: keep every face.
