@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -164,15 +165,33 @@ lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::ui
 
 TriMesh reachable_part(const TriMesh& reference, const lab::SoftObject& object,
                        const lab::ReachOptions& reach) {
+  // Faces are split until their edges are at most 2 mm (a prism's side wall is two triangles
+  // from the table to the top) and kept when their centroid is reachable.
+  constexpr double kMaxEdge = 2.0;
   TriMesh out;
-  out.positions = reference.positions;
+  std::vector<std::array<Vec3, 3>> stack;
   for (std::size_t f = 0; f < reference.num_triangles(); ++f) {
     const Tri& t = reference.triangles[f];
-    const Vec3 c = (reference.positions[static_cast<std::size_t>(t[0])] +
-                    reference.positions[static_cast<std::size_t>(t[1])] +
-                    reference.positions[static_cast<std::size_t>(t[2])]) /
-                   3.0;
-    if (lab::reachable(object, 0.0, c, reference.face_normal(f), reach)) out.triangles.push_back(t);
+    const Vec3 n = reference.face_normal(f);
+    stack.push_back({reference.positions[static_cast<std::size_t>(t[0])],
+                     reference.positions[static_cast<std::size_t>(t[1])],
+                     reference.positions[static_cast<std::size_t>(t[2])]});
+    while (!stack.empty()) {
+      const auto [a, b, c] = stack.back();
+      stack.pop_back();
+      if (std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) > kMaxEdge) {
+        const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+        stack.push_back({a, ab, ca});
+        stack.push_back({ab, b, bc});
+        stack.push_back({ca, bc, c});
+        stack.push_back({ab, bc, ca});
+        continue;
+      }
+      if (!lab::reachable(object, 0.0, (a + b + c) / 3.0, n, reach)) continue;
+      const auto i = static_cast<std::int32_t>(out.positions.size());
+      out.positions.insert(out.positions.end(), {a, b, c});
+      out.triangles.push_back({i, i + 1, i + 2});
+    }
   }
   out.compute_normals();
   return out;
