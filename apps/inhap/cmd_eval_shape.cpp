@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "demo_strokes.hpp"
 #include "inhap/contact/contact_io.hpp"
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"
@@ -116,22 +117,25 @@ void run_eval_contacts(const EvalContactsArgs& a) {
 // --- eval shape -------------------------------------------------------------------------------
 
 struct EvalShapeArgs {
-  std::string json_out, out_dir;
+  std::string json_out, out_dir, data;
   std::vector<std::string> objects;
   std::size_t taps = 0;  ///< 0: the thesis' counts
   std::uint64_t seed = 1;
   double region_mm = 5.0, rim_margin_mm = 1.0;
-  bool icp = false, no_normal_overlap = false;
+  bool icp = false, no_normal_overlap = false, quick = false, top_only = false;
   std::string physics = "builtin";
 };
 
 ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std::size_t taps,
-                         const TriMesh& reference, const EvalShapeArgs& a, const std::string& tag) {
+                         const TriMesh& reference, const TriMesh* reachable, const EvalShapeArgs& a,
+                         const std::string& tag) {
   ShapeCompareOptions co;
   co.icp = a.icp;
   co.region_mm = a.region_mm;
   co.rim_margin_mm = a.rim_margin_mm;
   co.normal_overlap = !a.no_normal_overlap;
+  co.uncropped_reconstruction = !a.top_only;
+  co.reachable_reference = reachable;
   ShapeVariant v = reconstruct_and_compare(rec, method, taps, reference, co);
   if (!a.out_dir.empty()) {  // temporaries of the command's OutputTransaction
     write_contact_points(a.out_dir + "/" + tag + ".points.ply", v.matched.contacts);
@@ -142,6 +146,57 @@ ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std
   return v;
 }
 
+struct ShapeTarget {
+  std::string name;
+  std::size_t taps;
+};
+
+/// Records, reconstructs and scores one object; prints its row and returns its JSON.
+json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const EvalShapeArgs& a) {
+  lab::TapOptions tap;
+  tap.whole_object = !a.top_only;
+  const lab::LabRecording rec = record_taps(
+      scene, t.taps, a.seed, [&](double f) { cli::progress("eval shape " + t.name, f, 0); },
+      lab::physics_from_string(a.physics), tap);
+  const TriMesh reference = reference_mesh(scene.object.shape());
+  const TriMesh reachable = reachable_part(reference, scene.object, tap.reach);
+  const TriMesh* reach = a.top_only ? nullptr : &reachable;
+  const ShapeVariant e =
+      run_variant(rec, ContactMethod::Estimate, t.taps, reference, reach, a, t.name + ".estimate");
+  const ShapeVariant s = run_variant(rec, ContactMethod::Threshold, t.taps, reference, reach, a,
+                                     t.name + ".threshold");
+  if (!a.out_dir.empty()) write_mesh(a.out_dir + "/" + t.name + ".reference.ply", reference);
+  const double coverage =
+      tap_coverage(scene.object, e.matched.truth, 5.0, a.quick ? 5000 : 20000, tap.reach);
+  const double pace = taps_per_minute(rec);
+  const EntrySideCounts sides = count_far_side_contacts(rec, scene.object);
+  fmt::print(
+      "{:<21} {:>6} {:>8} {:>8} | {:>10.3f} {:>10.3f} | {:>10.3f} {:>10.3f} | {:>8.3f} {:>7.1f} "
+      "{:>5}\n",
+      t.name, e.points, e.vertices, e.faces, e.cmp.hausdorff, s.cmp.hausdorff, e.cmp.mean,
+      s.cmp.mean, coverage, pace, sides.far_side_first_contacts);
+  auto side = [](const OneSided& o) { return json{{"max", o.max}, {"mean", o.mean}}; };
+  return {
+      {"name", t.name},
+      {"points", e.points},
+      {"vertices", e.vertices},
+      {"faces", e.faces},
+      {"hausdorff_mm", {{"estimate", e.cmp.hausdorff}, {"threshold", s.cmp.hausdorff}}},
+      {"mean_mm", {{"estimate", e.cmp.mean}, {"threshold", s.cmp.mean}}},
+      {"rms_mm", {{"estimate", e.cmp.rms}, {"threshold", s.cmp.rms}}},
+      {"threshold_variant", {{"points", s.points}, {"vertices", s.vertices}, {"faces", s.faces}}},
+      {"coverage", coverage},
+      {"taps_per_minute", pace},
+      {"recording_s", rec.rec.size() ? rec.rec.t.back() : 0.0},
+      {"reconstruction_to_reference_mm",
+       {{"estimate", side(e.cmp.a_to_b)}, {"threshold", side(s.cmp.a_to_b)}}},
+      {"reference_to_reconstruction_mm",
+       {{"estimate", side(e.cmp.b_to_a)}, {"threshold", side(s.cmp.b_to_a)}}},
+      {"episodes", sides.episodes},
+      {"far_side_first_contacts", sides.far_side_first_contacts},
+      {"force_reversals", sides.force_reversals}};
+}
+
 void run_eval_shape(const EvalShapeArgs& a) {
   // All outputs or none: the folder and the JSON path are checked before the taps (minutes), and
   // every file is renamed into place after the last one is written.
@@ -149,55 +204,42 @@ void run_eval_shape(const EvalShapeArgs& a) {
   if (!a.out_dir.empty()) folder.emplace(a.out_dir);
   if (!a.json_out.empty()) check_output_path(a.json_out);
   OutputTransaction tx;
-  struct Target {
-    const char* name;
-    std::size_t taps;
-  };
-  const Target targets[] = {
-      {"foam-ball", 1000}, {"ridged-silicone", 950}, {"silicone-hemisphere", 300}};
+  std::vector<ShapeTarget> targets = {
+      {"foam-ball", 1000}, {"ridged-silicone", 950}, {"silicone-hemisphere", 300}, {"bunny", 1000}};
+  if (a.top_only) targets.pop_back();  // the top-cap protocol has no bunny
   json objects = json::array();
-  fmt::print("{:<21} {:>6} {:>8} {:>8} | {:>21} | {:>21}\n", "object", "points", "vertices",
-             "faces", "hausdorff mm est/thr", "mean mm est/thr");
-  for (Target t : targets) {
+  fmt::print("{:<21} {:>6} {:>8} {:>8} | {:>21} | {:>21} | {:>8} {:>7} {:>5}\n", "object", "points",
+             "vertices", "faces", "hausdorff mm est/thr", "mean mm est/thr", "coverage", "taps/min",
+             "far");
+  for (ShapeTarget t : targets) {
     if (!a.objects.empty() &&
         std::find(a.objects.begin(), a.objects.end(), t.name) == a.objects.end())
       continue;
-    if (a.taps > 0) t.taps = a.taps;
-    const lab::Scene scene = lab::builtin_scene(t.name);
+    if (a.taps > 0)
+      t.taps = a.taps;
+    else if (a.quick)
+      t.taps = std::max<std::size_t>(60, t.taps / 5);
+    const lab::Scene scene = t.name == "bunny"
+                                 ? bunny_scene((std::filesystem::path(demo::find_data_dir(a.data)) /
+                                                "bunny" / "bun_zipper.ply")
+                                                   .string())
+                                 : lab::builtin_scene(t.name);
     const lab::Physics physics = lab::physics_from_string(a.physics);
     if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
       fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", t.name,
                  scene.object.shape().type_name());
       continue;
     }
-    const lab::LabRecording rec = record_taps(
-        scene, t.taps, a.seed,
-        [&](double f) { cli::progress(std::string("eval shape ") + t.name, f, 0); }, physics);
-    const TriMesh reference = reference_mesh(scene.object.shape());
-    const ShapeVariant e = run_variant(rec, ContactMethod::Estimate, t.taps, reference, a,
-                                       std::string(t.name) + ".estimate");
-    const ShapeVariant s = run_variant(rec, ContactMethod::Threshold, t.taps, reference, a,
-                                       std::string(t.name) + ".threshold");
-    if (!a.out_dir.empty()) write_mesh(a.out_dir + "/" + t.name + ".reference.ply", reference);
-    fmt::print("{:<21} {:>6} {:>8} {:>8} | {:>10.3f} {:>10.3f} | {:>10.3f} {:>10.3f}\n", t.name,
-               e.points, e.vertices, e.faces, e.cmp.hausdorff, s.cmp.hausdorff, e.cmp.mean,
-               s.cmp.mean);
-    objects.push_back(
-        {{"name", t.name},
-         {"points", e.points},
-         {"vertices", e.vertices},
-         {"faces", e.faces},
-         {"hausdorff_mm", {{"estimate", e.cmp.hausdorff}, {"threshold", s.cmp.hausdorff}}},
-         {"mean_mm", {{"estimate", e.cmp.mean}, {"threshold", s.cmp.mean}}},
-         {"rms_mm", {{"estimate", e.cmp.rms}, {"threshold", s.cmp.rms}}},
-         {"threshold_variant",
-          {{"points", s.points}, {"vertices", s.vertices}, {"faces", s.faces}}}});
+    objects.push_back(eval_shape_object(t, scene, a));
   }
   const json out = {
       {"objects", objects},
-      {"units", "mm"},
+      {"units", "mm; coverage: share of the reachable surface within 5 mm of a tap"},
+      {"protocol", a.top_only ? "top caps (region seen from above)" : "whole objects"},
       {"common_region",
-       fmt::format("reference within {} mm of the true contact points, overlap only", a.region_mm)},
+       fmt::format("reference within {} mm of the true contact points, overlap only; the "
+                   "reconstruction {}",
+                   a.region_mm, a.top_only ? "cropped likewise" : "uncropped")},
       {"icp", a.icp},
       {"normal_overlap", !a.no_normal_overlap},
       {"seed", a.seed}};
@@ -238,9 +280,12 @@ void register_eval_shape(CLI::App& app) {
   auto s = std::make_shared<EvalShapeArgs>();
   auto* shape = eval->add_subcommand(
       "shape",
-      "Thesis Table 3.1: reconstruct the lab foam ball (1000 taps), ridged silicone (950) and\n"
-      "silicone hemisphere (300) from estimated and from thresholded contact points; Hausdorff\n"
-      "and mean distance (mm) to the true surface over the common (tapped) region.");
+      "Thesis Table 3.1 on whole objects: the lab operator taps the foam ball (1000 taps), ridged\n"
+      "silicone (950), silicone hemisphere (300) and the Stanford bunny scaled to 100 mm in\n"
+      "Ecoflex 00-30 (1000) all over what a stylus reaches (base excluded); each is reconstructed\n"
+      "from estimated and from thresholded contact points. Hausdorff and mean distance (mm): the\n"
+      "reconstruction uncropped, the reference cropped to the tapped part; coverage = share of\n"
+      "the reachable surface within 5 mm of a tap; taps per simulated minute.");
   shape->add_option("--json", s->json_out, "write the numbers as JSON");
   shape->add_option("--seed", s->seed, "random seed of the lab");
   shape
@@ -249,11 +294,20 @@ void register_eval_shape(CLI::App& app) {
                    "skipped)")
       ->capture_default_str()
       ->check(CLI::IsMember({"builtin", "mujoco"}));
-  shape->add_option("--objects", s->objects, "only these objects (default: all three)")
+  shape->add_option("--objects", s->objects, "only these objects (default: all four)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"foam-ball", "ridged-silicone", "silicone-hemisphere"}));
-  shape->add_option("--taps", s->taps, "taps per object instead of the thesis' 1000/950/300")
+      ->check(CLI::IsMember({"foam-ball", "ridged-silicone", "silicone-hemisphere", "bunny"}));
+  shape
+      ->add_option("--taps", s->taps,
+                   "taps per object instead of the thesis' 1000/950/300 (bunny 1000)")
       ->check(CLI::Range(20, 100000));
+  shape->add_flag("--quick", s->quick,
+                  "a fifth of the taps (at least 60) and a coarser coverage estimate (tests)");
+  shape->add_flag("--top-only", s->top_only,
+                  "the earlier protocol: taps on the region seen from above, both sides cropped");
+  shape->add_option("--data", s->data,
+                    "folder with bunny/bun_zipper.ply (default: INHAP_DATA, else data/ near the "
+                    "program)");
   shape
       ->add_option("--region", s->region_mm,
                    "common region: reference within this distance of the true contact points, mm")

@@ -21,7 +21,7 @@ struct RecordArgs {
   std::string scene, scene_file, op = "explore", out, probe = "sphere", physics = "builtin";
   double seconds = 60;
   std::uint64_t seed = 1;
-  bool no_noise = false, no_gravity = false, no_inertia = false;
+  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false;
 };
 
 constexpr double kLongRecordingS = 600.0, kMaxRecordingS = 3600.0;
@@ -71,6 +71,7 @@ void run_record(const RecordArgs& a) {
   spec.noise = !a.no_noise;
   spec.gravity = !a.no_gravity;
   spec.inertia = !a.no_inertia;
+  spec.tap.whole_object = a.whole_object;
   // Both outputs are checked before the simulation (which may take minutes) and written
   // all-or-nothing after it.
   check_output_path(a.out);
@@ -142,6 +143,9 @@ void register_lab(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"builtin", "mujoco"}));
   rec->add_flag("--no-noise", a->no_noise, "no force-sensor noise in the raw reading");
+  rec->add_flag("--whole-object", a->whole_object,
+                "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"
+                "excluded), spread evenly, >= 1 tap/s, instead of the region seen from above");
   rec->add_flag("--no-gravity", a->no_gravity, "no tool weight in the raw reading");
   rec->add_flag("--no-inertia", a->no_inertia, "no tool inertia in the raw reading");
   rec->callback([a] { run_record(*a); });

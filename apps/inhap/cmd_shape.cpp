@@ -64,6 +64,7 @@ struct ReconstructArgs {
   std::string points, out, alpha = "auto", mode = "shell", directions = "auto";
   std::size_t taubin = 10, subdivide = 1, jet_k = 18, outlier_k = 8;
   double outlier_sigmas = 6.0, shell_depth = 0, lambda = 0.5, mu = -0.53;
+  double max_face_normal_deg = ReconstructOptions{}.max_face_normal_deg;
   bool ascii = false;
 };
 
@@ -84,6 +85,7 @@ void run_reconstruct(const ReconstructArgs& a) {
   o.outlier_k = a.outlier_k;
   o.outlier_sigmas = a.outlier_sigmas;
   o.shell_depth = a.shell_depth;
+  o.max_face_normal_deg = a.max_face_normal_deg;
   const PointSet pts = read_points(a.points);
   const bool use_dirs = a.directions == "auto" && !pts.directions.empty();
   ReconstructReport rep;
@@ -108,7 +110,7 @@ void run_reconstruct(const ReconstructArgs& a) {
 }
 
 struct CompareArgs {
-  std::string a, b, json, crop_points, colored;
+  std::string a, b, json, crop_points, colored, crop_sides = "auto";
   bool icp = false, overlap_only = false, normal_overlap = false;
   double crop_radius = 0, crop_distance = 0, density = 4.0, rim_margin = 0;
 };
@@ -127,8 +129,29 @@ void run_compare(const CompareArgs& args) {
     o.region = read_points(args.crop_points).points;
     o.region_radius = args.crop_radius;
   }
+  // auto: when exactly one mesh is closed it is the complete reference and only it is cropped
+  // (the other, partial one is scored whole); otherwise both.
+  o.crop_sides = CropSides::kBoth;
+  if (args.crop_sides == "auto") {
+    auto closed = [](const TriMesh& m) {
+      return analyze_topology(m, build_adjacency(m)).watertight();
+    };
+    const bool ca = closed(a), cb = closed(b);
+    if (ca != cb) o.crop_sides = cb ? CropSides::kB : CropSides::kA;
+  } else {
+    o.crop_sides = crop_sides_from_string(args.crop_sides);
+  }
+  const bool any_crop =
+      !o.region.empty() || o.crop_distance > 0 || o.exclude_boundary || o.normal_overlap;
+  const bool crop_a = any_crop && o.crop_sides != CropSides::kB;
+  const bool crop_b = any_crop && o.crop_sides != CropSides::kA;
   const CompareResult r = compare_surfaces(a, b, o);
   fmt::print("hausdorff {:.4f} mm, mean {:.4f} mm, rms {:.4f} mm\n", r.hausdorff, r.mean, r.rms);
+  fmt::print("  cropped: {} {}, {} {}{}\n", args.a, crop_a ? "yes" : "no (every sample scored)",
+             args.b, crop_b ? "yes" : "no (every sample scored)",
+             any_crop && args.crop_sides == "auto" && o.crop_sides != CropSides::kBoth
+                 ? " (auto: only the closed mesh is cropped)"
+                 : "");
   for (const auto& [from, to, side] :
        {std::tuple(&args.a, &args.b, &r.a_to_b), std::tuple(&args.b, &args.a, &r.b_to_a)})
     fmt::print(
@@ -168,6 +191,7 @@ void run_compare(const CompareArgs& args) {
     j["b_to_a"] = side(r.b_to_a);
     j["icp"] = o.icp;
     j["normal_overlap"] = o.normal_overlap;
+    j["cropped"] = {{"a", crop_a}, {"b", crop_b}};
     write_file_atomic(args.json, j.dump(2) + "\n");
   }
   tx.commit();
@@ -256,6 +280,11 @@ void add_reconstruct(CLI::App& shape_cmd) {
   rec->add_option("--outlier-sigmas", r->outlier_sigmas, "robust z-score of an outlier")
       ->check(CLI::PositiveNumber);
   rec->add_option("--shell-depth", r->shell_depth, "shell twin depth, mm (0: point spacing)");
+  rec->add_option("--max-face-normal", r->max_face_normal_deg,
+                  "shell: drop faces whose normal is more than this from a point's normal, deg\n"
+                  "(faces across a thin part sampled on both sides; 0: keep all)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
   rec->add_option("--directions", r->directions,
                   "auto (orient normals by the PLY's nx,ny,nz when present) | none")
       ->check(CLI::IsMember({"auto", "none"}));
@@ -291,6 +320,12 @@ void add_compare(CLI::App& shape_cmd) {
   cmp->add_flag("--normal-overlap", m->normal_overlap,
                 "drop samples whose normal line (both ways) does not meet the other surface (e.g.\n"
                 "a reference's side wall below a partial reconstruction's rim)");
+  cmp->add_option("--crop-sides", m->crop_sides,
+                  "which meshes the crops above apply to: auto | both | a | b. auto: when exactly\n"
+                  "one mesh is closed (a complete reference) only it is cropped and the other is\n"
+                  "scored whole, so a partial reconstruction's stray parts cannot hide; else both")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "both", "a", "b"}));
   cmp->add_option("--density", m->density, "face samples per mm^2")->check(CLI::PositiveNumber);
   cmp->add_option("--colored", m->colored,
                   "write A (aligned) with vertex property 'error' (mm) for colouring");

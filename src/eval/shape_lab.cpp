@@ -4,12 +4,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
+#include "inhap/lab/reach.hpp"
+#include "inhap/surface/points.hpp"
 #include "inhap/surface/reconstruct.hpp"
 
 namespace inhap::eval {
@@ -100,14 +104,52 @@ MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOption
   return m;
 }
 
+EntrySideCounts count_far_side_contacts(const lab::LabRecording& lab, const lab::SoftObject& object,
+                                        double probe_radius_mm, double approach_mm,
+                                        double reversal_n) {
+  EntrySideCounts out;
+  const lab::TruthTable& tr = lab.truth;
+  const std::size_t n = std::min(tr.size(), lab.rec.size());
+  Vec3 dir = Vec3::Zero(), last_normal = Vec3::Zero(), exit_normal = Vec3::Zero();
+  bool reversed = false, went_away = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool starts = tr.contact[i] && (i == 0 || !tr.contact[i - 1]);
+    if (starts) {
+      if (reversed) ++out.force_reversals;
+      reversed = false;
+      ++out.episodes;
+      dir = tr.force[i].norm() > 1e-12 ? Vec3(tr.force[i].normalized()) : Vec3::Zero();
+      if (all_finite(tr.c[i])) {
+        const Vec3 normal = object.query(tr.c[i]).normal;
+        if (!went_away && normal.dot(last_normal) < -0.5 && exit_normal.dot(last_normal) < -0.5)
+          ++out.far_side_first_contacts;
+        last_normal = normal;
+      }
+      went_away = false;
+    } else if (tr.contact[i] && tr.force[i].dot(dir) < -reversal_n) {
+      reversed = true;
+    }
+    if (i > 0 && !tr.contact[i] && tr.contact[i - 1])
+      exit_normal = object.query(lab.rec.p[i]).normal;  // the side the last contact ended on
+    if (!tr.contact[i] && !went_away &&
+        object.query(lab.rec.p[i]).distance - probe_radius_mm >= approach_mm)
+      went_away = true;
+  }
+  if (reversed) ++out.force_reversals;
+  return out;
+}
+
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress, lab::Physics physics) {
+                              const std::function<void(double)>& progress, lab::Physics physics,
+                              const lab::TapOptions& tap) {
   lab::RecordSpec spec;
   spec.physics = physics;
   spec.operator_name = "tap";
   spec.probe = lab::ProbeSpec::tip();
   spec.seed = seed;
-  spec.seconds = 10.0 + 1.7 * static_cast<double>(taps);  // about 0.7 taps per second
+  spec.tap = tap;
+  // About 0.7 taps per second in region mode, 1.1 going round the object.
+  spec.seconds = 10.0 + (tap.whole_object ? 0.95 : 1.7) * static_cast<double>(taps);
   for (int attempt = 0; attempt < 4; ++attempt) {
     lab::LabRecording rec = lab::record_scene(scene, spec, [&](double f) {
       if (progress) progress(f);
@@ -121,8 +163,86 @@ lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::ui
       fmt::format("eval: the tapping operator gave fewer than {} taps on {}", taps, scene.name));
 }
 
+TriMesh reachable_part(const TriMesh& reference, const lab::SoftObject& object,
+                       const lab::ReachOptions& reach) {
+  // Faces are split until their edges are at most 2 mm (a prism's side wall is two triangles
+  // from the table to the top) and kept when their centroid is reachable.
+  constexpr double kMaxEdge = 2.0;
+  TriMesh out;
+  std::vector<std::array<Vec3, 3>> stack;
+  for (std::size_t f = 0; f < reference.num_triangles(); ++f) {
+    const Tri& t = reference.triangles[f];
+    const Vec3 n = reference.face_normal(f);
+    stack.push_back({reference.positions[static_cast<std::size_t>(t[0])],
+                     reference.positions[static_cast<std::size_t>(t[1])],
+                     reference.positions[static_cast<std::size_t>(t[2])]});
+    while (!stack.empty()) {
+      const auto [a, b, c] = stack.back();
+      stack.pop_back();
+      if (std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) > kMaxEdge) {
+        const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+        stack.push_back({a, ab, ca});
+        stack.push_back({ab, b, bc});
+        stack.push_back({ca, bc, c});
+        stack.push_back({ab, bc, ca});
+        continue;
+      }
+      if (!lab::reachable(object, 0.0, (a + b + c) / 3.0, n, reach)) continue;
+      const auto i = static_cast<std::int32_t>(out.positions.size());
+      out.positions.insert(out.positions.end(), {a, b, c});
+      out.triangles.push_back({i, i + 1, i + 2});
+    }
+  }
+  out.compute_normals();
+  return out;
+}
+
+double taps_per_minute(const lab::LabRecording& rec) {
+  long n = 0;
+  for (long t : rec.truth.tap) n = std::max(n, t + 1);
+  const double seconds = rec.rec.size() > 1 ? rec.rec.t.back() - rec.rec.t.front() : 0.0;
+  return seconds > 0 ? 60.0 * static_cast<double>(n) / seconds : 0.0;
+}
+
+double tap_coverage(const lab::SoftObject& object, const std::vector<Vec3>& taps, double radius_mm,
+                    std::size_t samples, const lab::ReachOptions& reach) {
+  const std::vector<lab::SurfaceSample> s = lab::reachable_samples(object, 0.0, samples, 99, reach);
+  if (s.empty() || taps.empty()) return 0.0;
+  std::vector<Vec3> pts;
+  for (const auto& x : s) pts.push_back(x.point);
+  const std::vector<double> d = nearest_distances(taps, pts);
+  std::size_t near = 0;
+  for (double v : d) near += v <= radius_mm;
+  return static_cast<double>(near) / static_cast<double>(d.size());
+}
+
+lab::Scene bunny_scene(const std::string& ply_path, double size_mm) {
+  TriMesh m = read_mesh(ply_path);
+  for (Vec3& p : m.positions) p = Vec3(p.x(), -p.z(), p.y());  // y up -> z up
+  Box3 b;
+  for (const Vec3& p : m.positions) b.extend(p);
+  const double scale = size_mm / std::max(b.size().maxCoeff(), 1e-12);
+  const Vec3 base(b.center().x(), b.center().y(), b.min.z());
+  for (Vec3& p : m.positions) p = scale * (p - base);
+  lab::Scene scene;
+  scene.name = "bunny";
+  scene.description =
+      fmt::format("Stanford bunny scaled to {:g} mm, standing on z = 0, Ecoflex 00-30", size_mm);
+  scene.object = lab::SoftObject(lab::make_mesh_shape(std::move(m), ply_path),
+                                 lab::builtin_scene("planar").object.material());
+  scene.region = lab::default_region(scene.object.shape());
+  scene.source = ply_path;
+  return scene;
+}
+
 TriMesh reference_mesh(const lab::Shape& shape) {
   TriMesh m;
+  if (const auto* mesh = std::get_if<lab::MeshShape>(&shape.variant())) {
+    if (!mesh->mesh) throw Error("eval shape: the mesh shape has no mesh");
+    m = *mesh->mesh;
+    m.compute_normals();
+    return m;
+  }
   if (const auto* s = std::get_if<lab::SphereShape>(&shape.variant())) {
     m = sphere_mesh(s->center, s->radius);
   } else if (const auto* h = std::get_if<lab::HemisphereShape>(&shape.variant())) {
@@ -181,6 +301,7 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
     if (rep.used[i]) region.push_back(m.truth[i]);
   CompareOptions co;
   co.icp = options.icp;
+  co.crop_sides = options.uncropped_reconstruction ? CropSides::kB : CropSides::kBoth;
   co.region = region;
   co.region_radius = options.region_mm;
   co.exclude_boundary = true;
@@ -190,6 +311,17 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   v.vertices = v.mesh.num_vertices();
   v.faces = v.mesh.num_triangles();
   v.cmp = compare_surfaces(v.mesh, reference, co);
+  if (options.reachable_reference) {
+    // Reference side: only its reachable part (within the region of the taps) is scored.
+    const CompareResult r = compare_surfaces(v.mesh, *options.reachable_reference, co);
+    v.cmp.b_to_a = r.b_to_a;
+    v.cmp.b_vertex_error.clear();
+    v.cmp.hausdorff = std::max(v.cmp.a_to_b.max, v.cmp.b_to_a.max);
+    v.cmp.mean = 0.5 * (v.cmp.a_to_b.mean + v.cmp.b_to_a.mean);
+    v.cmp.rms = std::sqrt(
+        0.5 * (v.cmp.a_to_b.rms * v.cmp.a_to_b.rms + v.cmp.b_to_a.rms * v.cmp.b_to_a.rms));
+  }
+  v.region = std::move(region);
   for (Vec3& p : v.mesh.positions) p = v.cmp.transform.apply(p);
   return v;
 }

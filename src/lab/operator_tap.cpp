@@ -1,6 +1,8 @@
 // The tapping operator (thesis ch. 3): a person tapping random surface points with the stylus.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "operator_common.hpp"
 
@@ -20,6 +22,7 @@ class TapOperator final : public HandOperator {
 
   void begin(SimDevice& dev) override {
     radius_ = dev.probe_radius();
+    if (opt_.whole_object) init_spots();
     hand_ = detail::random_hand(rng_, dev.params());
     perception_ = detail::Perception(rng_.uniform(0.08, 0.12), dev.info().servo_rate_hz);
     dev.attach_hand(hand_);
@@ -40,9 +43,45 @@ class TapOperator final : public HandOperator {
  private:
   enum class Phase { transit, approach, dwell, retract, pause };
 
+  /// Whole-object mode: the reachable surface samples the spots come from.
+  void init_spots() {
+    const auto all = sample_object_surface(scene_.object, opt_.candidates, rng_.next_u64());
+    for (const SurfaceSample& c : all)
+      if (reachable(scene_.object, radius_, c.point, c.normal, opt_.reach)) pool_.push_back(c);
+    gap_.assign(pool_.size(), std::numeric_limits<double>::infinity());
+    const Vec3 size = scene_.object.shape().bounds().size();
+    spacing_ = 0.2 * std::max({size.x(), size.y(), size.z(), 1.0});
+  }
+
+  /// The unvisited candidate nearest the hand at least `spacing_` from every earlier tap.
+  std::optional<detail::SurfaceSpot> next_whole_object_spot() {
+    if (pool_.empty()) return std::nullopt;
+    for (int pass = 0; pass < 60; ++pass) {
+      std::size_t best = pool_.size();
+      double best_d = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < pool_.size(); ++i) {
+        if (gap_[i] < spacing_) continue;
+        const double d = (pool_[i].point - target_).squaredNorm();
+        if (d < best_d) best_d = d, best = i;
+      }
+      if (best < pool_.size()) {
+        const SurfaceSample& c = pool_[best];
+        for (std::size_t i = 0; i < pool_.size(); ++i)
+          if (pool_[i].normal.dot(c.normal) > 0)
+            gap_[i] = std::min(gap_[i], (pool_[i].point - c.point).norm());
+        return detail::SurfaceSpot{c.point + radius_ * c.normal, c.normal};
+      }
+      spacing_ *= 0.8;
+    }
+    return std::nullopt;
+  }
+
   void plan_next(double t) {
     detail::SurfaceSpot spot{};
     bool found = false;
+    if (opt_.whole_object) {
+      if (const auto s = next_whole_object_spot()) spot = *s, found = true;
+    }
     const double min_nz = std::cos(opt_.max_tilt_deg * M_PI / 180.0);
     for (int attempt = 0; attempt < 100 && !found; ++attempt) {
       const auto s =
@@ -56,13 +95,20 @@ class TapOperator final : public HandOperator {
     w = std::cos(roll) * w + std::sin(roll) * spot.normal.cross(w);
     const double tilt = rng_.uniform(0, 12.0) * M_PI / 180.0;
     u_ = (std::cos(tilt) * spot.normal + std::sin(tilt) * w).normalized();
-    if (u_.z() < 0.3) u_ = spot.normal;
+    if (opt_.whole_object) {
+      const Vec3 x = spot.center - radius_ * spot.normal;
+      if (!reachable(scene_.object, radius_, x, u_, opt_.reach)) u_ = spot.normal;
+    } else if (u_.z() < 0.3) {
+      u_ = spot.normal;
+    }
 
     speed_ = log_uniform(rng_, opt_.min_speed, opt_.max_speed);
     peak_ = rng_.uniform(opt_.min_force, opt_.max_force);
     ramp_t_ = std::max(0.02, speed_ / 4000.0);
     const double ramp_s = 0.5 * speed_ * ramp_t_;
-    const double h0 = ramp_s + 5.0 + rng_.uniform(0.0, 8.0);
+    // Going round an object a person keeps the stylus closer and moves on sooner (>= 1 tap/s).
+    const double h0 =
+        ramp_s + (opt_.whole_object ? 3.0 + rng_.uniform(0.0, 5.0) : 5.0 + rng_.uniform(0.0, 8.0));
     believed_ = h0 + std::clamp(rng_.normal(0.0, 0.7), -2.0, 2.0);
     const ContactLaw law = scene_.object.law_at(spot.center);
     plan_depth_ = std::max(
@@ -70,12 +116,42 @@ class TapOperator final : public HandOperator {
     // A tilted approach must not pass through another part of the object (think of an ear
     // above the point): otherwise come straight down, which drop() found to be free.
     const double retract = rng_.uniform(0.0, 5.0);
-    if (!approach_is_clear(spot.center, h0 + retract)) u_ = Vec3::UnitZ();
+    if (!opt_.whole_object && !approach_is_clear(spot.center, h0 + retract)) u_ = Vec3::UnitZ();
     start_ = spot.center + h0 * u_;
     retract_to_ = start_ + retract * u_;
     phase_ = Phase::transit;
     t0_ = t;
-    path_ = detail::over_path(scene_.object, radius_, target_, start_, rng_.uniform(150.0, 350.0));
+    const double speed = rng_.uniform(150.0, 350.0);
+    if (opt_.whole_object) {
+      path_ = around_path(start_, spot.center + opt_.reach.stylus_length_mm * u_, speed);
+      way_out_ = spot.center + opt_.reach.stylus_length_mm * u_;
+      has_way_out_ = true;
+    } else {
+      path_ = detail::over_path(scene_.object, radius_, target_, start_, speed);
+    }
+  }
+
+  /// Whole-object mode: from the last tap's retraction point to `to` (the next approach start)
+  /// straight when clear, else back out along the last approach line, over the object (or
+  /// straight across when that is clear) and in along the next approach line.
+  detail::Path around_path(const Vec3& to, const Vec3& to_out, double speed) const {
+    detail::Path p;
+    p.reset(target_);
+    if (detail::clear_segment(scene_.object, radius_, target_, to)) {
+      p.add(to, speed);
+      return p;
+    }
+    const Vec3 from_out = has_way_out_ ? way_out_ : target_;
+    p.add(from_out, speed);
+    if (!segment_clear(scene_.object, radius_, from_out, to_out, 0.0)) {
+      const double z =
+          std::max({detail::safe_height(scene_.object, radius_), from_out.z(), to_out.z()});
+      p.add(Vec3(from_out.x(), from_out.y(), z), speed);
+      p.add(Vec3(to_out.x(), to_out.y(), z), speed);
+    }
+    p.add(to_out, speed);
+    p.add(to, speed);
+    return p;
   }
 
   bool approach_is_clear(const Vec3& touch, double length) const {
@@ -84,6 +160,10 @@ class TapOperator final : public HandOperator {
                      std::max(far.z(), detail::safe_height(scene_.object, radius_)));
     return detail::clear_segment(scene_.object, radius_, touch + 0.5 * u_, far) &&
            detail::clear_segment(scene_.object, radius_, far, above);
+  }
+
+  double retract_s() {
+    return opt_.whole_object ? rng_.uniform(0.12, 0.25) : rng_.uniform(0.2, 0.4);
   }
 
   void begin_move(double t, Phase phase, const Vec3& to, double duration) {
@@ -118,20 +198,23 @@ class TapOperator final : public HandOperator {
         break;
       case Phase::retract:
         target_ = from_ + min_jerk(tau / duration_) * (to_ - from_);
-        if (tau >= duration_) phase_ = Phase::pause, t0_ = t, duration_ = rng_.uniform(0.05, 0.3);
+        if (tau >= duration_)
+          phase_ = Phase::pause, t0_ = t,
+          duration_ = opt_.whole_object ? rng_.uniform(0.02, 0.12) : rng_.uniform(0.05, 0.3);
         break;
       case Phase::approach: {
         bool finished;
         target_ = start_ - approach_path(tau, finished) * u_;
         if (perception_.force() > 1.4 * peak_ + 0.3) {  // felt too hard: pull back now
-          begin_move(t, Phase::retract, retract_to_, rng_.uniform(0.2, 0.4));
+          begin_move(t, Phase::retract, retract_to_, retract_s());
         } else if (finished) {
-          phase_ = Phase::dwell, t0_ = t, duration_ = rng_.uniform(0.05, 0.25);
+          phase_ = Phase::dwell, t0_ = t,
+          duration_ = opt_.whole_object ? rng_.uniform(0.03, 0.12) : rng_.uniform(0.05, 0.25);
         }
         break;
       }
       case Phase::dwell:
-        if (tau >= duration_) begin_move(t, Phase::retract, retract_to_, rng_.uniform(0.2, 0.4));
+        if (tau >= duration_) begin_move(t, Phase::retract, retract_to_, retract_s());
         break;
       case Phase::pause:
         if (tau >= duration_) plan_next(t);
@@ -151,6 +234,12 @@ class TapOperator final : public HandOperator {
   Vec3 target_ = Vec3::Zero(), from_ = Vec3::Zero(), to_ = Vec3::Zero();
   Vec3 start_ = Vec3::Zero(), retract_to_ = Vec3::Zero(), u_ = Vec3::UnitZ();
   detail::Path path_;
+  // Whole-object mode.
+  std::vector<SurfaceSample> pool_;
+  std::vector<double> gap_;  ///< distance of each candidate to the nearest earlier tap, mm
+  double spacing_ = 0;
+  Vec3 way_out_ = Vec3::Zero();
+  bool has_way_out_ = false;
   double speed_ = 100, peak_ = 2, ramp_t_ = 0.05, believed_ = 10, plan_depth_ = 5;
 };
 

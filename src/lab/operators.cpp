@@ -119,7 +119,9 @@ RecordSetup make_record_setup(const Scene& scene, const RecordSpec& spec) {
   s.params.seed = derive_seed(spec.seed, 0);
   s.params.physics = spec.physics;
   s.device = std::make_unique<SimDevice>(scene.object, s.params);
-  s.op = make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
+  s.op = spec.operator_name == "tap"
+             ? make_tap_operator(scene, derive_seed(spec.seed, 1), spec.tap)
+             : make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
   return s;
 }
 
@@ -128,7 +130,11 @@ std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& s
   const DeviceParams& dp = setup.params;
   return {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius "
                       "{:g} mm), physics {}",
-                      scene.name, setup.op->name(), spec.seconds, spec.seed,
+                      scene.name,
+                      setup.op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
+                                              ? std::string(" (whole object)")
+                                              : std::string()),
+                      spec.seconds, spec.seed,
                       spec.probe.kind == ProbeKind::tip ? "tip" : "sphere", spec.probe.radius_mm,
                       to_string(spec.physics)),
           fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "

@@ -11,12 +11,24 @@ Vec3 project_to_offset(const SoftObject& object, double probe_radius, const Vec3
 
 namespace {
 
+/// The closest surface counts as the entry side when its normal is within 60 degrees of it.
+constexpr double kSameSideCos = 0.5;
+
 void leave_contact(ContactState& st) {
   st.in_contact = false;
   st.slipping = false;
+  st.side_plane = false;
   st.delta = 0;
   st.normal_force = 0;
   st.force.setZero();
+}
+
+/// Moves the proxy onto the offset surface near q and remembers the side under it.
+void set_proxy(const SoftObject& object, double radius, ContactState& st, const Vec3& q) {
+  const SurfaceQuery s = object.query(q);
+  st.proxy = s.closest + radius * s.normal;
+  st.side_normal = s.normal;
+  st.side_point = s.closest;
 }
 
 void begin_contact(const SoftObject& object, double radius, ContactState& st, const Vec3& p,
@@ -26,7 +38,7 @@ void begin_contact(const SoftObject& object, double radius, ContactState& st, co
     frac = -st.prev_delta / (delta - st.prev_delta);
   st.start_point = st.has_prev ? Vec3(st.prev_point + frac * (p - st.prev_point)) : p;
   st.start_time = st.has_prev ? st.prev_time + frac * (t - st.prev_time) : t;
-  st.proxy = project_to_offset(object, radius, st.start_point);
+  set_proxy(object, radius, st, st.start_point);
   st.law = object.law_at(st.proxy);
   st.in_contact = true;
   ++st.episode;
@@ -43,13 +55,20 @@ Vec3 contact_step(const SoftObject& object, double probe_radius, ContactState& s
     return Vec3::Zero();
   }
   const SurfaceQuery s = object.query(p);
-  const double delta = probe_radius - s.distance;
+  Vec3 n = s.normal;
+  double delta = probe_radius - s.distance;
+  st.side_plane = false;
+  if (st.in_contact && s.normal.dot(st.side_normal) < kSameSideCos) {
+    // Past the middle of a thin part (or under a rim): measure from the entry side's plane.
+    n = st.side_normal;
+    delta = probe_radius - (p - st.side_point).dot(n);
+    st.side_plane = true;
+  }
   if (!(delta > 0)) {
     if (st.in_contact) leave_contact(st);
   } else {
     if (!st.in_contact) begin_contact(object, probe_radius, st, p, delta, t);
     const ContactLaw law = st.law;  // copy: a slip may move the proxy onto other material
-    const Vec3& n = s.normal;
     const double rate = -n.dot(v);
     const double fn =
         std::max(0.0, law.k * std::pow(delta, law.exponent) * (1.0 + law.damping * rate));
@@ -63,7 +82,7 @@ Vec3 contact_step(const SoftObject& object, double probe_radius, ContactState& s
       const double cdt = dt > 0 ? law.creep / dt : 1e300;
       const double len_new = (cdt * ut_len + limit) / (cdt + law.k_t);
       const Vec3 ut_new = ut * (len_new / ut_len);
-      st.proxy = project_to_offset(object, probe_radius, st.proxy + (ut - ut_new));
+      set_proxy(object, probe_radius, st, st.proxy + (ut - ut_new));
       if (!object.inclusions().empty()) st.law = object.law_at(st.proxy);
       ut = ut_new;
     }

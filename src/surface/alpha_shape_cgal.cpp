@@ -84,7 +84,7 @@ struct UnionFind {
 
 /// Smallest squared alpha at which every point lies on a cell of the solid and the cells form
 /// one facet-connected component (CGAL's find_optimal_alpha(1) for REGULARIZED shapes).
-double one_component_alpha2(const Cells& c, std::size_t num_points) {
+double one_component_alpha2(const Cells& c, std::size_t num_points, bool one_component) {
   const std::size_t n = c.r2.size();
   std::vector<double> vmin(num_points, std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < n; ++i)
@@ -93,6 +93,7 @@ double one_component_alpha2(const Cells& c, std::size_t num_points) {
   double solid = 0;
   for (double v : vmin)
     if (std::isfinite(v)) solid = std::max(solid, v);  // points merged as duplicates: +inf
+  if (!one_component) return solid;
   std::vector<std::int32_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](auto a, auto b) { return c.r2[a] < c.r2[b]; });
@@ -149,7 +150,7 @@ std::vector<Tri> boundary(const Cells& c, double alpha2) {
 
 /// True when the oriented triangles form one closed 2-manifold: every directed edge is used
 /// once and its reverse once, and the faces around every vertex form a single fan.
-bool closed_manifold(const std::vector<Tri>& tris, std::size_t num_points) {
+bool closed_manifold(const std::vector<Tri>& tris, std::size_t num_points, bool one_component) {
   if (tris.empty()) return false;
   // Directed edges sorted: each (a,b) must appear exactly once and (b,a) exactly once.
   std::vector<std::uint64_t> e;
@@ -194,6 +195,7 @@ bool closed_manifold(const std::vector<Tri>& tris, std::size_t num_points) {
     } while (cur != start && steps <= fan.size());
     if (steps != fan.size()) return false;
   }
+  if (!one_component) return true;
   // One component: faces connected through shared vertices.
   UnionFind uf(num_points);
   for (const Tri& t : tris) uf.unite(t[0], t[1]), uf.unite(t[1], t[2]);
@@ -243,13 +245,13 @@ AlphaShapeResult alpha_shape(std::span<const Vec3> points, const AlphaShapeOptio
   std::vector<Tri> tris;
   if (options.alpha > 0) {
     tris = boundary(cells, a2);
-    result.closed_manifold = closed_manifold(tris, points.size());
+    result.closed_manifold = closed_manifold(tris, points.size(), options.one_component);
   } else {
-    const double a0 = one_component_alpha2(cells, points.size());
+    const double a0 = one_component_alpha2(cells, points.size(), options.one_component);
     result.alpha_one_component = std::sqrt(a0);
     a2 = a0;
     tris = boundary(cells, a2);
-    result.closed_manifold = closed_manifold(tris, points.size());
+    result.closed_manifold = closed_manifold(tris, points.size(), options.one_component);
     if (options.require_closed_manifold && !result.closed_manifold) {
       // The shape changes only at cell radii: step by (1 + scan_step) when some radius lies in
       // between, else jump to the next radius.
@@ -265,7 +267,7 @@ AlphaShapeResult alpha_shape(std::span<const Vec3> points, const AlphaShapeOptio
         a = *next <= a * f ? a * f : *next;
         if (a > limit) break;
         std::vector<Tri> t = boundary(cells, a);
-        if (closed_manifold(t, points.size())) {
+        if (closed_manifold(t, points.size(), options.one_component)) {
           tris = std::move(t);
           a2 = a;
           result.closed_manifold = true;

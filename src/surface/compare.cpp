@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
@@ -174,8 +175,14 @@ double line_length(const TriMesh& a, const TriMesh& b) {
   return 2.0 * (hi - lo).norm() + 1.0;
 }
 
-Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, const CompareOptions& o,
-               std::uint64_t seed, double line) {
+Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, CompareOptions o,
+               std::uint64_t seed, double line, bool crop) {
+  if (!crop) {  // every sample of this side counts
+    o.region.clear();
+    o.crop_distance = 0;
+    o.exclude_boundary = false;
+    o.normal_overlap = false;
+  }
   Side side;
   const SurfaceSamples s = sample_surface(from, o.density, seed);
   std::vector<double> d(s.points.size());
@@ -220,6 +227,25 @@ Side one_sided(const TriMesh& from, const MeshIndex& to, const Rim& to_rim, cons
 
 }  // namespace
 
+std::string_view to_string(CropSides sides) {
+  switch (sides) {
+    case CropSides::kA:
+      return "a";
+    case CropSides::kB:
+      return "b";
+    case CropSides::kBoth:
+      break;
+  }
+  return "both";
+}
+
+CropSides crop_sides_from_string(std::string_view text) {
+  if (text == "both") return CropSides::kBoth;
+  if (text == "a") return CropSides::kA;
+  if (text == "b") return CropSides::kB;
+  throw Error("crop sides: expected both, a or b, got '" + std::string(text) + "'");
+}
+
 CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const CompareOptions& o) {
   if (a_in.triangles.empty() || b.triangles.empty())
     throw Error("compare: expected two meshes with triangles");
@@ -234,8 +260,8 @@ CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const Comp
   Rim rim_a, rim_b;
   if (o.exclude_boundary) rim_a = make_rim(a, o.rim_margin), rim_b = make_rim(b, o.rim_margin);
   const double line = o.normal_overlap ? line_length(a, b) : 0.0;
-  Side ab = one_sided(a, index_b, rim_b, o, o.seed, line);
-  Side ba = one_sided(b, index_a, rim_a, o, o.seed + 1, line);
+  Side ab = one_sided(a, index_b, rim_b, o, o.seed, line, o.crop_sides != CropSides::kB);
+  Side ba = one_sided(b, index_a, rim_a, o, o.seed + 1, line, o.crop_sides != CropSides::kA);
   if (ab.stats.samples == 0 || ba.stats.samples == 0)
     throw Error("compare: no surface sample left in the common region (check the crop options)");
   res.a_to_b = ab.stats;

@@ -65,7 +65,8 @@ SMesh to_surface_mesh(const TriMesh& mesh) {
 
 }  // namespace
 
-TriMesh make_manifold(const TriMesh& soup, bool keep_largest, ManifoldReport* report) {
+TriMesh make_manifold(const TriMesh& soup, bool keep_largest, ManifoldReport* report,
+                      std::size_t min_component_faces) {
   ManifoldReport rep;
   std::vector<Point> pts;
   pts.reserve(soup.positions.size());
@@ -88,6 +89,14 @@ TriMesh make_manifold(const TriMesh& soup, bool keep_largest, ManifoldReport* re
   if (keep_largest && rep.components > 1) {
     PMP::keep_largest_connected_components(sm, 1);
     sm.collect_garbage();
+  } else if (min_component_faces > 1 && rep.components > 1) {
+    PMP::keep_large_connected_components(sm, min_component_faces);
+    sm.collect_garbage();
+  }
+  rep.kept_components = rep.components;
+  if (rep.components > 1) {
+    auto kept = sm.add_property_map<SMesh::Face_index, std::size_t>("f:cc2", 0).first;
+    rep.kept_components = PMP::connected_components(sm, kept);
   }
   if (!faces.empty() && CGAL::is_closed(sm) && !PMP::is_outward_oriented(sm))
     PMP::reverse_face_orientations(sm);

@@ -48,7 +48,60 @@ Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<c
   return q + c[0] * scale * nrm;
 }
 
+/// Projection of q onto the quadric fitted to the neighbours alone; q itself when singular.
+Vec3 project_on_jet_of(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
+  const std::size_t m = nb.size();
+  if (m < 6) return q;
+  Vec3 centroid = Vec3::Zero();
+  for (auto j : nb) centroid += pts[static_cast<std::size_t>(j)];
+  centroid /= static_cast<double>(m);
+  Mat3 cov = Mat3::Zero();
+  for (auto j : nb) {
+    const Vec3 d = pts[static_cast<std::size_t>(j)] - centroid;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+  const Vec3 e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1),
+             nrm = eig.eigenvectors().col(0);
+  const double scale = std::sqrt(std::max(eig.eigenvalues()[2], 1e-300) / static_cast<double>(m));
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  auto row_at = [&](const Vec3& p, double& z) {
+    const Vec3 d = (p - q) / scale;
+    const double x = d.dot(e1), y = d.dot(e2);
+    z = d.dot(nrm);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, x, y, x * x, x * y, y * y;
+    return row;
+  };
+  for (auto j : nb) {
+    double z;
+    const auto row = row_at(pts[static_cast<std::size_t>(j)], z);
+    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    atb += z * row;
+  }
+  ata = ata.selfadjointView<Eigen::Lower>();
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return q;
+  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(atb);
+  if (!c.allFinite()) return q;
+  return q + c[0] * scale * nrm;  // the frame is centred on q: its height is c0
+}
+
 }  // namespace
+
+std::vector<Vec3> project_onto_jets(std::span<const Vec3> points, std::span<const Vec3> queries,
+                                    std::size_t k, double max_move) {
+  std::vector<Vec3> out(queries.begin(), queries.end());
+  const KnnTable t = knn_query(points, queries, k);
+  if (t.k < 6) return out;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const Vec3 p = project_on_jet_of(
+        queries[i], std::span<const std::int32_t>(t.index).subspan(i * t.k, t.k), points);
+    if ((p - queries[i]).norm() <= max_move) out[i] = p;
+  }
+  return out;
+}
 
 std::vector<double> knn_mean_distances(std::span<const Vec3> points, std::size_t k) {
   const KnnTable t = knn_table(points, k);
@@ -84,6 +137,24 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
   for (std::size_t i = 0; i < points.size(); ++i)
     out[i] = project_on_jet(points[i], std::span<const std::int32_t>(t.index).subspan(i * t.k, t.k),
                             points);
+  return out;
+}
+
+std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
+                             std::span<const Vec3> directions) {
+  if (directions.size() != points.size()) return jet_smooth(points, k);
+  std::vector<Vec3> out(points.begin(), points.end());
+  const KnnTable t = knn_table(points, 3 * k);
+  if (t.k < 5) return out;
+  std::vector<std::int32_t> nb;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    nb.clear();
+    for (std::size_t j = 0; j < t.k && nb.size() < k; ++j) {
+      const auto m = t.index[i * t.k + j];
+      if (directions[static_cast<std::size_t>(m)].dot(directions[i]) > 0) nb.push_back(m);
+    }
+    out[i] = project_on_jet(points[i], nb, points);
+  }
   return out;
 }
 

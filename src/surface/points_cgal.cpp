@@ -61,6 +61,35 @@ KnnTable knn_table(std::span<const Vec3> points, std::size_t k) {
   return table;
 }
 
+KnnTable knn_query(std::span<const Vec3> sites, std::span<const Vec3> queries, std::size_t k) {
+  KnnTable table;
+  if (sites.empty() || k == 0) return table;
+  k = std::min(k, sites.size());
+  table.k = k;
+  table.index.assign(queries.size() * k, -1);
+  table.distance.assign(queries.size() * k, 0.0);
+  std::vector<Point> pts;
+  pts.reserve(sites.size());
+  for (const Vec3& p : sites) pts.emplace_back(p.x(), p.y(), p.z());
+  PointMap pmap = CGAL::make_property_map(pts);
+  Tree tree(boost::counting_iterator<std::size_t>(0),
+            boost::counting_iterator<std::size_t>(pts.size()), Tree::Splitter(), Traits(pmap));
+  tree.build();
+  Distance dist(pmap);
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    Search search(tree, Point(queries[i].x(), queries[i].y(), queries[i].z()),
+                  static_cast<unsigned>(k), 0, true, dist);
+    std::size_t count = 0;
+    for (const auto& [j, d2] : search) {
+      if (count == k) break;
+      table.index[i * k + count] = static_cast<std::int32_t>(j);
+      table.distance[i * k + count] = std::sqrt(d2);
+      ++count;
+    }
+  }
+  return table;
+}
+
 NearestSites nearest_sites(std::span<const Vec3> sites, std::span<const Vec3> queries) {
   NearestSites out;
   out.index.assign(queries.size(), -1);

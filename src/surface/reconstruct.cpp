@@ -55,16 +55,38 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   for (std::size_t i = 0; i < n; ++i) both.push_back(pts[i] - depth * normals[i]);
   AlphaShapeOptions ao;
   ao.alpha = o.alpha;
+  ao.one_component = !o.patches;
+  // Patches: alpha from the point spacing, patch_alpha_factor times the median 6-NN spacing, so
+  // no sheet spans a gap between separately tapped parts wider than about twice that (the
+  // hollow between a bunny's ears); points sparser than that stay off the shell.
+  if (o.patches && !(o.alpha > 0) && o.patch_alpha_factor > 0)
+    ao.alpha = o.patch_alpha_factor * median(knn_mean_distances(pts, 6), 0.0);
   AlphaShapeResult as = alpha_shape(both, ao);
   rep.alpha = as.alpha;
   rep.solid_components = as.solid_components;
   TriMesh soup;
   soup.positions = as.mesh.positions;
+  const double min_cos = o.max_face_normal_deg > 0 && o.max_face_normal_deg < 180
+                             ? std::cos(o.max_face_normal_deg * 3.14159265358979323846 / 180.0)
+                             : -2.0;
   for (const Tri& t : as.mesh.triangles) {
     bool outer = true;
     for (auto v : t)
       outer = outer && as.input_index[static_cast<std::size_t>(v)] < static_cast<std::int32_t>(n);
-    if (outer) soup.triangles.push_back(t);
+    if (!outer) continue;
+    // A face across a thin part (an ear sampled on both sides) joins points whose normals
+    // face away from it: it lies inside the object, not on the sampled surface.
+    const Vec3& a = soup.positions[static_cast<std::size_t>(t[0])];
+    const Vec3 fn = (soup.positions[static_cast<std::size_t>(t[1])] - a)
+                        .cross(soup.positions[static_cast<std::size_t>(t[2])] - a)
+                        .normalized();
+    bool agrees = true;
+    for (auto v : t)
+      agrees =
+          agrees &&
+          fn.dot(normals[static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(v)])]) >=
+              min_cos;
+    if (agrees) soup.triangles.push_back(t);
   }
   return soup;
 }
@@ -105,7 +127,7 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   if (pts.size() < 4)
     throw Error("surface reconstruction: expected at least 4 points, got " +
                 std::to_string(pts.size()) + " after outlier removal");
-  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k);
+  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs);
   if (o.jitter_mm > 0) pts = jitter(pts, o.jitter_mm, o.seed);
   rep.points_used = pts.size();
 
@@ -121,14 +143,22 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
     soup = shell_surface(pts, dirs, o, rep);
   }
   ManifoldReport mr;
-  TriMesh mesh = make_manifold(soup, true, &mr);
+  const bool patches = o.mode == SurfaceMode::Shell && o.patches;
+  TriMesh mesh = make_manifold(soup, !patches, &mr, patches ? o.min_patch_faces : 0);
   rep.duplicated_vertices = mr.duplicated_vertices;
-  rep.components_dropped = mr.components > 0 ? mr.components - 1 : 0;
+  rep.components_dropped = mr.components - mr.kept_components;
+  rep.components = mr.kept_components;
   // Shell: where a twin showed through the outer side a few faces are missing; close such
   // small holes (the patch's own rim is long and stays open).
   if (o.mode == SurfaceMode::Shell) rep.holes_filled = fill_small_holes(mesh, 16, 0.1);
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
+  if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {
+    const double max_move =
+        0.5 * std::max(rep.shell_depth, median(knn_mean_distances(pts, 6), 0.0));
+    mesh.positions = project_onto_jets(pts, mesh.positions, o.jet_k, max_move);
+    mesh.compute_normals();
+  }
   rep.vertices = mesh.num_vertices();
   rep.faces = mesh.num_triangles();
   if (report) *report = rep;

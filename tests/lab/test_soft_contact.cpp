@@ -169,5 +169,47 @@ TEST(SoftContact, NonFiniteInputResets) {
   EXPECT_EQ(st.episode, 0);
 }
 
+// A sharp tip pushed straight and obliquely through a 2 mm plate far past the force at which
+// the tapping operator pulls back (1.4 x 4 N): the contact remembers the side it entered, so
+// it never ends on the far side, the force keeps pointing along the entry normal (+z) and its
+// normal part is the law evaluated at the depth below the top face, k (z_top - z)^e (1 + c vz).
+TEST(SoftContact, ThinPlateIsNeverLeftThroughItsFarSide) {
+  ContactLaw law = test_law();
+  law.k = 0.277;  // Ecoflex 00-10, the softest tapping material
+  const double top = 31.0, tip = 0.0;
+  const SoftObject plate(BoxShape{Vec3(0, 0, 30), Vec3(30, 30, 1)}, law);
+  const double max_depth = law.depth_at(1.4 * 4.0 + 1.0);  // ~8 mm: far through the plate
+  ASSERT_GT(max_depth, 4.0);
+  for (const Vec3 dir : {Vec3(0, 0, -1), Vec3(std::sin(0.5), 0, -std::cos(0.5))}) {
+    ContactState st;
+    const double dt = 1e-4, speed = 100.0;  // mm/s
+    const Vec3 start(0, 0, top + 2);
+    const double travel = (2 + max_depth) / -dir.z();
+    const int n = static_cast<int>(travel / (speed * dt));
+    bool entered = false;
+    for (int i = 0; i <= 2 * n; ++i) {  // in and back out along the same line
+      const double s = i <= n ? i * speed * dt : (2 * n - i) * speed * dt;
+      const Vec3 v = (i <= n ? speed : -speed) * dir;
+      const Vec3 p = start + s * dir;
+      const Vec3 f = contact_step(plate, tip, st, p, v, i * dt, dt);
+      const double depth = top - p.z();
+      if (depth > 1e-9) {
+        ASSERT_TRUE(st.in_contact) << "left at depth " << depth;
+        entered = true;
+        EXPECT_NEAR(st.normal.z(), 1.0, 1e-12);
+        EXPECT_GE(f.z(), 0.0);
+        EXPECT_NEAR(
+            st.normal_force,
+            std::max(0.0, law.k * std::pow(depth, law.exponent) * (1 + law.damping * -v.z())),
+            1e-9);
+      } else if (depth < -1e-9) {
+        EXPECT_FALSE(st.in_contact);
+      }
+    }
+    EXPECT_TRUE(entered);
+    EXPECT_EQ(st.episode, 0);  // one contact episode: never re-entered from below
+  }
+}
+
 }  // namespace
 }  // namespace inhap::lab

@@ -119,4 +119,10 @@ TEST(CliShape, EvalCommandsWriteTheirJson) {
   EXPECT_GT(o["faces"].get<int>(), 100);
   EXPECT_LT(o["hausdorff_mm"]["estimate"].get<double>(), 1.5);
   EXPECT_LT(o["mean_mm"]["estimate"].get<double>(), 0.5 * o["mean_mm"]["threshold"].get<double>());
+  // Whole object: 120 well-spread taps leave most of the 9,550 mm^2 reachable dome within 5 mm
+  // of a tap (each covers ~78 mm^2), at a person's pace.
+  EXPECT_GT(o["coverage"].get<double>(), 0.6);
+  EXPECT_LE(o["coverage"].get<double>(), 1.0);
+  EXPECT_GE(o["taps_per_minute"].get<double>(), 60.0);
+  EXPECT_EQ(o["far_side_first_contacts"].get<int>(), 0);
 }

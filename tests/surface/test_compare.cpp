@@ -188,3 +188,41 @@ TEST(Compare, NormalOverlapKeepsTheSurfaceUnderABridge) {
   EXPECT_EQ(with.b_to_a.samples, without.b_to_a.samples);
   EXPECT_NEAR(with.hausdorff, without.hausdorff, 1e-12);
 }
+
+// A partial reconstruction = the top cap (z > 10) of a sphere of radius 20 plus a stray flat
+// square 5 mm outside the sphere's side, far from the tapped cap; the reference is the whole
+// sphere. Cropped to within 3 mm of the cap's vertices on both sides, the stray part is never
+// scored (a -> b stays tiny); with only the reference side cropped (kB) every sample of the
+// reconstruction counts and a -> b is the stray square's distance to the sphere, >= 5 mm
+// (its corners lie farther: sqrt(25^2 + 2^2 + 2^2) - 20 = 5.16 mm).
+TEST(Compare, CroppingOnlyTheReferenceScoresTheWholeReconstruction) {
+  const TriMesh sphere = test::icosphere(5, 20.0);
+  TriMesh a;
+  a.positions = sphere.positions;
+  std::vector<Vec3> region;
+  for (const Tri& t : sphere.triangles) {
+    bool top = true;
+    for (auto v : t) top = top && sphere.positions[static_cast<std::size_t>(v)].z() > 10.0;
+    if (top) a.triangles.push_back(t);
+  }
+  for (const Vec3& p : sphere.positions)
+    if (p.z() > 10.0) region.push_back(p);
+  const auto base = static_cast<std::int32_t>(a.positions.size());
+  for (const Vec3& p : {Vec3(25, -2, -2), Vec3(25, 2, -2), Vec3(25, 2, 2), Vec3(25, -2, 2)})
+    a.positions.push_back(p);
+  a.triangles.push_back({base, base + 1, base + 2});
+  a.triangles.push_back({base, base + 2, base + 3});
+  a.compute_normals();
+  CompareOptions o;
+  o.region = region;
+  o.region_radius = 3.0;
+  const CompareResult both = compare_surfaces(a, sphere, o);
+  EXPECT_LT(both.a_to_b.max, 0.1);
+  o.crop_sides = CropSides::kB;
+  const CompareResult ref_only = compare_surfaces(a, sphere, o);
+  EXPECT_GE(ref_only.a_to_b.max, 5.0 - 0.01);
+  EXPECT_NEAR(ref_only.a_to_b.max, std::sqrt(25.0 * 25 + 8) - 20.0, 0.02);
+  EXPECT_NEAR(ref_only.b_to_a.max, both.b_to_a.max, 1e-12);  // the reference side: unchanged
+  EXPECT_EQ(crop_sides_from_string(to_string(CropSides::kA)), CropSides::kA);
+  EXPECT_THROW(crop_sides_from_string("c"), Error);
+}

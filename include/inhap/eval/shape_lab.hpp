@@ -12,6 +12,7 @@
 
 #include "inhap/contact/detector.hpp"
 #include "inhap/geometry/trimesh.hpp"
+#include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
@@ -32,15 +33,50 @@ struct MatchedContacts {
 MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOptions& options,
                                std::size_t limit);
 
+/// Contact episodes of a lab recording that start on the far side: the previous episode ended
+/// with the probe on the far side of where it entered (the closest surface's normal there
+/// opposite, dot < -0.5, to the previous entry normal), and this one starts with an entry normal
+/// opposite to the previous one while the probe never got `approach_mm` or more from the
+/// surface in between — the tip passed through a thin part and touched its far side within the
+/// same tap. (Tapping the back of an ear right after its front, going round its rim, is not.) A
+/// force reversal is an episode in which the (noise-free) force's component along its first-tick
+/// direction falls below -reversal_n newtons.
+struct EntrySideCounts {
+  std::size_t episodes = 0;
+  std::size_t far_side_first_contacts = 0;
+  std::size_t force_reversals = 0;
+};
+EntrySideCounts count_far_side_contacts(const lab::LabRecording& rec, const lab::SoftObject& object,
+                                        double probe_radius_mm = 0.0, double approach_mm = 5.0,
+                                        double reversal_n = 0.5);
+
 /// Records the tapping operator (tip probe) on a scene until at least `taps` true taps exist
-/// (about 0.7 taps per second). `progress(fraction)` is called while recording (may be empty).
-/// Throws inhap::Error when the operator keeps missing.
+/// (region mode about 0.7 taps per second, whole-object mode (`tap.whole_object`) about 1.1).
+/// `progress(fraction)` is called while recording (may be empty). Throws inhap::Error when the
+/// operator keeps missing.
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
                               const std::function<void(double)>& progress,
-                              lab::Physics physics = lab::Physics::builtin);
+                              lab::Physics physics = lab::Physics::builtin,
+                              const lab::TapOptions& tap = {});
+
+/// True taps (contact episodes) per simulated minute of a recording.
+double taps_per_minute(const lab::LabRecording& rec);
+
+/// Share of the object's reachable surface (lab/reach.hpp, approach along the normal; tip
+/// probe) within `radius_mm` of one of `taps` (true contact points): `samples` area-uniform
+/// surface samples, seeded.
+double tap_coverage(const lab::SoftObject& object, const std::vector<Vec3>& taps,
+                    double radius_mm = 5.0, std::size_t samples = 20000,
+                    const lab::ReachOptions& reach = {});
+
+/// The lab's bunny: the Stanford bunny (`ply_path`, metres, y up) scaled so that its largest
+/// extent is `size_mm`, centred on the z axis and standing on z = 0, in Ecoflex 00-30 (the
+/// `planar` scene's material). Throws inhap::Error when the file cannot be read.
+lab::Scene bunny_scene(const std::string& ply_path, double size_mm = 100.0);
 
 /// Exact closed, outward triangle mesh of a lab shape (sphere, hemisphere, dome, box, ridged
-/// slab). Throws inhap::Error for other shapes.
+/// slab); for a mesh shape the mesh itself (as placed; it need not be closed: the Stanford
+/// bunny has holes in its base). Throws inhap::Error for other shapes.
 TriMesh reference_mesh(const lab::Shape& shape);
 
 struct ShapeCompareOptions {
@@ -48,14 +84,27 @@ struct ShapeCompareOptions {
   double rim_margin_mm = 1.0;  ///< drop samples whose closest point is this near the rim
   bool normal_overlap = true;  ///< drop samples whose normal line misses the other surface
   bool icp = false;            ///< ICP-align the reconstruction first
+  /// The reference is complete: crop only its side to the common region and score every part
+  /// of the reconstruction (CropSides::kB); false crops both sides (the top-cap protocol).
+  bool uncropped_reconstruction = true;
+  /// When set: the reference's reachable part (reachable_part()), used for the reference ->
+  /// reconstruction side instead of `reference` (the thesis crops to the reachable, tapped part:
+  /// the base band and the underside near the table are never tapped).
+  const TriMesh* reachable_reference = nullptr;
 };
+
+/// The faces of `reference` whose centroid is reachable (lab/reach.hpp, tip probe, approach
+/// along the face normal).
+TriMesh reachable_part(const TriMesh& reference, const lab::SoftObject& object,
+                       const lab::ReachOptions& reach = {});
 
 /// One reconstruction (from estimated or thresholded contact points) and its comparison.
 struct ShapeVariant {
   MatchedContacts matched;
   TriMesh mesh;  ///< the reconstruction, aligned (moved by cmp.transform)
   std::size_t points = 0, vertices = 0, faces = 0;
-  CompareResult cmp;  ///< cmp.a_vertex_error: per vertex of `mesh`, mm
+  CompareResult cmp;         ///< cmp.a_vertex_error: per vertex of `mesh`, mm
+  std::vector<Vec3> region;  ///< true contact points of the taps the model was built from
 };
 
 /// Matches the first `taps` contacts of `method`, reconstructs the surface (surface module)

@@ -9,7 +9,10 @@
 //
 //   tap      taps random points of the scene's region (surface normal within 50 deg of +z):
 //            approach 20-200 mm/s (log-uniform), press to a peak of 1-4 N, dwell, retract, move
-//            on (thesis ch. 3 shape modeling).
+//            on (thesis ch. 3 shape modeling). TapOptions::whole_object: every surface point
+//            a stylus reaches on the object resting on its table instead (tops, sides,
+//            reachable overhangs; reach.hpp), approached along the local normal, spots spread
+//            evenly (progressive Poisson-disk choice, nearest unvisited spot next).
 //   explore  free exploration for force modeling (thesis 4.4.1): pushes up to 5 N, deep pushes,
 //            strokes, rubbing circles, then a sliding-only passage (the last third) that never
 //            leaves the surface; the normal force is regulated like a person would (delayed
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "inhap/lab/physics.hpp"
+#include "inhap/lab/reach.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/lab/sim_device.hpp"
@@ -48,6 +52,17 @@ struct TapOptions {
   double min_speed = 20.0, max_speed = 200.0;  ///< approach speed range, mm/s (log-uniform)
   double min_force = 1.0, max_force = 4.0;     ///< planned peak force range, N
   double max_tilt_deg = 50.0;                  ///< accepted surface-normal angle from +z
+  /// Whole-object mode (thesis ch. 3: the user tapped each object all over what the stylus
+  /// reaches): spots from the reachable surface (reach.hpp) instead of the region's disk, seen
+  /// from above. Each next spot is the one nearest the hand among the reachable candidates at
+  /// least `spacing` from every earlier tap on the same side (normals within 90 deg); when none
+  /// is left the spacing shrinks by 0.8 (it starts at a fifth of the object's size), so the
+  /// taps cover the object evenly at any moment and no spot is tapped twice. The approach is
+  /// the normal tilted up to 12 deg (the normal when the tilted stylus would not be clear).
+  /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s).
+  bool whole_object = false;
+  ReachOptions reach;
+  std::size_t candidates = 8000;  ///< whole-object mode: surface samples the spots come from
 };
 
 struct ExploreOptions {
@@ -94,6 +109,7 @@ struct RecordSpec {
   ProbeSpec probe;
   bool noise = true, gravity = true, inertia = true;
   Physics physics = Physics::builtin;  ///< contact physics of the device (physics.hpp)
+  TapOptions tap;                      ///< operator "tap" only
 };
 
 /// The device and operator of a recording: the device's noise seed and the operator's seed are

@@ -13,6 +13,14 @@
 //   sliding          if |f_t| > mu f_n, q slides toward p with speed (|f_t| - mu f_n) / c_v,
 //                    integrated implicitly, so |f_t| = mu f_n + c_v * slip speed
 //   force on probe   f = f_n n + f_t
+// Side memory: a contact remembers the side it entered from (the outward normal and surface
+// point under the proxy). While the closest surface faces that side (normal within 60 deg of
+// it) d and n are the exact ones; otherwise (the probe is past the middle of a thin part, or
+// deeper under a rim than the wall beside it) the penetration is measured from the tangent
+// plane of the entry side, delta = R - (p - x_side) . n_side, and the force keeps pushing along
+// n_side. Thin parts therefore deform instead of being passed through: the probe never leaves
+// a contact through the far side, and the contact ends only when it is back out of the side it
+// entered.
 // k, k_t, mu, c, c_v are those of the material at q (SoftObject::law_at), so a stuck contact
 // is conservative (plus Hunt-Crossley damping): a loading-unloading cycle cannot create energy.
 #pragma once
@@ -30,9 +38,12 @@ struct ContactState {
   Vec3 proxy = Vec3::Zero();  ///< q, mm (valid while in_contact)
   ContactLaw law;             ///< material at the proxy
   Vec3 normal{0, 0, 1};
-  double delta = 0.0;         ///< current penetration, mm
-  double normal_force = 0.0;  ///< f_n, N
-  Vec3 force = Vec3::Zero();  ///< force on the probe, N
+  Vec3 side_normal{0, 0, 1};       ///< outward normal of the entry side under the proxy
+  Vec3 side_point = Vec3::Zero();  ///< surface point under the proxy, mm
+  bool side_plane = false;         ///< the last step measured delta from the entry side's plane
+  double delta = 0.0;              ///< current penetration, mm
+  double normal_force = 0.0;       ///< f_n, N
+  Vec3 force = Vec3::Zero();       ///< force on the probe, N
   bool slipping = false;
   // First contact of the current contact episode, interpolated between evaluations.
   double start_time = std::numeric_limits<double>::quiet_NaN();

@@ -22,6 +22,11 @@ struct AlphaShapeOptions {
   /// degenerate case of exactly cospherical points, where every tetrahedron's circumradius
   /// equals the sphere's up to rounding). Up to `scan_max_factor` times the start.
   bool require_closed_manifold = true;
+  /// Automatic alpha: require one connected solid (the thesis, CGAL's find_optimal_alpha(1)).
+  /// false: only require every point on the solid (the alpha then follows the sparsest local
+  /// spacing, not the gaps between separately sampled patches), and the closed-manifold scan
+  /// accepts several components, each a closed 2-manifold.
+  bool one_component = true;
   double scan_step = 0.02;
   double scan_max_factor = 3.0;
 };

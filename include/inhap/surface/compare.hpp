@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "inhap/core/types.hpp"
@@ -46,6 +47,17 @@ struct IcpResult {
 IcpResult icp_point_to_plane(const TriMesh& moving, const TriMesh& fixed,
                              const IcpOptions& options = {});
 
+/// Which surfaces' samples the crops (`region`, `crop_distance`, `exclude_boundary`,
+/// `normal_overlap`) apply to. Cropping both sides of a partial reconstruction `a` against a
+/// complete reference `b` hides errors: a's samples far from the tapped region (a sheet that
+/// bridges an untapped hollow) are never scored, so a -> b cannot exceed the crop radius. With a
+/// complete reference, crop only the reference (kB): every sample of the reconstruction counts
+/// and only the reference is limited to the tapped part.
+enum class CropSides { kBoth, kA, kB };
+std::string_view to_string(CropSides sides);
+/// "both", "a", "b"; throws Error otherwise.
+CropSides crop_sides_from_string(std::string_view text);
+
 struct CompareOptions {
   bool icp = false;  ///< align a onto b first (a is moved)
   IcpOptions icp_options;
@@ -73,6 +85,7 @@ struct CompareOptions {
   /// reconstruction need not lie on its rim (e.g. a groove bottom just inside a rim that curls
   /// up); a sample under a bridging or displaced part of the other surface still counts.
   bool normal_overlap = false;
+  CropSides crop_sides = CropSides::kBoth;
 };
 
 struct OneSided {

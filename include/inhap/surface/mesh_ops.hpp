@@ -11,14 +11,16 @@ struct ManifoldReport {
   std::size_t duplicated_vertices = 0;  ///< split to resolve non-manifold vertices and edges
   std::size_t dropped_faces = 0;        ///< degenerate, duplicate or in smaller components
   std::size_t components = 0;           ///< connected components before keeping the largest
+  std::size_t kept_components = 0;      ///< connected components of the result
 };
 
 /// Makes a triangle soup a consistently oriented 2-manifold: removes degenerate and duplicate
 /// faces, splits non-manifold edges/vertices (CGAL orient_polygon_soup), keeps the largest
-/// connected component (by area) when `keep_largest`, and orients closed meshes outward.
+/// connected component (by area) when `keep_largest` (else every component with at least
+/// `min_component_faces` faces), and orients closed meshes outward.
 /// Properties are dropped; normals recomputed.
 TriMesh make_manifold(const TriMesh& soup, bool keep_largest = true,
-                      ManifoldReport* report = nullptr);
+                      ManifoldReport* report = nullptr, std::size_t min_component_faces = 0);
 
 /// Closes the small holes of a manifold mesh: every boundary loop with at most `max_edges`
 /// edges (and at most `max_fraction` of the vertices on it, so the rim of a small open patch

@@ -19,6 +19,10 @@ struct KnnTable {
 };
 KnnTable knn_table(std::span<const Vec3> points, std::size_t k);
 
+/// The k nearest `sites` of each query (row-major queries x k', k' = min(k, sites), nearest
+/// first).
+KnnTable knn_query(std::span<const Vec3> sites, std::span<const Vec3> queries, std::size_t k);
+
 /// Nearest of `sites` to each query: index (-1 when sites is empty) and distance (mm, +inf).
 struct NearestSites {
   std::vector<std::int32_t> index;
@@ -44,6 +48,20 @@ std::vector<std::size_t> remove_knn_outliers(std::span<const Vec3> points, std::
 /// jet, Cazals & Pouget 2005, as CGAL's jet_smooth_point_set with degree 2) and moves the point
 /// onto it along the frame normal. Points whose fit is singular are kept as they are.
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k);
+/// The same with outward directions known per point (e.g. contact force directions): only
+/// neighbours whose direction is within 90 deg of the point's count (of its 3k nearest, the
+/// first k such), so the two sides of a thin part (an ear tapped front and back) are not
+/// averaged into its middle. Empty `directions`: jet_smooth(points, k).
+std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
+                             std::span<const Vec3> directions);
+
+/// Moves each query onto the second-order jet (as jet_smooth) fitted to its k nearest
+/// `points` alone, along the jet frame's normal: puts the vertices of a mesh built from the
+/// points back onto the sampled surface (subdivision and smoothing pull a coarse mesh inward on
+/// convex parts by about e^2 / (8 R) for edges e on radius R). Queries whose fit is singular,
+/// or that would move farther than `max_move` mm, stay where they are.
+std::vector<Vec3> project_onto_jets(std::span<const Vec3> points, std::span<const Vec3> queries,
+                                    std::size_t k, double max_move);
 
 /// Unit normals by PCA of each point and its k nearest neighbours (smallest-variance axis),
 /// unoriented (sign arbitrary).

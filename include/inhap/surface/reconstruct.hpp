@@ -32,11 +32,28 @@ struct ReconstructOptions {
   std::size_t outlier_k = 8;    ///< neighbours for the outlier test (0: no outlier removal)
   double outlier_sigmas = 6.0;  ///< robust z-score above which a point is an outlier
   std::size_t jet_k = 18;       ///< neighbours for the jet fit (0: no smoothing)
-  double alpha = 0;             ///< alpha radius, mm; 0: automatic (one solid component)
-  double shell_depth = 0;       ///< Shell: twin depth, mm; 0: the median 6-NN spacing
+  double alpha = 0;             ///< alpha radius, mm; 0: automatic (see `patches`)
+  /// Shell, automatic alpha: a tap set of a whole object is patchy (head, back, haunches...
+  /// tapped apart from each other). true: alpha is the smallest putting every point on the
+  /// shell (set by the sparsest local spacing), the shell may have several components, and
+  /// every component of at least `min_patch_faces` faces is kept, so no sheet spans a hollow
+  /// that was never tapped. false: one connected solid (the thesis' rule), largest piece kept.
+  bool patches = true;
+  std::size_t min_patch_faces = 12;
+  /// Patches: alpha = this x the median 6-NN spacing (0: the smallest alpha putting every
+  /// point on the shell, scanned up to a closed manifold of one or more components).
+  double patch_alpha_factor = 0;
+  /// Shell: drop a face whose normal is more than this from one of its points' normals (a face
+  /// across a thin part sampled on both sides, e.g. an ear, joins points facing away from it);
+  /// 0 or >= 180: keep every face.
+  double max_face_normal_deg = 0;
+  double shell_depth = 0;  ///< Shell: twin depth, mm; 0: the median 6-NN spacing
   std::size_t taubin_iterations = 10;
   double taubin_lambda = 0.5, taubin_mu = -0.53;
   std::size_t subdivisions = 1;  ///< sqrt(3) steps
+  /// Finally move every vertex onto the jet of its jet_k nearest (smoothed) points, by at most
+  /// half the shell depth: Taubin and sqrt(3) pull a sparse mesh inward on convex parts.
+  bool final_projection = true;
   /// Seeded jitter (mm) of the points before the Delaunay step (0: none; CGAL resolves
   /// degenerate, e.g. exactly cospherical, input symbolically and the alpha scan handles it).
   double jitter_mm = 0;
@@ -50,7 +67,8 @@ struct ReconstructReport {
   double shell_depth = 0;               ///< mm (Shell)
   std::size_t solid_components = 0;     ///< of the alpha shape
   std::size_t duplicated_vertices = 0;  ///< by the manifold repair
-  std::size_t components_dropped = 0;   ///< surface pieces other than the largest
+  std::size_t components_dropped = 0;   ///< surface pieces dropped (not the largest / too small)
+  std::size_t components = 0;           ///< surface pieces kept
   std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 16 edges)
   std::size_t vertices = 0, faces = 0;  ///< of the final mesh
 };
