@@ -86,15 +86,17 @@ TEST(MujocoLab, StaticIndentationFollowsTheDocumentedSoftContactLaw) {
   REQUIRE_MUJOCO();
   const MujocoParams p;
   const double depth5 = law().depth_at(5.0);
-  // Up to 5 N: the probe centre stays well above the top (MuJoCo's sphere-box contact breaks
-  // down once the penetration exceeds the probe radius: 8 N pushes through, docs/lab-mujoco.md).
-  for (double f : {1.0, 2.0, 4.0, 5.0}) {
+  // 8 N sinks the probe centre below the top face (the top is a MuJoCo plane: MuJoCo's
+  // sphere-box contact was lost there, docs/lab-mujoco.md).
+  bool below_top = false;
+  for (double f : {1.0, 2.0, 4.0, 5.0, 8.0}) {
     const double got = indentation(f), want = documented_depth(p, depth5, f);
-    ASSERT_LT(want, kR - 0.5) << f << " N";
+    below_top = below_top || want > kR;
     std::printf("MuJoCo indentation at %.1f N: %.4f mm, documented law %.4f mm\n", f, got, want);
     EXPECT_NEAR(got, want, 0.01 * want + 0.01) << f << " N";
   }
-  // The law stiffens with depth: the secant stiffness at 8 N exceeds that at 1 N.
+  EXPECT_TRUE(below_top);
+  // The law stiffens with depth: the secant stiffness at 5 N exceeds that at 1 N.
   EXPECT_GT(5.0 / documented_depth(p, depth5, 5.0), 1.5 / documented_depth(p, depth5, 1.0));
 }
 
