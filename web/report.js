@@ -112,7 +112,7 @@ function figureCard(f) {
 
 async function main() {
   document.getElementById("subtitle").textContent =
-    `${report.quick ? "quick run" : "full run"}, seed ${report.seed}, ${report.total_s} s wall, ${report.cpu_s} s CPU. ` +
+    `${report.quick ? "quick run" : "full run"}, seed ${report.seed}, lab physics ${report.physics || "builtin"}, ${report.total_s} s wall, ${report.cpu_s} s CPU. ` +
     "Units: mm, N, s, N/mm. Each figure's data is also in figures.json and the CSV files beside this report.";
   document.getElementById("summary").appendChild(summaryTable());
   const jobs = [], drawn = [], problems = [];

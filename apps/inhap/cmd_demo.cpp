@@ -173,6 +173,7 @@ void run_demo(const Options& o) {
   tx.commit();
   folder.keep();
   print_summary(done, total, cpu);
+  fmt::print("lab physics: {}\n", lab::to_string(o.physics));
   fmt::print("report: {}\n", (std::filesystem::path(o.out) / "report.html").string());
 }
 
@@ -203,6 +204,13 @@ void register_demo(CLI::App& app) {
                   "strokes study data)")
       ->delimiter(',');
   cmd->add_option("--seed", o->seed, "seed of every random choice")->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--physics", [o](const std::string& s) { o->physics = lab::physics_from_string(s); },
+         "contact physics of the lab steps (tap contacts shape palpation explore force-model): "
+         "builtin | mujoco (docs/lab-mujoco.md; objects MuJoCo cannot represent are skipped); "
+         "strokes, study and data use inhap's renderers, not the lab")
+      ->check(CLI::IsMember({"builtin", "mujoco"}))
+      ->default_str("builtin");
   cmd->callback([o] { run_demo(*o); });
 }
 

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "inhap/lab/physics.hpp"
+
 namespace inhap::demo {
 
 struct Options {
@@ -20,6 +22,9 @@ struct Options {
   std::vector<std::string> only;  ///< run only these steps (empty: all)
   bool quick = false;
   std::uint64_t seed = 1;
+  /// Contact physics of the lab steps (tap, contacts, shape, palpation, explore, force-model);
+  /// the stroke, study and data steps render with inhap's own renderers and do not use it.
+  lab::Physics physics = lab::Physics::builtin;
 };
 
 /// One line of the summary table.

@@ -96,6 +96,7 @@ nlohmann::json report_json(const Options& o, const std::vector<StepRecord>& step
   j["title"] = "inhap demo: the thesis on the virtual lab";
   j["quick"] = o.quick;
   j["seed"] = o.seed;
+  j["physics"] = lab::to_string(o.physics);
   j["total_s"] = rnd(total, 1);
   j["cpu_s"] = rnd(cpu, 1);
   j["steps"] = nlohmann::json::array();

@@ -202,6 +202,7 @@ StepResult step_force_model(const Context& c) {
     fo.train_seed = c.options.seed;
     fo.test_seed = c.options.seed + 1;
     fo.quick = quick;
+    fo.physics = c.options.physics;
     fo.baselines = baselines;
     fo.params.seed = c.options.seed;
     // Quick: M = 100 centres per bin instead of 300 (training ~15x faster, the errors about the

@@ -22,6 +22,7 @@ lab::LabRecording record_dome(const Context& c, const std::string& op, double se
   spec.operator_name = op;
   spec.seconds = seconds;
   spec.seed = seed;
+  spec.physics = c.options.physics;
   return lab::record_scene(lab::builtin_scene("dome"), spec, [&](double f) {
     c.progress(f, fmt::format("{} {:.0f} s on the dome", op, seconds));
   });

@@ -143,6 +143,7 @@ StepResult step_palpation(const Context& c) {
   eval::ScenePalpationOptions po;
   po.scene = "dome";
   po.seed = c.options.seed;
+  po.physics = lab::to_string(c.options.physics);
   po.quick = quick;
   if (quick) po.points = "rings:1,3:20";  // 4 reference points, f_N 1 and 3 N, 4 directions
   po.progress_label = "palpate";
@@ -169,6 +170,7 @@ StepResult step_palpation(const Context& c) {
   spec.operator_name = "explore";
   spec.seconds = quick ? 10.0 : 30.0;
   spec.seed = c.options.seed + 3;
+  spec.physics = c.options.physics;
   const lab::LabRecording lab = lab::record_scene(p.scene, spec, [&](double f) {
     c.progress(0.8 + 0.18 * f, fmt::format("explore {:.0f} s for the proxy", spec.seconds));
   });

@@ -81,11 +81,15 @@ std::string geom_xml(const Shape& shape, double shrink_mm) {
         auto v3 = [](const Vec3& v) {
           return fmt::format("{} {} {}", v.x() * kMm, v.y() * kMm, v.z() * kMm);
         };
-        if constexpr (std::is_same_v<T, CylinderShape>) {  // the flat top is what is touched
-          const Vec3 c = g.base_center + Vec3(0, 0, 0.5 * g.height);
-          return fmt::format("type=\"box\" pos=\"{}\" size=\"{} {} {}\"", v3(c),
-                             (g.radius - s) * kMm, (g.radius - s) * kMm,
-                             (0.5 * g.height - s) * kMm);
+        // Flat tops (cylinder, box) are MuJoCo planes (half-spaces) at the top face: MuJoCo's
+        // sphere-box contact is lost once the sphere's centre enters the box (an 8 mm probe
+        // fell through the soft planar top at 3 N, the tip through the silicone block at 1 N),
+        // the plane-sphere contact is exact at any depth. The sides are not represented: the
+        // lab's operators touch the top face (docs/lab-mujoco.md).
+        if constexpr (std::is_same_v<T, CylinderShape>) {
+          const Vec3 c = g.base_center + Vec3(0, 0, g.height - s);
+          return fmt::format("type=\"plane\" pos=\"{}\" size=\"{} {} 0.01\"", v3(c), g.radius * kMm,
+                             g.radius * kMm);
         } else if constexpr (std::is_same_v<T, DomeShape>) {  // the cap's sphere
           const double rs = (g.base_radius * g.base_radius + g.height * g.height) / (2 * g.height);
           const Vec3 c = g.base_center + Vec3(0, 0, g.height - rs);
@@ -97,8 +101,9 @@ std::string geom_xml(const Shape& shape, double shrink_mm) {
           return fmt::format("type=\"sphere\" pos=\"{}\" size=\"{}\"", v3(g.center),
                              (g.radius - s) * kMm);
         } else if constexpr (std::is_same_v<T, BoxShape>) {
-          const Vec3 h = g.half_size - Vec3::Constant(s);
-          return fmt::format("type=\"box\" pos=\"{}\" size=\"{}\"", v3(g.center), v3(h));
+          const Vec3 c = g.center + Vec3(0, 0, g.half_size.z() - s);
+          return fmt::format("type=\"plane\" pos=\"{}\" size=\"{} {} 0.01\"", v3(c),
+                             g.half_size.x() * kMm, g.half_size.y() * kMm);
         } else {
           return {};
         }
@@ -138,6 +143,9 @@ struct MujocoContact::Impl {
   std::unique_ptr<mjModel, ModelDeleter> m;
   std::unique_ptr<mjData, DataDeleter> d;
   int geom_object = -1, geom_probe = -1, body_probe = -1;
+  // Coupling force on the probe body for the coming step, N: the same force whose opposite the
+  // device integrated over its last substep (action = reaction, see step()).
+  Vec3 f_probe = Vec3::Zero();
 
   Impl(const SoftObject& obj, double r, double step, const MujocoParams& p)
       : object(obj), radius(r), dt(step), prm(p) {}
@@ -267,6 +275,7 @@ void MujocoContact::place(const Vec3& p, ContactState& state, double t) {
     s.d->qvel[k] = 0;
     s.d->qfrc_applied[k] = 0;
   }
+  s.f_probe.setZero();
   s.set_material(p);
   mj_forward(s.m.get(), s.d.get());
   const auto episode = state.episode;
@@ -278,15 +287,18 @@ void MujocoContact::place(const Vec3& p, ContactState& state, double t) {
 Vec3 MujocoContact::step(const Vec3& p, const Vec3& v, double t, ContactState& state) {
   Impl& s = *impl_;
   if (!all_finite(p) || !all_finite(v)) return Vec3::Zero();
-  const Vec3 xp = s.x();
-  const Vec3 n = s.object.query(xp).normal;
-  const double k_t = s.object.law_at(xp).k_t;
-  const Vec3 f = s.coupling(p, v, n, k_t);
-  for (int k = 0; k < 3; ++k) s.d->qfrc_applied[k] = f[k];
-  s.set_material(xp);
+  // The probe body feels the coupling force computed at the end of the previous step (device
+  // and probe at the same instant), the force whose opposite the device has just integrated.
+  // Evaluating it again with the device already moved and the probe not yet would stretch
+  // the spring by v dt in the direction of motion on the probe's side only: a net force
+  // k_n v dt on the pair (negative damping, the free device accelerated away at ~25/s).
+  for (int k = 0; k < 3; ++k) s.d->qfrc_applied[k] = s.f_probe[k];
+  s.set_material(s.x());
   mj_step(s.m.get(), s.d.get());
-  const Vec3 n1 = s.object.query(s.x()).normal;
-  const Vec3 f_device = -s.coupling(p, v, n1, s.object.law_at(s.x()).k_t);
+  const Vec3 x1 = s.x();
+  const SurfaceQuery q1 = s.object.query(x1);
+  s.f_probe = s.coupling(p, v, q1.normal, s.object.law_at(x1).k_t);
+  const Vec3 f_device = -s.f_probe;
   s.update_truth(p, f_device, t, state);
   return f_device;
 }

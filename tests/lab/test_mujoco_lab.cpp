@@ -86,16 +86,44 @@ TEST(MujocoLab, StaticIndentationFollowsTheDocumentedSoftContactLaw) {
   REQUIRE_MUJOCO();
   const MujocoParams p;
   const double depth5 = law().depth_at(5.0);
-  // Up to 5 N: the probe centre stays well above the top (MuJoCo's sphere-box contact breaks
-  // down once the penetration exceeds the probe radius: 8 N pushes through, docs/lab-mujoco.md).
-  for (double f : {1.0, 2.0, 4.0, 5.0}) {
+  // 8 N sinks the probe centre below the top face (the top is a MuJoCo plane: MuJoCo's
+  // sphere-box contact was lost there, docs/lab-mujoco.md).
+  bool below_top = false;
+  for (double f : {1.0, 2.0, 4.0, 5.0, 8.0}) {
     const double got = indentation(f), want = documented_depth(p, depth5, f);
-    ASSERT_LT(want, kR - 0.5) << f << " N";
+    below_top = below_top || want > kR;
     std::printf("MuJoCo indentation at %.1f N: %.4f mm, documented law %.4f mm\n", f, got, want);
     EXPECT_NEAR(got, want, 0.01 * want + 0.01) << f << " N";
   }
-  // The law stiffens with depth: the secant stiffness at 8 N exceeds that at 1 N.
+  EXPECT_TRUE(below_top);
+  // The law stiffens with depth: the secant stiffness at 5 N exceeds that at 1 N.
   EXPECT_GT(5.0 / documented_depth(p, depth5, 5.0), 1.5 / documented_depth(p, depth5, 1.0));
+}
+
+// Out of contact the device and the probe body are two masses joined by the coupling spring:
+// a force F for a time T must leave the pair moving at F T / (m_device + m_probe), and without
+// friction or force that momentum must stay. (The coupling once gave the probe body a force
+// evaluated after the device had moved, a net force k_n v dt on the pair: the free device
+// accelerated away at about 25/s and the closed-loop drag below diverged.)
+TEST(MujocoLab, FreeDeviceConservesMomentum) {
+  REQUIRE_MUJOCO();
+  DeviceParams dp = mujoco_device();
+  dp.coulomb_n = 0, dp.viscous_n_s_per_mm = 0;
+  SimDevice dev(planar(), dp);
+  dev.place(Vec3(0, 0, kTop + kR + 20));
+  const double f = 0.1, t_push = 0.1;  // N, s
+  const int pushes = static_cast<int>(std::lround(t_push * dp.servo_rate_hz));
+  for (int i = 0; i < pushes; ++i) {
+    dev.command_force(Vec3(f, 0, 0));
+    dev.tick();
+  }
+  // F T / m in kg -> m/s; * 1e3 -> mm/s.
+  const double want = f * t_push / (dp.mass_kg + dp.mujoco.probe_mass_kg) * 1e3;
+  EXPECT_NEAR(dev.truth().velocity.x(), want, 0.01 * want);
+  for (int i = 0; i < 1000; ++i) dev.tick();
+  EXPECT_FALSE(dev.contact().in_contact);
+  EXPECT_NEAR(dev.truth().velocity.x(), want, 0.01 * want) << "after 1 s coasting";
+  EXPECT_NEAR(dev.truth().velocity.z(), 0.0, 1e-6);
 }
 
 const Mat3 kZ = Vec3(0, 0, 1).asDiagonal();
@@ -105,12 +133,10 @@ double smooth(double s) {
   return s <= 0 ? 0 : s >= 1 ? 1 : 0.5 - 0.5 * std::cos(M_PI * s);
 }
 
-// DISABLED: under the closed-loop force/PID drag of this test the MuJoCo device goes unstable
-// (the probe position diverges by t = 7 s), while free-exploration recordings stay bounded.
-// Suspected: the 1 kHz force controller acting through the stiff device-probe coupling
-// (about 500 Hz). Open; see docs/lab-mujoco.md. The stand-alone MuJoCo check of the same
-// contact (5 g probe, 3 N, 2 mm/s) gave |f_T|/f_N = 1.200 with noslip.
-TEST(MujocoLab, DISABLED_SlidingFrictionRatioIsMu) {
+// Closed-loop drag (force control on the compensated sensor in z, PID in x, y), as the
+// palpation protocol drives the device. This diverged by t = 7 s until the coupling force on
+// the probe body and on the device were made equal and opposite (docs/lab-mujoco.md, Quirks).
+TEST(MujocoLab, SlidingFrictionRatioIsMu) {
   REQUIRE_MUJOCO();
   SimDevice dev(planar(), mujoco_device());
   const Vec3 start(-15, 0, kTop + kR + 0.3);
