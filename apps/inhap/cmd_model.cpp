@@ -172,6 +172,14 @@ void report_coverage(const TrainingSet& set, const std::string& path) {
       "inhap: coverage: {} cells of {:g} mm visited by q (x {:.1f}..{:.1f}, y {:.1f}..{:.1f} "
       "mm), largest |f| per cell median {:.2f} N; elsewhere the model extrapolates -> {}\n",
       map.cells().size(), map.params().cell_mm, lo.x(), hi.x(), lo.y(), hi.y(), med, path);
+  const std::vector<CoverageGap> gaps = coverage_gaps(map);
+  if (!gaps.empty()) {
+    fmt::print(stderr, "inhap: coverage: explore more around (x, y mm, unvisited area):");
+    for (const CoverageGap& g : gaps)
+      fmt::print(stderr, " ({:.0f}, {:.0f}) {:.0f} mm^2", g.x_mm, g.y_mm,
+                 static_cast<double>(g.cells) * map.params().cell_mm * map.params().cell_mm);
+    fmt::print(stderr, "\n");
+  }
 }
 
 void run_train(TrainOptions o) {
