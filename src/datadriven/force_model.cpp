@@ -344,7 +344,7 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
   if (params.features == FeatureSet::kLocalFrame) {
     if (params.stiffness_prior || params.shear_prior) fit_priors(data, params, model, base);
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
-    if (params.fallback) model.fallback = fit_fallback(data, params);
+    if (params.fallback) model.fallback = fit_fallback(data, params, model.prior);
   }
   log.lap("priors", clock);
 
@@ -575,7 +575,8 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   if (!model.fallback.empty()) {  // far from the training proxies: the data's own law
     const double wl = model.fallback.weight(q);
     if (wl > 0) {
-      Vec3 law = model.fallback.law.force(fr.n.dot(q - p)) * fr.n;
+      Vec3 law =
+          model.fallback.law.force(fr.n.dot(q - p)) * detail::fallback_scale(model.prior, q) * fr.n;
       if (!model.shear.empty()) law += shear_force(model.shear, p, q, fr.n);
       f = (1 - wl) * f + wl * law;
     }

@@ -53,13 +53,14 @@ double fit_friction_cone(const TrainingSet& data) {
   return ratio[static_cast<std::size_t>(k)];
 }
 
-Fallback fit_fallback(const TrainingSet& data, const TrainParams& params) {
+Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
+                      const StiffnessMap& prior) {
   const std::size_t n = data.size();
   std::vector<double> depth(n), fn(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 nn = surface_frame(data.n[i]).n;
     depth[i] = nn.dot(data.q[i] - data.p[i]);
-    fn[i] = nn.dot(data.f[i]);
+    fn[i] = nn.dot(data.f[i]) / fallback_scale(prior, data.q[i]);
   }
   Fallback fb;
   fb.law = fit_depth_law(depth, fn);

@@ -2,6 +2,7 @@
 // private to src/datadriven. Units: mm, N.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "inhap/datadriven/force_model.hpp"
@@ -30,7 +31,20 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
 /// with fewer than 10 such samples).
 double fit_friction_cone(const TrainingSet& data);
 
-/// The recording's depth-force law and the training proxies' support (fallback.hpp).
-Fallback fit_fallback(const TrainingSet& data, const TrainParams& params);
+/// The recording's depth-force law and the training proxies' support (fallback.hpp). With a
+/// stiffness prior the law is fitted to f_n / k(q) (k(q) = the prior's local stiffness) and
+/// rendered times k(q): the shape of the depth-force law is the data's own, its local scale
+/// the prior's map, which follows the stiffness of the data around a gap.
+Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
+                      const StiffnessMap& prior);
+
+/// Exponent of the prior's local stiffness in the fallback's scale (0: one global law, 1: k(q)).
+inline constexpr double kFallbackScaleExponent = 1.0;
+
+/// Local stiffness scale of the fallback law at q: k(q)^kFallbackScaleExponent of the prior, 1
+/// without one. Servo-safe.
+inline double fallback_scale(const StiffnessMap& prior, const Vec3& q) {
+  return prior.empty() ? 1.0 : std::exp(kFallbackScaleExponent * prior.log_stiffness(q));
+}
 
 }  // namespace inhap::dd::detail
