@@ -13,7 +13,10 @@
 //     measured, not forced into k d^alpha);
 //   * SupportDistance: the distance from q to the nearest training proxy, on a grid (the proxies
 //     are voxelised at `cell_mm`; the grid holds the chamfer distance to those voxels' proxies).
-// Rendering blends: f = (1 - w) f_model + w (law(d) n + shear prior), with
+// With the stiffness prior (preset best) the law is fitted to f_n / k(q), k(q) the prior's local
+// stiffness, and rendered times k(q) (force_model_priors.hpp): the data's own depth dependence
+// at the prior's local level.
+// Rendering blends: f = (1 - w) f_model + w (k(q) law(d) n + shear prior), with
 // w = smoothstep((dist - near_mm) / (far_mm - near_mm)): the model as trained within near_mm of
 // the data, the law beyond far_mm. A few flops and one trilinear lookup: servo-safe.
 #pragma once

@@ -166,7 +166,8 @@ struct TrainParams {
   bool friction_cone = false;
   /// Local-frame features only: outside the training support blend towards the recording's own
   /// depth-force law (fallback.hpp): the model as trained within fallback_near_mm of a training
-  /// proxy, the monotone law f_n(d) (plus the shear prior) beyond fallback_far_mm, mm.
+  /// proxy, the monotone law f_n(d) (times the stiffness prior's local k(q) when there is one,
+  /// plus the shear prior) beyond fallback_far_mm, mm.
   bool fallback = false;
   double fallback_near_mm = 6.0;
   double fallback_far_mm = 12.0;
