@@ -158,11 +158,14 @@ json object_json(const ForceLabResult& d) {
 
 /// Share of the in-contact test samples outside the training support (dd::CoverageMap of the
 /// training run's proxies and forces, as `model train` writes and `model eval` reports).
-double outside_coverage(const ForceLabResult& d) {
+CoverageMap training_coverage(const ForceLabResult& d) {
   std::vector<Vec3> q, f;
   for (std::size_t i = 0; i < d.train.rec.size(); ++i)
     if (d.train_track.contact[i]) q.push_back(d.train_track.q[i]), f.push_back(d.train.rec.f[i]);
-  const CoverageMap map(q, f);
+  return CoverageMap(q, f);
+}
+
+double outside_coverage(const ForceLabResult& d, const CoverageMap& map) {
   std::size_t n = 0, out = 0;
   for (std::size_t i = 0; i < d.test.rec.size(); ++i)
     if (d.test_track.contact[i])
@@ -195,7 +198,16 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   // Training never clips a target (forces above the modeling range are kept and counted).
   j["clipped_training_samples"] = 0;
   j["training_samples_above_range"] = v.model.stats.above_range;
-  j["coverage"] = outside_coverage(d);
+  const CoverageMap map = training_coverage(d);
+  j["coverage"] = outside_coverage(d, map);
+  // Where the training run left the largest unvisited areas (x, y projection): explore there.
+  json gaps = json::array();
+  for (const CoverageGap& g : coverage_gaps(map))
+    gaps.push_back(
+        {{"x_mm", g.x_mm},
+         {"y_mm", g.y_mm},
+         {"area_mm2", static_cast<double>(g.cells) * map.params().cell_mm * map.params().cell_mm}});
+  j["explore_more"] = std::move(gaps);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
       "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "

@@ -81,6 +81,7 @@ struct TrainOptions {
   FoawParams foaw;
   double force_limit = kDeviceForceLimitN;
   ProxyOptions proxy;
+  bool verbose = false;
   std::set<std::string> given;  ///< long names of the options given on the command line
 };
 
@@ -110,6 +111,10 @@ TrainParams resolve_params(TrainOptions& o, bool have_normals) {
   if (given("--stiffness-prior")) p.stiffness_prior = g.stiffness_prior;
   if (given("--shear-prior")) p.shear_prior = g.shear_prior;
   if (given("--friction-cone")) p.friction_cone = g.friction_cone;
+  if (given("--fallback")) p.fallback = g.fallback;
+  if (given("--fallback-near")) p.fallback_near_mm = g.fallback_near_mm;
+  if (given("--fallback-far")) p.fallback_far_mm = g.fallback_far_mm;
+  if (given("--solver")) p.solver = g.solver;
   if (given("--feature-weights")) p.feature_weights = g.feature_weights;
   if (given("--bin-blend")) p.bin_blend = g.bin_blend;
   if (given("--design")) p.design = design_from_string(o.design);
@@ -119,6 +124,7 @@ TrainParams resolve_params(TrainOptions& o, bool have_normals) {
     if (!given("--stiffness-prior")) p.stiffness_prior = false;
     if (!given("--shear-prior")) p.shear_prior = false;
     if (!given("--friction-cone")) p.friction_cone = false;
+    if (!given("--fallback")) p.fallback = false;
   }
   p.seed = g.seed;
   p.threads = g.threads;
@@ -166,6 +172,14 @@ void report_coverage(const TrainingSet& set, const std::string& path) {
       "inhap: coverage: {} cells of {:g} mm visited by q (x {:.1f}..{:.1f}, y {:.1f}..{:.1f} "
       "mm), largest |f| per cell median {:.2f} N; elsewhere the model extrapolates -> {}\n",
       map.cells().size(), map.params().cell_mm, lo.x(), hi.x(), lo.y(), hi.y(), med, path);
+  const std::vector<CoverageGap> gaps = coverage_gaps(map);
+  if (!gaps.empty()) {
+    fmt::print(stderr, "inhap: coverage: explore more around (x, y mm, unvisited area):");
+    for (const CoverageGap& g : gaps)
+      fmt::print(stderr, " ({:.0f}, {:.0f}) {:.0f} mm^2", g.x_mm, g.y_mm,
+                 static_cast<double>(g.cells) * map.params().cell_mm * map.params().cell_mm);
+    fmt::print(stderr, "\n");
+  }
 }
 
 void run_train(TrainOptions o) {
@@ -216,6 +230,11 @@ void run_train(TrainOptions o) {
                  "xyz"[c], to_string(m.params.solver), m.stats.gap[b][uc],
                  m.stats.sparsa_iterations[b][uc], m.stats.nonzeros[b][uc]);
     }
+  if (o.verbose) {
+    fmt::print("  stages (CPU s, summed over threads):");
+    for (const auto& [name, s] : m.stats.stage_cpu_s) fmt::print(" {} {:.2f}", name, s);
+    fmt::print("; wall {:.2f} s\n", m.stats.seconds);
+  }
   fmt::print("model -> {}\n", o.out);
 }
 
@@ -423,10 +442,11 @@ void register_model(CLI::App& app) {
                  "nx,ny,nz or from --mesh); default: preset")
       ->capture_default_str()
       ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
-  add_switch(*ct, "tail", tr->params.linear_tail,
-             "Linear polynomial tail on every expansion (the thesis has none; default: preset, on in "
-             "best and world, off in thesis)",
-             false);
+  add_switch(
+      *ct, "tail", tr->params.linear_tail,
+      "Linear polynomial tail on every expansion (the thesis has none; default: preset, on in "
+      "best and world, off in thesis)",
+      false);
   add_local_training_flags(*ct, tr->params, "default: preset; on in best, off in world and thesis");
   ct->add_option("--feature-weights", tr->params.feature_weights,
                  "Weights of the three feature groups after standardisation (default: preset; "
@@ -444,14 +464,16 @@ void register_model(CLI::App& app) {
   ct->add_option("--foaw-noise", tr->foaw.noise_bound, "FOAW noise bound d, mm")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  ct->add_option(
-        "--force-limit", tr->force_limit,
-        fmt::format("Rendered force clamp, N (may lower the device's {} N, never raise it; the training data "
-                    "are not clipped)",
-                    kDeviceForceLimitN))
+  ct->add_option("--force-limit", tr->force_limit,
+                 fmt::format("Rendered force clamp, N (may lower the device's {} N, never raise "
+                             "it; the training data "
+                             "are not clipped)",
+                             kDeviceForceLimitN))
       ->capture_default_str()
       ->check(CLI::Range(1e-9, kDeviceForceLimitN));
   add_proxy_options(ct, tr->proxy);
+  ct->add_flag("--verbose", tr->verbose,
+               "Print the CPU time of each training stage (s, summed over threads)");
   ct->callback([tr, ct] {
     for (const CLI::Option* opt : ct->get_options())
       if (opt->count() > 0)

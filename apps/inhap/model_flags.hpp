@@ -36,14 +36,28 @@ inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
       {"friction-cone", &dd::TrainParams::friction_cone,
        "Local features: keep the rendered force inside the training data's friction cone, "
        "|f_t| <= c max(f_n, 0.3 N) ("},
+      {"fallback", &dd::TrainParams::fallback,
+       "Local features: far from every training proxy blend towards the recording's own "
+       "monotone depth-force law f_n(d) (plus the shear prior) ("},
   };
   for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
   cmd.add_option_function<std::string>(
          "--solver", [&p](const std::string& s) { p.solver = dd::l1_solver_from_string(s); },
          "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
          "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
-         "progress (default sparsa)")
+         "progress (default: cd in preset best, which eval forces uses; sparsa in world and "
+         "thesis)")
       ->check(CLI::IsMember({"cd", "sparsa"}));
+  cmd.add_option("--fallback-near", p.fallback_near_mm,
+                 "Fallback: within this distance of a training proxy the model renders as trained, "
+                 "mm")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--fallback-far", p.fallback_far_mm,
+                 "Fallback: beyond this distance from every training proxy the law alone renders, "
+                 "mm")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 }
 
 }  // namespace inhap::cli

@@ -79,6 +79,50 @@ bool CoverageMap::outside(const Vec3& q, double f_mag) const {
   return f_mag >= 0 && f_mag > p_.force_slack * fmax + p_.force_margin_n;
 }
 
+std::vector<CoverageGap> coverage_gaps(const CoverageMap& map, std::size_t max_gaps) {
+  std::vector<CoverageGap> gaps;
+  if (map.cells().empty()) return gaps;
+  int x0 = map.cells()[0].index[0], x1 = x0, y0 = map.cells()[0].index[1], y1 = y0;
+  for (const CoverageCell& c : map.cells()) {
+    x0 = std::min(x0, c.index[0]), x1 = std::max(x1, c.index[0]);
+    y0 = std::min(y0, c.index[1]), y1 = std::max(y1, c.index[1]);
+  }
+  const auto nx = static_cast<std::size_t>(x1 - x0 + 1), ny = static_cast<std::size_t>(y1 - y0 + 1);
+  if (nx * ny > 4'000'000) return gaps;
+  std::vector<char> state(nx * ny, 0);  // 0 empty, 1 visited, 2 in a gap already
+  for (const CoverageCell& c : map.cells())
+    state[static_cast<std::size_t>(c.index[0] - x0) +
+          nx * static_cast<std::size_t>(c.index[1] - y0)] = 1;
+  const double cell = map.params().cell_mm;
+  std::vector<std::size_t> stack;
+  for (std::size_t s = 0; s < state.size(); ++s) {
+    if (state[s] != 0) continue;
+    CoverageGap g;
+    double sx = 0, sy = 0;
+    stack.assign(1, s);
+    state[s] = 2;
+    while (!stack.empty()) {
+      const std::size_t c = stack.back();
+      stack.pop_back();
+      const std::size_t i = c % nx, j = c / nx;
+      ++g.cells;
+      sx += (static_cast<double>(x0) + static_cast<double>(i) + 0.5) * cell;
+      sy += (static_cast<double>(y0) + static_cast<double>(j) + 0.5) * cell;
+      const std::size_t nb[4] = {i > 0 ? c - 1 : c, i + 1 < nx ? c + 1 : c, j > 0 ? c - nx : c,
+                                 j + 1 < ny ? c + nx : c};
+      for (std::size_t k : nb)
+        if (state[k] == 0) state[k] = 2, stack.push_back(k);
+    }
+    g.x_mm = sx / static_cast<double>(g.cells);
+    g.y_mm = sy / static_cast<double>(g.cells);
+    gaps.push_back(g);
+  }
+  std::stable_sort(gaps.begin(), gaps.end(),
+                   [](const CoverageGap& a, const CoverageGap& b) { return a.cells > b.cells; });
+  if (gaps.size() > max_gaps) gaps.resize(max_gaps);
+  return gaps;
+}
+
 std::string coverage_path_for(const std::string& model_path) {
   const std::string ext = ".json";
   if (model_path.size() > ext.size() &&

@@ -13,12 +13,21 @@
 #include <mutex>
 #include <numeric>
 #include <thread>
+#include <utility>
 
+#include <time.h>
+
+#include "force_model_priors.hpp"
 #include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/kmeans.hpp"
 
 namespace inhap::dd {
+
+using detail::fit_fallback;
+using detail::fit_friction_cone;
+using detail::fit_priors;
+using detail::shear_force;
 
 const char* to_string(FeatureSet f) {
   if (f == FeatureSet::kLocalFrame) return "local";
@@ -61,6 +70,9 @@ void TrainParams::validate() const {
     throw Error("expected positive tolerances");
   if (!(modeling_range_n > 0) || !std::isfinite(modeling_range_n))
     throw Error(fmt::format("expected a modeling range > 0 N, got {}", modeling_range_n));
+  if (!(kmeans_min_moved >= 0 && kmeans_min_moved < 1))
+    throw Error(
+        fmt::format("expected a k-means moved fraction in [0, 1), got {}", kmeans_min_moved));
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
   if (friction_cone && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
@@ -70,6 +82,12 @@ void TrainParams::validate() const {
   if (shear_prior && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the shear prior (it needs the normal)");
   if (shear_prior) shear.validate();
+  if (fallback && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the fallback law (it needs the normal)");
+  if (!(fallback_near_mm >= 0) || !(fallback_far_mm > fallback_near_mm) ||
+      !std::isfinite(fallback_far_mm))
+    throw Error(fmt::format("expected 0 <= fallback near < far distance (mm), got {} and {}",
+                            fallback_near_mm, fallback_far_mm));
 }
 
 int ForceModel::bin_of(double key) const {
@@ -81,6 +99,38 @@ int ForceModel::bin_of(double key) const {
 }
 
 namespace {
+
+// CPU time of the calling thread, s (stage timers: unlike wall time, not inflated by load).
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// CPU seconds per training stage, summed over threads.
+class StageLog {
+ public:
+  void add(const std::string& name, double s) {
+    std::lock_guard lock(mutex_);
+    for (auto& e : stages_)
+      if (e.first == name) {
+        e.second += s;
+        return;
+      }
+    stages_.emplace_back(name, s);
+  }
+  // Adds the CPU time since the last lap (or construction of `lap`) to `name`.
+  void lap(const std::string& name, double& since) {
+    const double now = thread_cpu_s();
+    add(name, now - since);
+    since = now;
+  }
+  std::vector<std::pair<std::string, double>> take() { return std::move(stages_); }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::pair<std::string, double>> stages_;
+};
 
 struct BinResult {
   BinModel model;
@@ -142,15 +192,19 @@ Problem build_problem(const Eigen::MatrixXd& x, const Eigen::MatrixXd& f,
   return pb;
 }
 
-BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainParams& prm, int bin) {
+BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainParams& prm, int bin,
+                    StageLog& log) {
+  double clock = thread_cpu_s();
   BinResult out;
   BinModel& bm = out.model;
   bm.samples = static_cast<std::size_t>(x.rows());
   normalise(x, bm, prm);
-  const KMeansResult km = kmeans(
-      x,
-      {.k = prm.centers, .max_iterations = prm.kmeans_iterations, .seed = bin_seed(prm.seed, bin)});
+  const KMeansResult km = kmeans(x, {.k = prm.centers,
+                                     .max_iterations = prm.kmeans_iterations,
+                                     .seed = bin_seed(prm.seed, bin),
+                                     .min_moved = prm.kmeans_min_moved});
   out.selected = static_cast<int>(km.selected.size());
+  log.lap("k-means", clock);
   Problem pb = build_problem(x, f, km.selected, prm);
   Eigen::MatrixXd tail_coef, target = pb.f;
   if (prm.linear_tail) {  // unpenalised tail: fitted first, SpaRSA sees the residual
@@ -180,7 +234,9 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
   LassoParams lp;
   lp.max_nonzeros = sp.max_nonzeros;
   lp.gap_tolerance = prm.gap_tolerance;
+  log.lap("matrix", clock);
   const std::vector<L1Fit> sol = solve_l1(prm.solver, pb.a, target, lambda, sp, lp);
+  log.lap("l1", clock);
   if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
   const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
   for (int c = 0; c < 3; ++c) {
@@ -212,12 +268,9 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     out.gap[uc] = sol[uc].relative_gap;
     out.cg_it[uc] = cg.iterations;
   }
+  log.lap("debias", clock);
   return out;
 }
-
-}  // namespace
-
-namespace {
 
 void check_training_set(const TrainingSet& data, const TrainParams& params) {
   const std::size_t n = data.size();
@@ -258,73 +311,6 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
   if (error) std::rethrow_exception(error);
 }
 
-}  // namespace
-
-namespace {
-
-// Tangential part of p - q (mm) in world axes, given the unit normal n.
-Vec3 tangential_displacement(const Vec3& p, const Vec3& q, const Vec3& n) {
-  const Vec3 u = p - q;
-  return u - n.dot(u) * n;
-}
-
-// Shear prior force (N, world axes): -k_t(q) |u_t|^(beta - 1) u_t.
-Vec3 shear_force(const StiffnessMap& shear, const Vec3& p, const Vec3& q, const Vec3& n) {
-  const Vec3 ut = tangential_displacement(p, q, n);
-  const double len = ut.norm();
-  return len > 0 ? Vec3(-shear.force(q, len) / len * ut) : Vec3::Zero();
-}
-
-// Fits the stiffness and shear priors that are asked for; base[i] = their force at sample i in
-// the sample's local frame (t0, t1, n), which the RBFs do not learn.
-void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& model,
-                std::vector<Vec3>& base) {
-  const std::size_t n = data.size();
-  std::vector<SurfaceFrame> frame(n);
-  for (std::size_t i = 0; i < n; ++i) frame[i] = surface_frame(data.n[i]);
-  if (params.stiffness_prior) {
-    std::vector<double> depth(n), fn(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      depth[i] = frame[i].n.dot(data.q[i] - data.p[i]);
-      fn[i] = frame[i].n.dot(data.f[i]);
-    }
-    model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
-    for (std::size_t i = 0; i < n; ++i) base[i].z() = model.prior.normal_force(data.q[i], depth[i]);
-  }
-  if (params.shear_prior) {
-    // |u_t| and |f_t| of the samples whose tangential force opposes u_t (within ~25 deg); the
-    // others get |u_t| = 0, which the fit leaves out.
-    std::vector<double> ut_len(n, 0.0), ft_len(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3& nn = frame[i].n;
-      const Vec3 ut = tangential_displacement(data.p[i], data.q[i], nn);
-      const Vec3 ft = data.f[i] - nn.dot(data.f[i]) * nn;
-      const double lu = ut.norm(), lf = ft.norm();
-      if (lu > 0 && lf > 0 && -ut.dot(ft) >= 0.9 * lu * lf) ut_len[i] = lu, ft_len[i] = lf;
-    }
-    model.shear = fit_stiffness_map(data.q, ut_len, ft_len, params.shear);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 t = frame[i].to_local(shear_force(model.shear, data.p[i], data.q[i], frame[i].n));
-      base[i].x() += t.x(), base[i].y() += t.y();
-    }
-  }
-}
-
-// |f_t| / f_n of the samples pressed with at least 1 N (lighter touches are mostly noise and
-// onset transients); the cone is their 99.5 % quantile (0 with fewer than 10 such samples).
-double fit_friction_cone(const TrainingSet& data) {
-  std::vector<double> ratio;
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    const Vec3 nn = surface_frame(data.n[i]).n;
-    const double fn = nn.dot(data.f[i]);
-    if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
-  }
-  if (ratio.size() < 10) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
-  std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
-  return ratio[static_cast<std::size_t>(k)];
-}
-
 // The training proper on the samples kept (train_force_model counts and filters first).
 ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const FoawParams& foaw,
                       std::chrono::steady_clock::time_point t0) {
@@ -352,11 +338,15 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
 
   // Local stiffness and shear priors (subtracted from the force the RBFs learn; base[i] = their
   // force at sample i, local frame) and friction cone.
+  StageLog log;
+  double clock = thread_cpu_s();
   std::vector<Vec3> base(n, Vec3::Zero());
   if (params.features == FeatureSet::kLocalFrame) {
     if (params.stiffness_prior || params.shear_prior) fit_priors(data, params, model, base);
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
+    if (params.fallback) model.fallback = fit_fallback(data, params, model.prior);
   }
+  log.lap("priors", clock);
 
   std::vector<BinResult> results(nb);
   std::mutex progress_mutex;
@@ -385,7 +375,7 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
       for (int d : {0, 1, 6, 7}) x.col(d).tail(m) *= -1.0;
       for (int a : {0, 1}) f.col(a).tail(m) *= -1.0;
     }
-    results[b] = train_bin(std::move(x), f, params, bi);
+    results[b] = train_bin(std::move(x), f, params, bi, log);
     results[b].model.key_min = key[order[s0]];
     results[b].model.key_max = key[order[s1 - 1]];
     std::lock_guard lock(progress_mutex);
@@ -405,6 +395,7 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
     model.bins.push_back(std::move(r.model));
   }
   finalize_model(model);
+  model.stats.stage_cpu_s = log.take();
   model.stats.samples = n;
   model.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -454,6 +445,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
 }
 
 void finalize_model(ForceModel& model) {
+  if (!model.fallback.support.empty()) model.fallback.support.build(model.fallback.far_mm);
   for (BinModel& bm : model.bins) {
     std::map<std::vector<double>, Eigen::Index> index;  // exact centre -> union row
     std::vector<std::vector<double>> rows;
@@ -580,6 +572,15 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   }
   if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
   if (!model.shear.empty()) f += shear_force(model.shear, p, q, fr.n);
+  if (!model.fallback.empty()) {  // far from the training proxies: the data's own law
+    const double wl = model.fallback.weight(q);
+    if (wl > 0) {
+      Vec3 law =
+          model.fallback.law.force(fr.n.dot(q - p)) * detail::fallback_scale(model.prior, q) * fr.n;
+      if (!model.shear.empty()) law += shear_force(model.shear, p, q, fr.n);
+      f = (1 - wl) * f + wl * law;
+    }
+  }
   if (model.friction_cone > 0) {  // keep the force inside the friction cone seen in training
     const double fn = fr.n.dot(f);
     const Vec3 ft = f - fn * fr.n;

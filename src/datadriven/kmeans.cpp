@@ -54,6 +54,11 @@ void check_input(const Eigen::MatrixXd& x, int k) {
   if (!x.allFinite()) throw Error("k-means: expected finite samples, got NaN or inf");
 }
 
+void check_params(const KMeansParams& p) {
+  if (!(p.min_moved >= 0 && p.min_moved < 1))
+    throw Error(fmt::format("k-means: expected a moved fraction in [0, 1), got {}", p.min_moved));
+}
+
 }  // namespace
 
 std::vector<int> kmeanspp_seed(const Eigen::MatrixXd& x, int k, std::uint64_t seed) {
@@ -91,6 +96,7 @@ std::vector<int> kmeanspp_seed(const Eigen::MatrixXd& x, int k, std::uint64_t se
 
 KMeansResult kmeans(const Eigen::MatrixXd& x, const KMeansParams& params) {
   check_input(x, params.k);
+  check_params(params);
   const Eigen::Index n = x.rows();
   const std::vector<int> seeds = kmeanspp_seed(x, params.k, params.seed);
   const Eigen::Index k = static_cast<Eigen::Index>(seeds.size());
@@ -106,7 +112,9 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const KMeansParams& params) {
   for (int it = 0; it < params.max_iterations; ++it) {
     assign(x, xnorm, res.centroids, label, dist2, nullptr);
     res.iterations = it + 1;
-    if (label == res.assignment) {
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < label.size(); ++i) moved += label[i] != res.assignment[i];
+    if (moved == 0 || static_cast<double>(moved) <= params.min_moved * static_cast<double>(n)) {
       res.converged = true;
       break;
     }

@@ -223,11 +223,15 @@ std::string force_model_to_json(const ForceModel& m) {
                 {"solver", to_string(p.solver)},
                 {"gap_tolerance", p.gap_tolerance},
                 {"kmeans_iterations", p.kmeans_iterations},
+                {"kmeans_min_moved", p.kmeans_min_moved},
                 {"box_margin", p.box_margin},
                 {"tangent_mirror", p.tangent_mirror},
                 {"stiffness_prior", p.stiffness_prior},
                 {"shear_prior", p.shear_prior},
                 {"friction_cone", p.friction_cone},
+                {"fallback", p.fallback},
+                {"fallback_near_mm", p.fallback_near_mm},
+                {"fallback_far_mm", p.fallback_far_mm},
                 {"samples", m.stats.samples},
                 {"seconds", m.stats.seconds},
                 {"support", arr3(m.stats.support)},
@@ -264,6 +268,22 @@ std::string force_model_to_json(const ForceModel& m) {
         map_json(m.shear,
                  "f_t = -k(q) |u_t|^alpha u_t / |u_t|, u_t = tangential part of p - q, ln k "
                  "trilinear on a grid over q");
+  if (!m.fallback.empty()) {
+    const Fallback& fb = m.fallback;
+    json pts = json::array();
+    for (const Vec3& x : fb.support.points) pts.push_back({x.x(), x.y(), x.z()});
+    j["fallback"] = {
+        {"about",
+         "f = (1 - w) f_model + w (law(n . (q - p)) n + shear prior), w = smoothstep of the "
+         "distance from q to the nearest training proxy between near_mm and far_mm"},
+        {"near_mm", fb.near_mm},
+        {"far_mm", fb.far_mm},
+        {"law",
+         {{"depth_mm", fb.law.depth_mm},
+          {"force_n", fb.law.force_n},
+          {"slope_n_per_mm", fb.law.slope_n_per_mm}}},
+        {"support", {{"cell_mm", fb.support.cell_mm}, {"points_mm", std::move(pts)}}}};
+  }
   require_finite_json(j, "force model JSON");
   return j.dump(1) + "\n";
 }
@@ -344,12 +364,18 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
         m.params.sparsa_stop =
             t["sparsa_stop"] == "step" ? SparsaStop::kStep : SparsaStop::kObjective;
       get("kmeans_iterations", m.params.kmeans_iterations);
+      // Files written before the early stop ran k-means until no sample moved.
+      m.params.kmeans_min_moved = 0;
+      get("kmeans_min_moved", m.params.kmeans_min_moved);
       get("box_margin", m.params.box_margin);
       if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
       if (t.contains("stiffness_prior"))
         m.params.stiffness_prior = t["stiffness_prior"].get<bool>();
       if (t.contains("shear_prior")) m.params.shear_prior = t["shear_prior"].get<bool>();
       if (t.contains("friction_cone")) m.params.friction_cone = t["friction_cone"].get<bool>();
+      if (t.contains("fallback")) m.params.fallback = t["fallback"].get<bool>();
+      get("fallback_near_mm", m.params.fallback_near_mm);
+      get("fallback_far_mm", m.params.fallback_far_mm);
       get("samples", m.stats.samples);
       get("seconds", m.stats.seconds);
       get("support", m.stats.support);
@@ -377,6 +403,26 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     m.prior = read_map(r, j["stiffness_prior"], "stiffness_prior");
   if (j.contains("shear_prior") && !j["shear_prior"].is_null())
     m.shear = read_map(r, j["shear_prior"], "shear_prior");
+  if (j.contains("fallback") && !j["fallback"].is_null()) {
+    const json& fb = j["fallback"];
+    m.fallback.near_mm = r.num(r.need(fb, "near_mm", "fallback"), "fallback/near_mm");
+    m.fallback.far_mm = r.num(r.need(fb, "far_mm", "fallback"), "fallback/far_mm");
+    const json& law = r.need(fb, "law", "fallback");
+    m.fallback.law.depth_mm =
+        r.nums(r.need(law, "depth_mm", "fallback/law"), "fallback/law/depth_mm");
+    m.fallback.law.force_n = r.nums(r.need(law, "force_n", "fallback/law"), "fallback/law/force_n");
+    m.fallback.law.slope_n_per_mm =
+        r.num(r.need(law, "slope_n_per_mm", "fallback/law"), "fallback/law/slope_n_per_mm");
+    const json& sup = r.need(fb, "support", "fallback");
+    m.fallback.support.cell_mm =
+        r.num(r.need(sup, "cell_mm", "fallback/support"), "fallback/support/cell_mm");
+    const json& pts = r.need(sup, "points_mm", "fallback/support");
+    if (!pts.is_array()) r.fail("fallback/support/points_mm", "expected an array of [x, y, z]");
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const auto x = r.nums(pts[k], fmt::format("fallback/support/points_mm/{}", k), 3);
+      m.fallback.support.points.emplace_back(x[0], x[1], x[2]);
+    }
+  }
   m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
   const json& bins = r.need(j, "bins", "(root)");
   if (!bins.is_array()) r.fail("bins", "expected an array");
@@ -417,6 +463,15 @@ void validate_model(const ForceModel& m, const std::string& where) {
       fail(fmt::format("{}: expected local-frame features (the prior needs the normal)", name));
     try {
       validate_stiffness_map(*map, name);
+    } catch (const Error& e) {
+      fail(e.what());
+    }
+  }
+  if (!m.fallback.law.depth_mm.empty() || !m.fallback.support.points.empty()) {
+    if (m.features != FeatureSet::kLocalFrame)
+      fail("fallback: expected local-frame features (the law needs the normal)");
+    try {
+      validate_fallback(m.fallback, "fallback");
     } catch (const Error& e) {
       fail(e.what());
     }

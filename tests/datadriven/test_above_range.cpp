@@ -81,7 +81,7 @@ TEST(AboveRange, PresetsAreTheDocumentedPipelines) {
   const TrainParams best = preset_params("best");
   EXPECT_EQ(best.features, FeatureSet::kLocalFrame);
   EXPECT_TRUE(best.tangent_mirror && best.stiffness_prior && best.shear_prior &&
-              best.friction_cone);
+              best.friction_cone && best.fallback);
   EXPECT_EQ(best.feature_weights, (std::array<double, 3>{1.0, 5.0, 0.5}));
   EXPECT_EQ(best.bin_blend, 1.0);
   const TrainParams thesis = preset_params("thesis");

@@ -59,3 +59,31 @@ TEST(Coverage, FileRoundTripAndBadInput) {
 
 }  // namespace
 }  // namespace inhap::dd
+
+namespace inhap::dd {
+namespace {
+
+TEST(Coverage, GapsAreTheLargestUnvisitedAreasLargestFirst) {
+  // Visited: a 30 x 30 mm square (3 mm cells, 10 x 10) except a 4 x 4-cell hole whose cells span
+  // x, y in [12, 24) mm, and a single missing cell at x, y in [0, 3) mm.
+  std::vector<Vec3> q, f;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      if ((i >= 4 && i < 8 && j >= 4 && j < 8) || (i == 0 && j == 0)) continue;
+      q.emplace_back(3.0 * i + 1.5, 3.0 * j + 1.5, 0.0);
+      f.emplace_back(0.0, 0.0, 1.0);
+    }
+  const CoverageMap map(q, f);
+  const std::vector<CoverageGap> gaps = coverage_gaps(map);
+  ASSERT_EQ(gaps.size(), 2u);
+  EXPECT_EQ(gaps[0].cells, 16u);
+  EXPECT_NEAR(gaps[0].x_mm, 18.0, 1e-9);
+  EXPECT_NEAR(gaps[0].y_mm, 18.0, 1e-9);
+  EXPECT_EQ(gaps[1].cells, 1u);
+  EXPECT_NEAR(gaps[1].x_mm, 1.5, 1e-9);
+  EXPECT_EQ(coverage_gaps(map, 1).size(), 1u);
+  EXPECT_TRUE(coverage_gaps(CoverageMap()).empty());
+}
+
+}  // namespace
+}  // namespace inhap::dd

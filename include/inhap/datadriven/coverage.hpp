@@ -55,6 +55,15 @@ class CoverageMap {
   std::unordered_map<std::uint64_t, std::size_t> lookup_;
 };
 
+/// An unvisited region of the coverage's (x, y) projection (the objects are height fields over
+/// the table): a 4-connected set of empty cells inside the visited cells' bounding rectangle.
+struct CoverageGap {
+  double x_mm = 0, y_mm = 0;  ///< centroid of the empty cells' centres, mm
+  std::size_t cells = 0;      ///< empty cells (cell_mm x cell_mm each)
+};
+/// The largest gaps (at most max_gaps, largest first; ties by position): where to explore more.
+std::vector<CoverageGap> coverage_gaps(const CoverageMap& map, std::size_t max_gaps = 5);
+
 /// "model.json" -> "model.coverage.csv" (other names get ".coverage.csv" appended).
 std::string coverage_path_for(const std::string& model_path);
 /// Writes the cells as CSV (x,y,z = cell centre mm, samples, f_max_n; cell size in a comment

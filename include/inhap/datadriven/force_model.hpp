@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "inhap/core/types.hpp"
+#include "inhap/datadriven/fallback.hpp"
 #include "inhap/datadriven/foaw.hpp"
 #include "inhap/datadriven/lasso.hpp"
 #include "inhap/datadriven/rbf.hpp"
@@ -128,6 +129,9 @@ struct TrainParams {
   /// to 1e-9 on the numerically singular r^3 supports).
   double ridge = 1e-8;
   int kmeans_iterations = 100;
+  /// k-means stops when an iteration moves at most this fraction of a bin's samples (0: when
+  /// none moves; KMeansParams::min_moved).
+  double kmeans_min_moved = 1e-3;
   /// Weights of the three 3-D feature groups after standardisation (in FeatureSet order):
   /// distances see (x_d - mean_d) / sd_d * weight_group(d).
   std::array<double, 3> feature_weights{1.0, 3.0, 0.5};
@@ -160,6 +164,13 @@ struct TrainParams {
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
   /// tangential force).
   bool friction_cone = false;
+  /// Local-frame features only: outside the training support blend towards the recording's own
+  /// depth-force law (fallback.hpp): the model as trained within fallback_near_mm of a training
+  /// proxy, the monotone law f_n(d) (times the stiffness prior's local k(q) when there is one,
+  /// plus the shear prior) beyond fallback_far_mm, mm.
+  bool fallback = false;
+  double fallback_near_mm = 6.0;
+  double fallback_far_mm = 12.0;
   /// Modeling range, N: samples with |f| above it are counted (TrainStats::above_range) and kept
   /// or excluded as `above_range` says. Training never clips a target.
   double modeling_range_n = 5.0;
@@ -204,6 +215,10 @@ struct TrainStats {
   std::size_t above_range = 0;     ///< of them, |f| > TrainParams::modeling_range_n
   std::size_t excluded = 0;        ///< of them, left out (AboveRange::kExclude)
   double max_force_n = 0;          ///< largest |f| offered, N
+  /// CPU seconds per training stage, summed over the threads that ran it (priors, kmeans,
+  /// matrix, l1, debias, ...), in the order first seen; with wall-clock `seconds` it says where
+  /// the time goes on a loaded machine. Not saved.
+  std::vector<std::pair<std::string, double>> stage_cpu_s;
 };
 
 struct ForceModel {
@@ -221,6 +236,7 @@ struct ForceModel {
   StiffnessMap prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
   StiffnessMap shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
+  Fallback fallback;         ///< outside the training support (empty: none)
 
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;

@@ -16,6 +16,10 @@ struct KMeansParams {
   int k = 300;               ///< number of clusters (clamped to the number of samples)
   int max_iterations = 100;  ///< Lloyd iterations at most
   std::uint64_t seed = 1;    ///< seed of the k-means++ draws
+  /// Stop when an iteration moves at most this fraction of the samples to another cluster
+  /// (0: only when none moves). The selected rows (samples nearest the centroids) hardly change
+  /// in the long tail of Lloyd iterations that move a handful of samples each.
+  double min_moved = 0;
 };
 
 struct KMeansResult {
@@ -25,7 +29,7 @@ struct KMeansResult {
   std::vector<int> selected;    ///< `nearest` with duplicates removed, in centroid order
   double inertia = 0;           ///< sum of squared distances to the assigned centroids
   int iterations = 0;           ///< Lloyd iterations run
-  bool converged = false;       ///< assignments stopped changing before max_iterations
+  bool converged = false;       ///< at most min_moved of the samples moved before max_iterations
 };
 
 /// Clusters the rows of `x` (N x D). Throws inhap::Error when x is empty, k < 1 or x has a
