@@ -26,8 +26,12 @@ TEST(Reach, HemisphereDomeIsReachableItsBaseIsNot) {
   for (const auto& x : s) {
     EXPECT_NEAR(obj.query(x.point).distance, 0.0, 1e-6);
     const bool r = reachable(obj, 0.0, x.point, x.normal);
-    if (x.point.z() > 2.05) EXPECT_TRUE(r) << x.point.transpose();
-    if (x.point.z() < 1.95) EXPECT_FALSE(r) << x.point.transpose();
+    if (x.point.z() > 2.05) {
+      EXPECT_TRUE(r) << x.point.transpose();
+    }
+    if (x.point.z() < 1.95) {
+      EXPECT_FALSE(r) << x.point.transpose();
+    }
     reach += r;
   }
   const double expected = (dome - 2 * pi * 40 * 2) / (dome + base);  // 0.633
@@ -44,8 +48,12 @@ TEST(Reach, SphereOnTheTableIsReachedDownToWhereTheStylusMeetsTheTable) {
   for (const auto& x : s) {
     const double c = x.normal.z();
     const bool r = reachable(obj, 0.0, x.point, x.normal);
-    if (c > -0.4 + 1e-3) EXPECT_TRUE(r) << c;
-    if (c < -0.4 - 1e-3) EXPECT_FALSE(r) << c;
+    if (c > -0.4 + 1e-3) {
+      EXPECT_TRUE(r) << c;
+    }
+    if (c < -0.4 - 1e-3) {
+      EXPECT_FALSE(r) << c;
+    }
     reach += r;
   }
   EXPECT_NEAR(double(reach) / double(s.size()), 0.7, 0.015);

@@ -180,7 +180,7 @@ TEST(SoftContact, ThinPlateIsNeverLeftThroughItsFarSide) {
   const SoftObject plate(BoxShape{Vec3(0, 0, 30), Vec3(30, 30, 1)}, law);
   const double max_depth = law.depth_at(1.4 * 4.0 + 1.0);  // ~8 mm: far through the plate
   ASSERT_GT(max_depth, 4.0);
-  for (const Vec3 dir : {Vec3(0, 0, -1), Vec3(std::sin(0.5), 0, -std::cos(0.5))}) {
+  for (const Vec3& dir : {Vec3(0, 0, -1), Vec3(std::sin(0.5), 0, -std::cos(0.5))}) {
     ContactState st;
     const double dt = 1e-4, speed = 100.0;  // mm/s
     const Vec3 start(0, 0, top + 2);
