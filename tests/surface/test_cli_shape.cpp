@@ -123,6 +123,8 @@ TEST(CliShape, EvalCommandsWriteTheirJson) {
   // of a tap (each covers ~78 mm^2), at a person's pace.
   EXPECT_GT(o["coverage"].get<double>(), 0.6);
   EXPECT_LE(o["coverage"].get<double>(), 1.0);
-  EXPECT_GE(o["taps_per_minute"].get<double>(), 60.0);
+  // The pace of a 120-tap run varies by a few taps per minute around the full run's (61.2 on
+  // this object with 300 taps); the old top-cap operator managed about 35.
+  EXPECT_GE(o["taps_per_minute"].get<double>(), 55.0);
   EXPECT_EQ(o["far_side_first_contacts"].get<int>(), 0);
 }
