@@ -124,7 +124,7 @@ TEST(CliShape, EvalCommandsWriteTheirJson) {
   EXPECT_GT(o["coverage"].get<double>(), 0.6);
   EXPECT_LE(o["coverage"].get<double>(), 1.0);
   // The pace of a 120-tap run varies by a few taps per minute around the full run's (61.2 on
-  // this object with 300 taps); the old top-cap operator managed about 35.
+  // this object with 300 taps); the old top-cap operator tapped the bunny at 38 per minute.
   EXPECT_GE(o["taps_per_minute"].get<double>(), 55.0);
   EXPECT_EQ(o["far_side_first_contacts"].get<int>(), 0);
 }
