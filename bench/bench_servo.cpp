@@ -168,9 +168,10 @@ void BM_ServoHaptics(benchmark::State& state) {
       [&] { st.reset(); });
 }
 
-void BM_ServoRenderer(benchmark::State& state) {
+// The data-driven renderer through the virtual interface on a shape.
+void run_renderer(benchmark::State& state, const friction::ShapeQuery& shape) {
   const Setup& s = setup();
-  const haptics::DataDrivenModel model(s.sys, *s.plane, s.force);
+  const haptics::DataDrivenModel model(s.sys, shape, s.force);
   std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::DataDrivenRenderer>(model);
   run(
       state,
@@ -182,19 +183,13 @@ void BM_ServoRenderer(benchmark::State& state) {
       [&] { r->reset(); });
 }
 
-// The data-driven renderer through the interface with the shape a 131,072-triangle mesh.
+void BM_ServoRenderer(benchmark::State& state) {
+  run_renderer(state, *setup().plane);
+}
+
+// The same with the shape a 131,072-triangle mesh.
 void BM_ServoRendererMesh131k(benchmark::State& state) {
-  const Setup& s = setup();
-  const haptics::DataDrivenModel model(s.sys, *s.mesh, s.force);
-  std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::DataDrivenRenderer>(model);
-  run(
-      state,
-      [&](std::size_t i) {
-        const haptics::ServoOutput o = r->step(input_at(i));
-        benchmark::DoNotOptimize(o);
-        return o.contact;
-      },
-      [&] { r->reset(); });
+  run_renderer(state, *setup().mesh);
   state.counters["triangles"] = 131072;
 }
 

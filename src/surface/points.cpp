@@ -12,14 +12,17 @@ namespace inhap {
 
 namespace {
 
-/// Projection of q onto the quadric fitted to q and its neighbours; q itself when singular.
-Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
-  const std::size_t m = nb.size() + 1;
+/// Projection of q onto the quadric (jet) fitted in the local PCA frame of the neighbours, with q
+/// itself among the fitted points when `with_q`; q itself when singular. The frame is centred on
+/// q, so the projected height is the fit's constant term.
+Vec3 jet_projection(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts,
+                    bool with_q) {
+  const std::size_t m = nb.size() + (with_q ? 1 : 0);
   if (m < 6) return q;
-  Vec3 centroid = q;
+  Vec3 centroid = with_q ? q : Vec3::Zero();
   for (auto j : nb) centroid += pts[static_cast<std::size_t>(j)];
   centroid /= static_cast<double>(m);
-  Mat3 cov = (q - centroid) * (q - centroid).transpose();
+  Mat3 cov = with_q ? Mat3((q - centroid) * (q - centroid).transpose()) : Mat3::Zero();
   for (auto j : nb) {
     const Vec3 d = pts[static_cast<std::size_t>(j)] - centroid;
     cov += d * d.transpose();
@@ -38,7 +41,7 @@ Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<c
     ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
     atb += z * row;
   };
-  add(q);
+  if (with_q) add(q);
   for (auto j : nb) add(pts[static_cast<std::size_t>(j)]);
   ata = ata.selfadjointView<Eigen::Lower>();
   const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
@@ -48,44 +51,14 @@ Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<c
   return q + c[0] * scale * nrm;
 }
 
+/// Projection of q onto the quadric fitted to q and its neighbours; q itself when singular.
+Vec3 project_on_jet(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
+  return jet_projection(q, nb, pts, true);
+}
+
 /// Projection of q onto the quadric fitted to the neighbours alone; q itself when singular.
 Vec3 project_on_jet_of(const Vec3& q, std::span<const std::int32_t> nb, std::span<const Vec3> pts) {
-  const std::size_t m = nb.size();
-  if (m < 6) return q;
-  Vec3 centroid = Vec3::Zero();
-  for (auto j : nb) centroid += pts[static_cast<std::size_t>(j)];
-  centroid /= static_cast<double>(m);
-  Mat3 cov = Mat3::Zero();
-  for (auto j : nb) {
-    const Vec3 d = pts[static_cast<std::size_t>(j)] - centroid;
-    cov += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
-  const Vec3 e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1),
-             nrm = eig.eigenvectors().col(0);
-  const double scale = std::sqrt(std::max(eig.eigenvalues()[2], 1e-300) / static_cast<double>(m));
-  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
-  auto row_at = [&](const Vec3& p, double& z) {
-    const Vec3 d = (p - q) / scale;
-    const double x = d.dot(e1), y = d.dot(e2);
-    z = d.dot(nrm);
-    Eigen::Matrix<double, 6, 1> row;
-    row << 1, x, y, x * x, x * y, y * y;
-    return row;
-  };
-  for (auto j : nb) {
-    double z;
-    const auto row = row_at(pts[static_cast<std::size_t>(j)], z);
-    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
-    atb += z * row;
-  }
-  ata = ata.selfadjointView<Eigen::Lower>();
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return q;
-  const Eigen::Matrix<double, 6, 1> c = ldlt.solve(atb);
-  if (!c.allFinite()) return q;
-  return q + c[0] * scale * nrm;  // the frame is centred on q: its height is c0
+  return jet_projection(q, nb, pts, false);
 }
 
 }  // namespace
