@@ -95,20 +95,11 @@ NearestSites nearest_sites(std::span<const Vec3> sites, std::span<const Vec3> qu
   out.index.assign(queries.size(), -1);
   out.distance.assign(queries.size(), std::numeric_limits<double>::infinity());
   if (sites.empty()) return out;
-  std::vector<Point> pts;
-  pts.reserve(sites.size());
-  for (const Vec3& p : sites) pts.emplace_back(p.x(), p.y(), p.z());
-  PointMap pmap = CGAL::make_property_map(pts);
-  Tree tree(boost::counting_iterator<std::size_t>(0),
-            boost::counting_iterator<std::size_t>(pts.size()), Tree::Splitter(), Traits(pmap));
-  tree.build();
-  Distance dist(pmap);
+  const KnnTable t = knn_query(sites, queries, 1);  // the same k-d tree search with k = 1
   for (std::size_t i = 0; i < queries.size(); ++i) {
-    Search search(tree, Point(queries[i].x(), queries[i].y(), queries[i].z()), 1, 0, true, dist);
-    if (search.begin() != search.end()) {
-      out.index[i] = static_cast<std::int32_t>(search.begin()->first);
-      out.distance[i] = std::sqrt(search.begin()->second);
-    }
+    if (t.index[i] < 0) continue;
+    out.index[i] = t.index[i];
+    out.distance[i] = t.distance[i];
   }
   return out;
 }
