@@ -52,16 +52,9 @@ bool is_lab_device(const std::string& d) {
 }
 
 std::uint16_t parse_device(const std::string& d) {
-  if (d == "udp") return haptics::kBridgeDefaultPort;
-  if (d.rfind("udp:", 0) == 0) {
-    double port = 0;
-    if (parse_double(d.substr(4), port) && port >= 1 && port <= 65535 &&
-        port == static_cast<int>(port))
-      return static_cast<std::uint16_t>(port);
-    throw Error(
-        fmt::format("--device: expected udp:PORT with PORT in 1-65535, got {}", quote_token(d)));
-  }
-  throw Error(fmt::format("--device: expected udp, udp:PORT or lab:SCENE, got {}", quote_token(d)));
+  if (const auto port = haptics::parse_udp_device(d)) return *port;
+  throw Error(fmt::format("--device: expected udp, udp:PORT (PORT 1-65535) or lab:SCENE, got {}",
+                          quote_token(d)));
 }
 
 std::string read_key(const ServeArgs& a) {

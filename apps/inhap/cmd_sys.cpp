@@ -9,6 +9,7 @@
 #include <ctime>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
@@ -179,11 +180,11 @@ void run_palpate_device(const PalpateArgs& a) {
   read_refs(a.refs, shape, points, normals);
   haptics::BridgeOptions bo;
   const std::string& d = a.device;
-  double port = haptics::kBridgeDefaultPort;
-  if (d != "udp" && !(d.rfind("udp:", 0) == 0 && parse_double(d.substr(4), port) && port >= 1 &&
-                      port <= 65535 && port == std::floor(port)))
-    throw Error(fmt::format("--device: expected udp or udp:PORT, got {}", quote_token(d)));
-  bo.port = static_cast<std::uint16_t>(port);
+  const std::optional<std::uint16_t> port = haptics::parse_udp_device(d);
+  if (!port)
+    throw Error(
+        fmt::format("--device: expected udp or udp:PORT (PORT 1-65535), got {}", quote_token(d)));
+  bo.port = *port;
   bo.info.tool_mass_kg = a.tool_mass;
   bo.info.probe_radius_mm = a.probe_radius;
   haptics::BridgeDevice dev(bo);

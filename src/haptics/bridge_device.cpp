@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <ctime>
@@ -28,6 +29,17 @@ double monotonic_s() {
 }
 
 }  // namespace
+
+std::optional<std::uint16_t> parse_udp_device(std::string_view d) {
+  if (d == "udp") return kBridgeDefaultPort;
+  if (d.substr(0, 4) != "udp:") return std::nullopt;
+  const std::string_view num = d.substr(4);
+  unsigned port = 0;
+  const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), port);
+  if (ec != std::errc() || end != num.data() + num.size() || port < 1 || port > 65535)
+    return std::nullopt;
+  return static_cast<std::uint16_t>(port);
+}
 
 bool is_loopback(const std::string& ipv4) {
   in_addr a{};

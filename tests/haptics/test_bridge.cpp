@@ -371,3 +371,18 @@ TEST(BridgeDevice, CommandedForceIsFiniteAndClampedToTheDeviceLimit) {
 
 }  // namespace
 }  // namespace inhap::haptics
+
+namespace inhap::haptics {
+namespace {
+
+TEST(BridgeDeviceFlag, UdpAndUdpPortParseAndNothingElseDoes) {
+  EXPECT_EQ(parse_udp_device("udp"), kBridgeDefaultPort);
+  EXPECT_EQ(parse_udp_device("udp:1"), 1);
+  EXPECT_EQ(parse_udp_device("udp:65535"), 65535);
+  for (const char* bad : {"udp:", "udp:0", "udp:65536", "udp:12x", "udp:-5", "udp:1.5", "tcp:5",
+                          "lab:planar", ""})
+    EXPECT_FALSE(parse_udp_device(bad).has_value()) << bad;
+}
+
+}  // namespace
+}  // namespace inhap::haptics

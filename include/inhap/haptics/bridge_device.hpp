@@ -15,7 +15,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "inhap/core/device.hpp"
 #include "inhap/haptics/bridge_protocol.hpp"
@@ -99,6 +101,10 @@ class BridgeDevice final : public Device {
   BridgeStats stats_;
   std::uint8_t buffer_[kMaxPacketBytes + 64] = {};
 };
+
+/// The port of a `--device` value "udp" (the default port) or "udp:PORT" (PORT 1-65535);
+/// nullopt for anything else.
+std::optional<std::uint16_t> parse_udp_device(std::string_view device);
 
 /// True for 127.0.0.0/8 (the only addresses allowed without a key).
 bool is_loopback(const std::string& ipv4);
