@@ -1,101 +1,60 @@
 // inhap model bench-solver: the l1 solver of the force model (coordinate descent with a
-// duality-gap certificate) against the thesis' SpaRSA on seeded problems (issue 19).
+// duality-gap certificate) against the thesis' SpaRSA on seeded problems (the benchmark:
+// eval/solver_bench.hpp).
 // Units: time s; A and f dimensionless (r^3 of unit-cube or standardised coordinates), the force
 // model's target in N.
 #include <fmt/format.h>
 
-#include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/datadriven/l1_problems.hpp"
-#include "inhap/datadriven/lasso.hpp"
+#include "inhap/eval/solver_bench.hpp"
 
 namespace inhap::cli {
 namespace {
 
-using namespace inhap::dd;
 using nlohmann::ordered_json;
 
-struct BenchSolverOptions {
+struct BenchSolverOptions : eval::SolverBenchOptions {
   std::string json;
   std::vector<std::string> problems{"r3_cube", "r3_cube_normalised", "force_model"};
-  int points = 20000, centres = 1000, samples = 65000, fm_centres = 300;
-  std::uint64_t seed = 1;
-  double gap_tolerance = 1e-6;
-  double sparsa_tolerance = 1e-5;
-  int threads = 2;
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-L1Problem make_problem(const std::string& name, const BenchSolverOptions& o) {
-  if (name == "force_model") return force_model_problem(o.samples, o.fm_centres, o.seed);
-  L1Problem p = r3_cube_problem(o.points, o.centres, o.seed);
-  if (name == "r3_cube_normalised") normalise_columns(p);
-  return p;
-}
-
 ordered_json bench_problem(const std::string& name, const BenchSolverOptions& o) {
-  const L1Problem pb = make_problem(name, o);
-  LassoParams lp;
-  lp.threads = o.threads;
-  // The optimum: the same solver driven to a relative gap of 1e-12 (its value is certified to
-  // that fraction by the gap).
-  LassoParams tight = lp;
-  tight.gap_tolerance = 1e-12;
-  const LassoResult best = lasso_cd(pb.a, pb.f, pb.lambda, tight);
-  lp.gap_tolerance = o.gap_tolerance;
-  auto t0 = std::chrono::steady_clock::now();
-  const LassoResult cd = lasso_cd(pb.a, pb.f, pb.lambda, lp);
-  const double t_cd = seconds_since(t0);
-  const LassoCertificate cert = lasso_certificate(pb.a, pb.f, cd.w, pb.lambda);
-  SparsaParams sp;
-  sp.lambda = pb.lambda;
-  sp.max_nonzeros = static_cast<int>(pb.a.cols());  // no early stop on the count
-  sp.stop = SparsaStop::kObjective;
-  sp.tolerance = o.sparsa_tolerance;
-  sp.max_iterations = 1000000;
-  t0 = std::chrono::steady_clock::now();
-  const SparsaResult base = sparsa(pb.a, pb.f, sp);
-  const double t_base = seconds_since(t0);
-  const LassoCertificate bcert = lasso_certificate(pb.a, pb.f, base.w, pb.lambda);
-  const auto nnz = [](const Eigen::VectorXd& w) { return (w.array() != 0.0).count(); };
+  const eval::SolverBenchResult r = eval::bench_l1_solver(name, o);
   ordered_json j;
-  j["name"] = pb.name;
-  j["rows"] = pb.a.rows();
-  j["columns"] = pb.a.cols();
-  j["lambda"] = pb.lambda;
-  j["optimum"] = best.objective;
-  j["optimum_gap"] = best.gap;
-  j["objective"] = cert.primal;
-  j["gap"] = cert.gap;
-  j["relative_gap"] = cert.gap / cert.primal;
-  j["excess"] = (cert.primal - best.objective) / best.objective;
-  j["kkt"] = cert.kkt;
-  j["nonzeros"] = nnz(cd.w);
-  j["sweeps"] = cd.iterations;
-  j["passes"] = cd.passes;
-  j["time_s"] = t_cd;
+  j["name"] = r.name;
+  j["rows"] = r.rows;
+  j["columns"] = r.columns;
+  j["lambda"] = r.lambda;
+  j["optimum"] = r.optimum;
+  j["optimum_gap"] = r.optimum_gap;
+  j["objective"] = r.cd.objective;
+  j["gap"] = r.cd.gap;
+  j["relative_gap"] = r.cd.gap / r.cd.objective;
+  j["excess"] = r.cd.excess;
+  j["kkt"] = r.cd.kkt;
+  j["nonzeros"] = r.cd.nonzeros;
+  j["sweeps"] = r.cd.iterations;
+  j["passes"] = r.cd_passes;
+  j["time_s"] = r.cd.time_s;
   j["baseline"] = {{"solver", "sparsa, relative objective change 1e-5"},
-                   {"objective", bcert.primal},
-                   {"gap", bcert.gap},
-                   {"excess", (bcert.primal - best.objective) / best.objective},
-                   {"kkt", bcert.kkt},
-                   {"nonzeros", nnz(base.w)},
-                   {"iterations", base.iterations},
-                   {"time_s", t_base}};
-  j["speedup"] = t_base / t_cd;
+                   {"objective", r.sparsa.objective},
+                   {"gap", r.sparsa.gap},
+                   {"excess", r.sparsa.excess},
+                   {"kkt", r.sparsa.kkt},
+                   {"nonzeros", r.sparsa.nonzeros},
+                   {"iterations", r.sparsa.iterations},
+                   {"time_s", r.sparsa.time_s}};
+  j["speedup"] = r.speedup;
   fmt::print(
       "{} ({} x {}): optimum {:.6g}; cd {:.6g} (+{:.2e}, gap {:.2e}, {} non-zeros, KKT {:.4f}) in "
       "{:.3f} s; sparsa {:.6g} (+{:.2e}, {} non-zeros, KKT {:.2f}) in {:.3f} s; {:.1f}x\n",
-      pb.name, pb.a.rows(), pb.a.cols(), best.objective, cert.primal, j["excess"].get<double>(),
-      cert.gap, nnz(cd.w), cert.kkt, t_cd, bcert.primal, j["baseline"]["excess"].get<double>(),
-      nnz(base.w), bcert.kkt, t_base, t_base / t_cd);
+      r.name, r.rows, r.columns, r.optimum, r.cd.objective, r.cd.excess, r.cd.gap, r.cd.nonzeros,
+      r.cd.kkt, r.cd.time_s, r.sparsa.objective, r.sparsa.excess, r.sparsa.nonzeros, r.sparsa.kkt,
+      r.sparsa.time_s, r.speedup);
   return j;
 }
 
