@@ -65,21 +65,23 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
   return r;
 }
 
+TcaConditions tca_conditions(const render::StudySummary& s) {
+  using render::Algorithm;
+  using render::Task;
+  return {s.get(Algorithm::kTCA, Task::kShape), s.get(Algorithm::kCBA, Task::kShape),
+          s.get(Algorithm::kTCA, Task::kStiffness), s.get(Algorithm::kCBA, Task::kStiffness)};
+}
+
 TriMesh tca_timing_surface(std::uint64_t seed, const std::string& afm) {
   if (afm.empty()) return render::afm_like_surface(seed);
   Grid raw = read_wsxm_top(afm);
   level_plane(raw);
   const int n = 257;
-  Grid h(n, n), k(n, n);
+  Grid h = resample_bilinear(raw, n), k(n, n);
   const double lo = raw.min(), span = std::max(raw.max() - lo, 1e-12);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const double gx = x * double(raw.width - 1) / (n - 1),
-                   gy = y * double(raw.height - 1) / (n - 1);
-      const int ix = std::min(raw.width - 2, int(gx)), iy = std::min(raw.height - 2, int(gy));
-      const double fx = gx - ix, fy = gy - iy;
-      const double v = (1 - fx) * (1 - fy) * raw.at(ix, iy) + fx * (1 - fy) * raw.at(ix + 1, iy) +
-                       (1 - fx) * fy * raw.at(ix, iy + 1) + fx * fy * raw.at(ix + 1, iy + 1);
+      const double v = h.at(x, y);
       h.at(x, y) = 10.0 * (v - lo) / span;
       k.at(x, y) = 1.0 - 0.8 * (v - lo) / span;
     }

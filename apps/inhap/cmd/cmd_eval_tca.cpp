@@ -54,10 +54,7 @@ nlohmann::json timing_json(const eval::StepTiming& t) {
 
 void print_report(const EvalTcaOptions& o, const EvalReport& r) {
   const auto& s = r.study.summary;
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   const auto tca_confused = s.misjudged_models(Algorithm::kTCA, Task::kShape);
   fmt::print(
       "Virtual user study (thesis 5.4): {} participants x {} trials per session, seed {}, {} "
@@ -94,10 +91,7 @@ void print_report(const EvalTcaOptions& o, const EvalReport& r) {
 
 nlohmann::json report_json(const EvalTcaOptions& o, const EvalReport& r) {
   const auto& s = r.study.summary;
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   nlohmann::json j;
   j["seed"] = o.seed;
   j["participants"] = o.participants;

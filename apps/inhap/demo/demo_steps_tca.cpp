@@ -28,10 +28,7 @@ nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>&
 }
 
 nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySummary& s) {
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   nlohmann::json j;
   j["participants"] = cfg.participants;
   j["trials_per_session"] = cfg.trials;
@@ -53,10 +50,7 @@ nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySum
 }
 
 Figure fig_5_10(const render::StudyConfig& cfg, const render::StudySummary& s) {
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   const std::vector<std::string> tasks = {"shape", "stiffness"};
   Figure f10{"fig5_10",
              "Correct classifications of 25 models (fig. 5.10)",
@@ -132,10 +126,7 @@ StepResult step_study(const Context& c) {
   const eval::TcaStudyResult study = eval::run_tca_study(so);
   const render::StudyConfig& cfg = study.config;
   const render::StudySummary& s = study.summary;
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
 
   write_file_atomic(c.file(r, "study.json"), study_json(cfg, s).dump(2) + "\n");
   r.figures.push_back(fig_5_10(cfg, s));

@@ -35,6 +35,12 @@ struct TcaStudyResult {
 /// Runs the study. Throws inhap::Error when participants or trials < 1.
 TcaStudyResult run_tca_study(const TcaStudyOptions& options);
 
+/// The study's four conditions (algorithm x task). Throws inhap::Error when one was not run.
+struct TcaConditions {
+  const render::ConditionSummary &tca_shape, &cba_shape, &tca_stiffness, &cba_stiffness;
+};
+TcaConditions tca_conditions(const render::StudySummary& summary);
+
 /// Servo-step timing of one algorithm (microseconds per render::step call).
 struct StepTiming {
   double p50 = 0, p99 = 0, max = 0;
