@@ -155,6 +155,20 @@ Grid read_grid(const std::string& path) {
   return read_csv_grid(path, data);
 }
 
+Grid resample_bilinear(const Grid& raw, int n) {
+  Grid out(n, n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const double gx = x * double(raw.width - 1) / (n - 1),
+                   gy = y * double(raw.height - 1) / (n - 1);
+      const int ix = std::min(raw.width - 2, int(gx)), iy = std::min(raw.height - 2, int(gy));
+      const double fx = gx - ix, fy = gy - iy;
+      out.at(x, y) = (1 - fx) * (1 - fy) * raw.at(ix, iy) + fx * (1 - fy) * raw.at(ix + 1, iy) +
+                     (1 - fx) * fy * raw.at(ix, iy + 1) + fx * fy * raw.at(ix + 1, iy + 1);
+    }
+  return out;
+}
+
 void level_plane(Grid& grid) {
   // Least squares z = a x + b y + c over all pixels (normal equations on centred coordinates).
   const double cx = 0.5 * (grid.width - 1), cy = 0.5 * (grid.height - 1);

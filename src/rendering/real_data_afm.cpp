@@ -32,20 +32,6 @@ void level_rows(Grid& g) {
   }
 }
 
-Grid resample(const Grid& raw, int n) {
-  Grid out(n, n);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const double gx = x * double(raw.width - 1) / (n - 1),
-                   gy = y * double(raw.height - 1) / (n - 1);
-      const int ix = std::min(raw.width - 2, int(gx)), iy = std::min(raw.height - 2, int(gy));
-      const double fx = gx - ix, fy = gy - iy;
-      out.at(x, y) = (1 - fx) * (1 - fy) * raw.at(ix, iy) + fx * (1 - fy) * raw.at(ix + 1, iy) +
-                     (1 - fx) * fy * raw.at(ix, iy + 1) + fx * fy * raw.at(ix + 1, iy + 1);
-    }
-  return out;
-}
-
 // Connected components (4-neighbour) of the mask; returns the label grid (-1 outside) and the
 // pixel lists.
 std::vector<std::vector<int>> components(const std::vector<char>& mask, int n,
@@ -160,7 +146,7 @@ RealDataset load_afm(const std::string& top_path, const RealDataOptions& o) {
   level_rows(raw);
   const int n = o.afm_cells + 1;
   const double spacing = o.cube_mm / o.afm_cells;
-  Grid g = resample(raw, n);
+  Grid g = resample_bilinear(raw, n);
   const double base = quantile(g.values, 0.5), top = quantile(g.values, 0.999);
   const double span = std::max(top - base, 1e-12);
   Grid h(n, n), k(n, n, o.k_max);

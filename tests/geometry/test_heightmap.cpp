@@ -63,6 +63,24 @@ TEST(Heightmap, DownsampleAveragesBlocksOfALinearRamp) {
   }
 }
 
+// Bilinear interpolation reproduces a bilinear function exactly: sample (x, y) of the n x n
+// result sits at grid coordinates (x (W - 1) / (n - 1), y (H - 1) / (n - 1)).
+TEST(Heightmap, ResampleBilinearIsExactOnABilinearFunction) {
+  auto fn = [](double x, double y) { return 0.3 * x - 0.2 * y + 0.05 * x * y + 1.0; };
+  Grid g(11, 8);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) g.at(x, y) = fn(x, y);
+  for (int n : {2, 5, 23}) {
+    const Grid r = resample_bilinear(g, n);
+    ASSERT_EQ(r.width, n);
+    ASSERT_EQ(r.height, n);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        EXPECT_NEAR(r.at(x, y), fn(x * 10.0 / (n - 1), y * 7.0 / (n - 1)), 1e-12)
+            << "n " << n << " at " << x << "," << y;
+  }
+}
+
 TEST(Heightmap, DownsampleRejectsBadFactors) {
   Grid g(6, 6, 1.0);
   EXPECT_THROW(downsample(g, 0), Error);

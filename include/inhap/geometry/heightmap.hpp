@@ -36,6 +36,10 @@ Grid read_wsxm_top(const std::string& path);
 /// Removes the best-fitting plane z = a x + b y + c (least squares), "levelling the tilt".
 void level_plane(Grid& grid);
 
+/// Bilinear resampling to n x n samples spanning the whole grid (corner samples kept). The grid
+/// needs at least 2 x 2 samples and n >= 2.
+Grid resample_bilinear(const Grid& grid, int n);
+
 /// Block average: each output pixel is the mean of a factor x factor block of input pixels,
 /// output size floor(W / factor) x floor(H / factor) (a partial last row or column of blocks is
 /// dropped). Use pixel spacing x factor for the result; its pixel (x, y) is the centre of input

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "command.hpp"
-#include "demo_strokes.hpp"
+#include "demo/demo_strokes.hpp"
 #include "inhap/contact/contact_io.hpp"
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "command.hpp"
-#include "demo_strokes.hpp"
+#include "demo/demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/strokes.hpp"

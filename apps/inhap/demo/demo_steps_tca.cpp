@@ -3,15 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
-#include <thread>
 
 #include "demo.hpp"
 #include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/lab/participant.hpp"
+#include "inhap/eval/tca_study.hpp"
 #include "inhap/rendering/datasets.hpp"
 #include "inhap/rendering/experiment.hpp"
 
@@ -20,32 +17,6 @@ namespace {
 
 using render::Algorithm;
 using render::Task;
-
-std::vector<render::TrialResult> run_study(const Context& c, const render::StudyConfig& cfg) {
-  const int np = cfg.participants;
-  const long total = long(np) * long(render::participant_schedule(cfg, 0).size());
-  std::vector<std::vector<render::TrialResult>> per(np);
-  std::atomic<int> next{0};
-  std::atomic<long> done{0};
-  std::mutex m;
-  auto worker = [&] {
-    for (int p = next++; p < np; p = next++) {
-      lab::VirtualParticipant vp(lab::sample_participant(cfg.seed * 1000003ull + std::uint64_t(p)));
-      for (const auto& spec : render::participant_schedule(cfg, p)) {
-        per[p].push_back(render::run_trial(vp, vp, spec));
-        const long d = ++done;
-        std::lock_guard lock(m);
-        c.progress(double(d) / double(total), fmt::format("{} of {} trials", d, total));
-      }
-    }
-  };
-  std::thread helper(worker);
-  worker();
-  helper.join();
-  std::vector<render::TrialResult> all;
-  for (auto& v : per) all.insert(all.end(), v.begin(), v.end());
-  return all;
-}
 
 nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>& y,
                    const std::vector<double>& err, const std::string& name,
@@ -57,10 +28,7 @@ nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>&
 }
 
 nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySummary& s) {
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   nlohmann::json j;
   j["participants"] = cfg.participants;
   j["trials_per_session"] = cfg.trials;
@@ -82,10 +50,7 @@ nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySum
 }
 
 Figure fig_5_10(const render::StudyConfig& cfg, const render::StudySummary& s) {
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   const std::vector<std::string> tasks = {"shape", "stiffness"};
   Figure f10{"fig5_10",
              "Correct classifications of 25 models (fig. 5.10)",
@@ -153,16 +118,15 @@ Figure fig_5_11(const render::StudySummary& s) {
 
 StepResult step_study(const Context& c) {
   StepResult r;
-  render::StudyConfig cfg;
-  cfg.participants = c.options.quick ? 4 : 16;  // the thesis' protocol in the full run
-  cfg.trials = c.options.quick ? 2 : 5;
-  cfg.seed = c.options.seed;
-  const auto results = run_study(c, cfg);
-  const render::StudySummary s = render::summarize(results);
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  eval::TcaStudyOptions so;
+  so.participants = c.options.quick ? 4 : 16;  // the thesis' protocol in the full run
+  so.trials = c.options.quick ? 2 : 5;
+  so.seed = c.options.seed;
+  so.progress = [&c](const std::string& what, double f, double) { c.progress(f, what); };
+  const eval::TcaStudyResult study = eval::run_tca_study(so);
+  const render::StudyConfig& cfg = study.config;
+  const render::StudySummary& s = study.summary;
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
 
   write_file_atomic(c.file(r, "study.json"), study_json(cfg, s).dump(2) + "\n");
   r.figures.push_back(fig_5_10(cfg, s));

@@ -1,24 +1,16 @@
 // inhap eval tca: the virtual user study of thesis sec. 5.4 (16 participants, TCA-MESH and CBA,
 // 5 trials each, shape and stiffness tasks) plus the servo-step timing on a 131,072-triangle
-// height map. Units: mm, N, N/mm, s; timings in microseconds.
+// height map (the experiment: eval/tca_study.hpp). Units: mm, N, N/mm, s; timings in
+// microseconds.
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <filesystem>
-#include <mutex>
 #include <nlohmann/json.hpp>
-#include <thread>
-#include <vector>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/core/error.hpp"
-#include "inhap/geometry/heightmap.hpp"
-#include "inhap/lab/participant.hpp"
+#include "inhap/eval/tca_study.hpp"
 #include "inhap/rendering/datasets.hpp"
-#include "inhap/rendering/experiment.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -32,101 +24,6 @@ struct EvalTcaOptions {
   bool quick = false;
   std::string json, afm;
 };
-
-struct Timing {
-  double p50 = 0, p99 = 0, max = 0;
-  long steps = 0, contact_steps = 0;
-};
-
-// The timing surface: the AFM-like synthetic map, or a WSxM file (levelled) resampled to 257 x 257
-// over 100 mm with its height range scaled to 10 mm and stiffness from height (1.0 N/mm at the
-// lowest point to 0.2 N/mm at the highest) — a stand-in for timing only, the file has no
-// stiffness channel.
-TriMesh timing_surface(const EvalTcaOptions& o) {
-  if (o.afm.empty()) return render::afm_like_surface(o.seed);
-  Grid raw = read_wsxm_top(o.afm);
-  level_plane(raw);
-  const int n = 257;
-  Grid h(n, n), k(n, n);
-  const double lo = raw.min(), span = std::max(raw.max() - lo, 1e-12);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const double gx = x * double(raw.width - 1) / (n - 1),
-                   gy = y * double(raw.height - 1) / (n - 1);
-      const int ix = std::min(raw.width - 2, int(gx)), iy = std::min(raw.height - 2, int(gy));
-      const double fx = gx - ix, fy = gy - iy;
-      const double v = (1 - fx) * (1 - fy) * raw.at(ix, iy) + fx * (1 - fy) * raw.at(ix + 1, iy) +
-                       (1 - fx) * fy * raw.at(ix, iy + 1) + fx * fy * raw.at(ix + 1, iy + 1);
-      h.at(x, y) = 10.0 * (v - lo) / span;
-      k.at(x, y) = 1.0 - 0.8 * (v - lo) / span;
-    }
-  return grid_to_mesh(h, 100.0 / (n - 1), &k);
-}
-
-// Times render::step call by call while a force-regulated probe strokes rows across the map.
-Timing time_steps(const render::Model& model, Algorithm algorithm) {
-  render::State state;
-  const Box3 b = model.mesh().bbox();
-  std::vector<double> us;
-  long contact = 0;
-  const double force = 1.5, speed = 0.04;  // N, mm per tick (40 mm/s at 1 kHz)
-  for (double y = b.min.y() + 5; y < b.max.y() - 4; y += 10) {
-    Vec3 p(b.min.x() + 2, y, b.max.z() + 2);
-    for (double x = b.min.x() + 2; x < b.max.x() - 2; x += speed) {
-      p.x() = x;
-      const auto t0 = std::chrono::steady_clock::now();
-      const Vec3 f = render::step(model, state, p, algorithm);
-      const auto t1 = std::chrono::steady_clock::now();
-      us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-      contact += state.collision;
-      p.z() += std::clamp(0.3 * (f.norm() - force), -0.05, 0.05);  // hand: push until 1.5 N
-    }
-    for (int i = 0; i < 200; ++i)
-      render::step(model, state, Vec3(p.x(), p.y(), b.max.z() + 2), algorithm);  // lift
-  }
-  Timing t;
-  t.steps = static_cast<long>(us.size());
-  t.contact_steps = contact;
-  std::sort(us.begin(), us.end());
-  t.p50 = us[us.size() / 2];
-  t.p99 = us[std::min(us.size() - 1, us.size() * 99 / 100)];
-  t.max = us.back();
-  return t;
-}
-
-std::vector<render::TrialResult> run_study(const EvalTcaOptions& o) {
-  render::StudyConfig cfg;
-  cfg.participants = o.participants;
-  cfg.trials = o.trials;
-  cfg.seed = o.seed;
-  const long total = long(o.participants) * long(render::participant_schedule(cfg, 0).size());
-  std::vector<std::vector<render::TrialResult>> per(o.participants);
-  std::atomic<int> next{0};
-  std::atomic<long> done{0};
-  std::mutex progress_mutex;
-  const auto start = std::chrono::steady_clock::now();
-  auto worker = [&] {
-    for (int p = next++; p < o.participants; p = next++) {
-      lab::VirtualParticipant vp(lab::sample_participant(o.seed * 1000003ull + std::uint64_t(p)));
-      for (const auto& spec : render::participant_schedule(cfg, p)) {
-        per[p].push_back(render::run_trial(vp, vp, spec));
-        const long d = ++done;
-        std::lock_guard lock(progress_mutex);
-        const double el =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        progress("eval tca", double(d) / double(total),
-                 d < total ? el / double(d) * double(total - d) : 0.0);
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, o.threads); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  std::vector<render::TrialResult> all;
-  for (auto& v : per) all.insert(all.end(), v.begin(), v.end());
-  return all;
-}
 
 nlohmann::json condition_json(const render::ConditionSummary& c) {
   nlohmann::json j;
@@ -142,14 +39,12 @@ nlohmann::json condition_json(const render::ConditionSummary& c) {
 
 // Everything `eval tca` reports.
 struct EvalReport {
-  render::StudySummary summary;
-  long incomplete = 0;
-  double study_s = 0;
+  eval::TcaStudyResult study;
   std::size_t study_triangles = 0, timing_triangles = 0;
-  Timing cba_t, tca_t;
+  eval::StepTiming cba_t, tca_t;
 };
 
-nlohmann::json timing_json(const Timing& t) {
+nlohmann::json timing_json(const eval::StepTiming& t) {
   return {{"p50", t.p50},
           {"p99", t.p99},
           {"max", t.max},
@@ -158,11 +53,8 @@ nlohmann::json timing_json(const Timing& t) {
 }
 
 void print_report(const EvalTcaOptions& o, const EvalReport& r) {
-  const auto& s = r.summary;
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto& s = r.study.summary;
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   const auto tca_confused = s.misjudged_models(Algorithm::kTCA, Task::kShape);
   fmt::print(
       "Virtual user study (thesis 5.4): {} participants x {} trials per session, seed {}, {} "
@@ -192,17 +84,14 @@ void print_report(const EvalTcaOptions& o, const EvalReport& r) {
       r.timing_triangles, r.tca_t.steps,
       100.0 * double(r.tca_t.contact_steps) / double(std::max(1L, r.tca_t.steps)), r.cba_t.p50,
       r.cba_t.p99, r.tca_t.p50, r.tca_t.p99);
-  if (r.incomplete)
-    fmt::print("warning: {} trials ended before every model was labelled\n", r.incomplete);
-  fmt::print("study time {:.1f} s\n", r.study_s);
+  if (r.study.incomplete)
+    fmt::print("warning: {} trials ended before every model was labelled\n", r.study.incomplete);
+  fmt::print("study time {:.1f} s\n", r.study.study_s);
 }
 
 nlohmann::json report_json(const EvalTcaOptions& o, const EvalReport& r) {
-  const auto& s = r.summary;
-  const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
-  const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
-  const auto& tk = s.get(Algorithm::kTCA, Task::kStiffness);
-  const auto& ck = s.get(Algorithm::kCBA, Task::kStiffness);
+  const auto& s = r.study.summary;
+  const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   nlohmann::json j;
   j["seed"] = o.seed;
   j["participants"] = o.participants;
@@ -223,7 +112,7 @@ nlohmann::json report_json(const EvalTcaOptions& o, const EvalReport& r) {
                   {"tca", timing_json(r.tca_t)}};
   j["conditions"] = {{"shape", {{"tca", condition_json(ts)}, {"cba", condition_json(cs)}}},
                      {"stiffness", {{"tca", condition_json(tk)}, {"cba", condition_json(ck)}}}};
-  j["incomplete_trials"] = r.incomplete;
+  j["incomplete_trials"] = r.study.incomplete;
   return j;
 }
 
@@ -232,26 +121,24 @@ void run_eval_tca(EvalTcaOptions o) {
     o.participants = std::min(o.participants, 4);
     o.trials = std::min(o.trials, 2);
   }
-  if (o.participants < 1 || o.trials < 1)
-    throw Error(fmt::format("--participants and --trials must be >= 1, got {} and {}",
-                            o.participants, o.trials));
   EvalReport r;
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<render::TrialResult> results = run_study(o);
-  r.summary = summarize(results);
-  r.study_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (const auto& t : results) r.incomplete += !t.session.completed;
+  eval::TcaStudyOptions so;
+  so.seed = o.seed;
+  so.participants = o.participants;
+  so.trials = o.trials;
+  so.threads = o.threads;
+  so.progress = [](const std::string&, double f, double eta) { progress("eval tca", f, eta); };
+  r.study = eval::run_tca_study(so);
   r.study_triangles = render::StudySurface(render::DatasetParams{}, render::identity_layout())
                           .mesh()
                           .num_triangles();
-  const render::Model timing_model(timing_surface(o));
+  const render::Model timing_model(eval::tca_timing_surface(o.seed, o.afm));
   r.timing_triangles = timing_model.mesh().num_triangles();
-  r.cba_t = time_steps(timing_model, Algorithm::kCBA);
-  r.tca_t = time_steps(timing_model, Algorithm::kTCA);
+  r.cba_t = eval::time_servo_steps(timing_model, Algorithm::kCBA);
+  r.tca_t = eval::time_servo_steps(timing_model, Algorithm::kTCA);
   print_report(o, r);
   if (!o.json.empty()) write_file_atomic(o.json, report_json(o, r).dump(2) + "\n");
 }
-
 void register_eval_tca(CLI::App& app) {
   auto opt = std::make_shared<EvalTcaOptions>();
   auto* cmd = eval_group(app)->add_subcommand(

@@ -1,0 +1,108 @@
+// inhap model bench-solver: the l1 solver of the force model (coordinate descent with a
+// duality-gap certificate) against the thesis' SpaRSA on seeded problems (the benchmark:
+// eval/solver_bench.hpp).
+// Units: time s; A and f dimensionless (r^3 of unit-cube or standardised coordinates), the force
+// model's target in N.
+#include <fmt/format.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/eval/solver_bench.hpp"
+
+namespace inhap::cli {
+namespace {
+
+using nlohmann::ordered_json;
+
+struct BenchSolverOptions : eval::SolverBenchOptions {
+  std::string json;
+  std::vector<std::string> problems{"r3_cube", "r3_cube_normalised", "force_model"};
+};
+
+ordered_json bench_problem(const std::string& name, const BenchSolverOptions& o) {
+  const eval::SolverBenchResult r = eval::bench_l1_solver(name, o);
+  ordered_json j;
+  j["name"] = r.name;
+  j["rows"] = r.rows;
+  j["columns"] = r.columns;
+  j["lambda"] = r.lambda;
+  j["optimum"] = r.optimum;
+  j["optimum_gap"] = r.optimum_gap;
+  j["objective"] = r.cd.objective;
+  j["gap"] = r.cd.gap;
+  j["relative_gap"] = r.cd.gap / r.cd.objective;
+  j["excess"] = r.cd.excess;
+  j["kkt"] = r.cd.kkt;
+  j["nonzeros"] = r.cd.nonzeros;
+  j["sweeps"] = r.cd.iterations;
+  j["passes"] = r.cd_passes;
+  j["time_s"] = r.cd.time_s;
+  j["baseline"] = {{"solver", "sparsa, relative objective change 1e-5"},
+                   {"objective", r.sparsa.objective},
+                   {"gap", r.sparsa.gap},
+                   {"excess", r.sparsa.excess},
+                   {"kkt", r.sparsa.kkt},
+                   {"nonzeros", r.sparsa.nonzeros},
+                   {"iterations", r.sparsa.iterations},
+                   {"time_s", r.sparsa.time_s}};
+  j["speedup"] = r.speedup;
+  fmt::print(
+      "{} ({} x {}): optimum {:.6g}; cd {:.6g} (+{:.2e}, gap {:.2e}, {} non-zeros, KKT {:.4f}) in "
+      "{:.3f} s; sparsa {:.6g} (+{:.2e}, {} non-zeros, KKT {:.2f}) in {:.3f} s; {:.1f}x\n",
+      r.name, r.rows, r.columns, r.optimum, r.cd.objective, r.cd.excess, r.cd.gap, r.cd.nonzeros,
+      r.cd.kkt, r.cd.time_s, r.sparsa.objective, r.sparsa.excess, r.sparsa.nonzeros, r.sparsa.kkt,
+      r.sparsa.time_s, r.speedup);
+  return j;
+}
+
+void run_bench_solver(const BenchSolverOptions& o) {
+  ordered_json out;
+  out["units"] = {{"time", "s"}};
+  out["seed"] = o.seed;
+  out["gap_tolerance"] = o.gap_tolerance;
+  out["threads"] = o.threads;
+  out["problems"] = ordered_json::array();
+  for (const std::string& name : o.problems) out["problems"].push_back(bench_problem(name, o));
+  if (!o.json.empty()) write_file_atomic(o.json, out.dump(1) + "\n");
+}
+
+void register_bench_solver(CLI::App& app) {
+  CLI::App* model = subcommand_group(app, "model", "Data-driven force model");
+  auto o = std::make_shared<BenchSolverOptions>();
+  auto* c = model->add_subcommand(
+      "bench-solver",
+      "l1 solver benchmark on seeded problems: coordinate descent to a certified optimum against "
+      "SpaRSA stopping at a relative objective change of 1e-5 (time in s)");
+  c->add_option("--json", o->json,
+                "Write {\"problems\": [{name, optimum, objective, gap, time_s, baseline: "
+                "{objective, time_s}}]} here");
+  c->add_option("--problems", o->problems, "Problems: r3_cube, r3_cube_normalised, force_model")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"r3_cube", "r3_cube_normalised", "force_model"}));
+  c->add_option("--points", o->points, "r3_cube: points N in the unit cube")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000000));
+  c->add_option("--centres", o->centres, "r3_cube: centres M")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  c->add_option("--samples", o->samples, "force_model: synthetic 1 kHz samples")
+      ->capture_default_str()
+      ->check(CLI::Range(1000, 10000000));
+  c->add_option("--seed", o->seed, "Seed of the problems")->capture_default_str();
+  c->add_option("--gap-tolerance", o->gap_tolerance, "cd: relative duality gap that ends a fit")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  c->add_option("--threads", o->threads, "cd: threads of the passes A^T r")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  c->callback([o] { run_bench_solver(*o); });
+}
+
+}  // namespace
+
+INHAP_COMMAND(41, "model bench-solver", register_bench_solver);
+
+}  // namespace inhap::cli
