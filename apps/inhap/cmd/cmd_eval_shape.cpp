@@ -4,11 +4,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,16 +14,14 @@
 #include "command.hpp"
 #include "demo/demo_strokes.hpp"
 #include "inhap/contact/contact_io.hpp"
-#include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/core/error.hpp"
+#include "inhap/eval/contacts_lab.hpp"
 #include "inhap/eval/shape_lab.hpp"
 #include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
-#include "inhap/surface/reconstruct.hpp"
 
 namespace {
 
@@ -34,27 +30,7 @@ using namespace inhap::cli;
 using namespace inhap::eval;
 using json = nlohmann::json;
 
-// --- recordings with ground truth ------------------------------------------------------------
-
-struct Summary {
-  double median = 0, p95 = 0, max = 0;
-};
-Summary summarize(std::vector<double> v) {
-  Summary s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  auto at = [&](double q) {  // linear interpolation between order statistics
-    const double x = q * static_cast<double>(v.size() - 1);
-    const auto i = static_cast<std::size_t>(x);
-    const double w = x - static_cast<double>(i);
-    return i + 1 < v.size() ? (1 - w) * v[i] + w * v[i + 1] : v[i];
-  };
-  s.median = at(0.5);
-  s.p95 = at(0.95);
-  s.max = v.back();
-  return s;
-}
-json to_json(const Summary& s) {
+json to_json(const ErrorSummary& s) {
   return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
 }
 
@@ -73,34 +49,31 @@ void run_eval_contacts(const EvalContactsArgs& a) {
   json objects = json::array();
   fmt::print("{:<21} {:>8} {:>5} | {:>25} | {:>25} | {:>5}\n", "object", "k N/mm", "taps",
              "estimate mm (med/p95/max)", "threshold mm (med/p95/max)", "ratio");
+  ContactObjectOptions o;
+  o.taps = a.taps;
+  o.seed = a.seed;
+  o.eps = a.eps;
+  o.window = a.window;
+  o.physics = lab::physics_from_string(a.physics);
   for (const std::string& name : lab::tapping_scene_names()) {
-    const lab::Scene scene = lab::builtin_scene(name);
-    const lab::Physics physics = lab::physics_from_string(a.physics);
-    if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
-      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", name,
-                 scene.object.shape().type_name());
+    o.progress = [&](const std::string&, double f, double) {
+      cli::progress("eval contacts " + name, f, 0);
+    };
+    const ContactObjectResult r = run_contact_object(name, o);
+    if (r.skipped) {
+      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", name, r.skipped_shape);
       continue;
     }
-    const lab::LabRecording rec = record_taps(
-        scene, a.taps, a.seed, [&](double f) { cli::progress("eval contacts " + name, f, 0); },
-        physics);
-    ContactOptions est, thr;
-    est.eps_f = thr.eps_f = a.eps;
-    est.window = thr.window = a.window;
-    thr.method = ContactMethod::Threshold;
-    const MatchedContacts me = match_contacts(rec, est, a.taps),
-                          mt = match_contacts(rec, thr, a.taps);
-    const Summary se = summarize(me.error), st = summarize(mt.error);
-    const double k = summarize(me.stiffness).median;
+    const ErrorSummary &se = r.estimate, &st = r.threshold;
     fmt::print(
         "{:<21} {:>8.2f} {:>5} | {:>7.3f} {:>7.3f} {:>9.3f} | {:>7.3f} {:>7.3f} {:>9.3f} | "
         "{:>5.1f}\n",
-        name, k, me.contacts.size(), se.median, se.p95, se.max, st.median, st.p95, st.max,
+        name, r.stiffness_n_per_mm, r.taps, se.median, se.p95, se.max, st.median, st.p95, st.max,
         se.median > 0 ? st.median / se.median : 0.0);
     objects.push_back({{"name", name},
-                       {"stiffness_n_per_mm", k},
-                       {"taps", me.contacts.size()},
-                       {"false_detections", me.false_detections},
+                       {"stiffness_n_per_mm", r.stiffness_n_per_mm},
+                       {"taps", r.taps},
+                       {"false_detections", r.false_detections},
                        {"estimate_mm", to_json(se)},
                        {"threshold_mm", to_json(st)}});
   }
@@ -172,7 +145,7 @@ json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const Eval
       "{:>5}\n",
       t.name, e.points, e.vertices, e.faces, e.cmp.hausdorff, s.cmp.hausdorff, e.cmp.mean,
       s.cmp.mean, r.coverage, r.taps_per_minute, r.sides.far_side_first_contacts);
-  auto side = [](const OneSided& o) { return json{{"max", o.max}, {"mean", o.mean}}; };
+  auto side = [](const OneSided& d) { return json{{"max", d.max}, {"mean", d.mean}}; };
   return {
       {"name", t.name},
       {"points", e.points},
