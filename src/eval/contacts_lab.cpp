@@ -6,6 +6,8 @@
 #include <span>
 
 #include "inhap/contact/knee.hpp"
+#include "inhap/eval/shape_lab.hpp"
+#include "inhap/lab/scene.hpp"
 
 namespace inhap::eval {
 
@@ -41,6 +43,51 @@ TapErrors tap_errors(const lab::LabRecording& lab) {
     e.knee.push_back((position_at(rec, k.tc) - truth).norm());
   }
   return e;
+}
+
+ErrorSummary summarize_errors(std::vector<double> v) {
+  ErrorSummary s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) {  // linear interpolation between order statistics
+    const double x = q * static_cast<double>(v.size() - 1);
+    const auto i = static_cast<std::size_t>(x);
+    const double w = x - static_cast<double>(i);
+    return i + 1 < v.size() ? (1 - w) * v[i] + w * v[i + 1] : v[i];
+  };
+  s.median = at(0.5);
+  s.p95 = at(0.95);
+  s.max = v.back();
+  return s;
+}
+
+ContactObjectResult run_contact_object(const std::string& name, const ContactObjectOptions& o) {
+  ContactObjectResult r;
+  r.name = name;
+  const lab::Scene scene = lab::builtin_scene(name);
+  if (o.physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
+    r.skipped = true;
+    r.skipped_shape = scene.object.shape().type_name();
+    return r;
+  }
+  const lab::LabRecording rec = record_taps(
+      scene, o.taps, o.seed,
+      [&](double f) {
+        if (o.progress) o.progress("taps", f, 0);
+      },
+      o.physics);
+  ContactOptions est, thr;
+  est.eps_f = thr.eps_f = o.eps;
+  est.window = thr.window = o.window;
+  thr.method = ContactMethod::Threshold;
+  const MatchedContacts me = match_contacts(rec, est, o.taps),
+                        mt = match_contacts(rec, thr, o.taps);
+  r.estimate = summarize_errors(me.error);
+  r.threshold = summarize_errors(mt.error);
+  r.stiffness_n_per_mm = summarize_errors(me.stiffness).median;
+  r.taps = me.contacts.size();
+  r.false_detections = me.false_detections;
+  return r;
 }
 
 }  // namespace inhap::eval

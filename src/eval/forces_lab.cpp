@@ -432,4 +432,20 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   return d;
 }
 
+ForceCoverage training_coverage(const ForceLabResult& d) {
+  std::vector<Vec3> q, f;
+  for (std::size_t i = 0; i < d.train.rec.size(); ++i)
+    if (d.train_track.contact[i]) q.push_back(d.train_track.q[i]), f.push_back(d.train.rec.f[i]);
+  const dd::CoverageMap map(q, f);
+  ForceCoverage c;
+  std::size_t n = 0, out = 0;
+  for (std::size_t i = 0; i < d.test.rec.size(); ++i)
+    if (d.test_track.contact[i])
+      ++n, out += map.outside(d.test_track.q[i], d.test.rec.f[i].norm()) ? 1 : 0;
+  c.outside = n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
+  c.gaps = dd::coverage_gaps(map);
+  c.cell_mm = map.params().cell_mm;
+  return c;
+}
+
 }  // namespace inhap::eval

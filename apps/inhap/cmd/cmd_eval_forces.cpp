@@ -24,7 +24,6 @@
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
-#include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/datadriven/model_io.hpp"
@@ -156,23 +155,6 @@ json object_json(const ForceLabResult& d) {
   return j;
 }
 
-/// Share of the in-contact test samples outside the training support (dd::CoverageMap of the
-/// training run's proxies and forces, as `model train` writes and `model eval` reports).
-CoverageMap training_coverage(const ForceLabResult& d) {
-  std::vector<Vec3> q, f;
-  for (std::size_t i = 0; i < d.train.rec.size(); ++i)
-    if (d.train_track.contact[i]) q.push_back(d.train_track.q[i]), f.push_back(d.train.rec.f[i]);
-  return CoverageMap(q, f);
-}
-
-double outside_coverage(const ForceLabResult& d, const CoverageMap& map) {
-  std::size_t n = 0, out = 0;
-  for (std::size_t i = 0; i < d.test.rec.size(); ++i)
-    if (d.test_track.contact[i])
-      ++n, out += map.outside(d.test_track.q[i], d.test.rec.f[i].norm()) ? 1 : 0;
-  return n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
-}
-
 json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   ForceLabOptions fo;
   fo.scene = name;
@@ -198,15 +180,14 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   // Training never clips a target (forces above the modeling range are kept and counted).
   j["clipped_training_samples"] = 0;
   j["training_samples_above_range"] = v.model.stats.above_range;
-  const CoverageMap map = training_coverage(d);
-  j["coverage"] = outside_coverage(d, map);
+  const ForceCoverage cov = training_coverage(d);
+  j["coverage"] = cov.outside;
   // Where the training run left the largest unvisited areas (x, y projection): explore there.
   json gaps = json::array();
-  for (const CoverageGap& g : coverage_gaps(map))
-    gaps.push_back(
-        {{"x_mm", g.x_mm},
-         {"y_mm", g.y_mm},
-         {"area_mm2", static_cast<double>(g.cells) * map.params().cell_mm * map.params().cell_mm}});
+  for (const CoverageGap& g : cov.gaps)
+    gaps.push_back({{"x_mm", g.x_mm},
+                    {"y_mm", g.y_mm},
+                    {"area_mm2", static_cast<double>(g.cells) * cov.cell_mm * cov.cell_mm}});
   j["explore_more"] = std::move(gaps);
   fmt::print(
       "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "

@@ -4,11 +4,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,15 +14,14 @@
 #include "command.hpp"
 #include "demo/demo_strokes.hpp"
 #include "inhap/contact/contact_io.hpp"
-#include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/core/error.hpp"
+#include "inhap/eval/contacts_lab.hpp"
 #include "inhap/eval/shape_lab.hpp"
+#include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
-#include "inhap/surface/reconstruct.hpp"
 
 namespace {
 
@@ -33,27 +30,7 @@ using namespace inhap::cli;
 using namespace inhap::eval;
 using json = nlohmann::json;
 
-// --- recordings with ground truth ------------------------------------------------------------
-
-struct Summary {
-  double median = 0, p95 = 0, max = 0;
-};
-Summary summarize(std::vector<double> v) {
-  Summary s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  auto at = [&](double q) {  // linear interpolation between order statistics
-    const double x = q * static_cast<double>(v.size() - 1);
-    const auto i = static_cast<std::size_t>(x);
-    const double w = x - static_cast<double>(i);
-    return i + 1 < v.size() ? (1 - w) * v[i] + w * v[i + 1] : v[i];
-  };
-  s.median = at(0.5);
-  s.p95 = at(0.95);
-  s.max = v.back();
-  return s;
-}
-json to_json(const Summary& s) {
+json to_json(const ErrorSummary& s) {
   return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
 }
 
@@ -72,34 +49,31 @@ void run_eval_contacts(const EvalContactsArgs& a) {
   json objects = json::array();
   fmt::print("{:<21} {:>8} {:>5} | {:>25} | {:>25} | {:>5}\n", "object", "k N/mm", "taps",
              "estimate mm (med/p95/max)", "threshold mm (med/p95/max)", "ratio");
+  ContactObjectOptions o;
+  o.taps = a.taps;
+  o.seed = a.seed;
+  o.eps = a.eps;
+  o.window = a.window;
+  o.physics = lab::physics_from_string(a.physics);
   for (const std::string& name : lab::tapping_scene_names()) {
-    const lab::Scene scene = lab::builtin_scene(name);
-    const lab::Physics physics = lab::physics_from_string(a.physics);
-    if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
-      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", name,
-                 scene.object.shape().type_name());
+    o.progress = [&](const std::string&, double f, double) {
+      cli::progress("eval contacts " + name, f, 0);
+    };
+    const ContactObjectResult r = run_contact_object(name, o);
+    if (r.skipped) {
+      fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", name, r.skipped_shape);
       continue;
     }
-    const lab::LabRecording rec = record_taps(
-        scene, a.taps, a.seed, [&](double f) { cli::progress("eval contacts " + name, f, 0); },
-        physics);
-    ContactOptions est, thr;
-    est.eps_f = thr.eps_f = a.eps;
-    est.window = thr.window = a.window;
-    thr.method = ContactMethod::Threshold;
-    const MatchedContacts me = match_contacts(rec, est, a.taps),
-                          mt = match_contacts(rec, thr, a.taps);
-    const Summary se = summarize(me.error), st = summarize(mt.error);
-    const double k = summarize(me.stiffness).median;
+    const ErrorSummary &se = r.estimate, &st = r.threshold;
     fmt::print(
         "{:<21} {:>8.2f} {:>5} | {:>7.3f} {:>7.3f} {:>9.3f} | {:>7.3f} {:>7.3f} {:>9.3f} | "
         "{:>5.1f}\n",
-        name, k, me.contacts.size(), se.median, se.p95, se.max, st.median, st.p95, st.max,
+        name, r.stiffness_n_per_mm, r.taps, se.median, se.p95, se.max, st.median, st.p95, st.max,
         se.median > 0 ? st.median / se.median : 0.0);
     objects.push_back({{"name", name},
-                       {"stiffness_n_per_mm", k},
-                       {"taps", me.contacts.size()},
-                       {"false_detections", me.false_detections},
+                       {"stiffness_n_per_mm", r.stiffness_n_per_mm},
+                       {"taps", r.taps},
+                       {"false_detections", r.false_detections},
                        {"estimate_mm", to_json(se)},
                        {"threshold_mm", to_json(st)}});
   }
@@ -126,24 +100,13 @@ struct EvalShapeArgs {
   std::string physics = "builtin";
 };
 
-ShapeVariant run_variant(const lab::LabRecording& rec, ContactMethod method, std::size_t taps,
-                         const TriMesh& reference, const TriMesh* reachable, const EvalShapeArgs& a,
-                         const std::string& tag) {
-  ShapeCompareOptions co;
-  co.icp = a.icp;
-  co.region_mm = a.region_mm;
-  co.rim_margin_mm = a.rim_margin_mm;
-  co.normal_overlap = !a.no_normal_overlap;
-  co.uncropped_reconstruction = !a.top_only;
-  co.reachable_reference = reachable;
-  ShapeVariant v = reconstruct_and_compare(rec, method, taps, reference, co);
-  if (!a.out_dir.empty()) {  // temporaries of the command's OutputTransaction
-    write_contact_points(a.out_dir + "/" + tag + ".points.ply", v.matched.contacts);
-    TriMesh colored = v.mesh;
-    colored.set_property("error", v.cmp.a_vertex_error);
-    write_mesh(a.out_dir + "/" + tag + ".mesh.ply", colored);
-  }
-  return v;
+/// Writes one variant's points and error-coloured mesh (temporaries of the command's
+/// OutputTransaction).
+void write_variant(const std::string& dir, const std::string& tag, const ShapeVariant& v) {
+  write_contact_points(dir + "/" + tag + ".points.ply", v.matched.contacts);
+  TriMesh colored = v.mesh;
+  colored.set_property("error", v.cmp.a_vertex_error);
+  write_mesh(dir + "/" + tag + ".mesh.ply", colored);
 }
 
 struct ShapeTarget {
@@ -151,31 +114,38 @@ struct ShapeTarget {
   std::size_t taps;
 };
 
-/// Records, reconstructs and scores one object; prints its row and returns its JSON.
+/// Records, reconstructs and scores one object (eval::run_shape_object); prints its row and
+/// returns its JSON.
 json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const EvalShapeArgs& a) {
-  lab::TapOptions tap;
-  tap.whole_object = !a.top_only;
-  const lab::LabRecording rec = record_taps(
-      scene, t.taps, a.seed, [&](double f) { cli::progress("eval shape " + t.name, f, 0); },
-      lab::physics_from_string(a.physics), tap);
-  const TriMesh reference = reference_mesh(scene.object.shape());
-  const TriMesh reachable = reachable_part(reference, scene.object, tap.reach);
-  const TriMesh* reach = a.top_only ? nullptr : &reachable;
-  const ShapeVariant e =
-      run_variant(rec, ContactMethod::Estimate, t.taps, reference, reach, a, t.name + ".estimate");
-  const ShapeVariant s = run_variant(rec, ContactMethod::Threshold, t.taps, reference, reach, a,
-                                     t.name + ".threshold");
-  if (!a.out_dir.empty()) write_mesh(a.out_dir + "/" + t.name + ".reference.ply", reference);
-  const double coverage =
-      tap_coverage(scene.object, e.matched.truth, 5.0, a.quick ? 5000 : 20000, tap.reach);
-  const double pace = taps_per_minute(rec);
-  const EntrySideCounts sides = count_far_side_contacts(rec, scene.object);
+  ShapeObjectOptions o;
+  o.taps = t.taps;
+  o.seed = a.seed;
+  o.physics = lab::physics_from_string(a.physics);
+  o.tap.whole_object = !a.top_only;
+  o.compare.icp = a.icp;
+  o.compare.region_mm = a.region_mm;
+  o.compare.rim_margin_mm = a.rim_margin_mm;
+  o.compare.normal_overlap = !a.no_normal_overlap;
+  o.compare.uncropped_reconstruction = !a.top_only;
+  o.score_reachable_part = !a.top_only;
+  o.coverage_samples = a.quick ? 5000 : 20000;
+  o.count_entry_sides = true;
+  o.progress = [&](const std::string&, double f, double) {
+    cli::progress("eval shape " + t.name, f, 0);
+  };
+  const ShapeObjectResult r = run_shape_object(scene, o);
+  const ShapeVariant &e = r.estimate, &s = r.threshold;
+  if (!a.out_dir.empty()) {
+    write_variant(a.out_dir, t.name + ".estimate", e);
+    write_variant(a.out_dir, t.name + ".threshold", s);
+    write_mesh(a.out_dir + "/" + t.name + ".reference.ply", r.reference);
+  }
   fmt::print(
       "{:<21} {:>6} {:>8} {:>8} | {:>10.3f} {:>10.3f} | {:>10.3f} {:>10.3f} | {:>8.3f} {:>7.1f} "
       "{:>5}\n",
       t.name, e.points, e.vertices, e.faces, e.cmp.hausdorff, s.cmp.hausdorff, e.cmp.mean,
-      s.cmp.mean, coverage, pace, sides.far_side_first_contacts);
-  auto side = [](const OneSided& o) { return json{{"max", o.max}, {"mean", o.mean}}; };
+      s.cmp.mean, r.coverage, r.taps_per_minute, r.sides.far_side_first_contacts);
+  auto side = [](const OneSided& d) { return json{{"max", d.max}, {"mean", d.mean}}; };
   return {
       {"name", t.name},
       {"points", e.points},
@@ -185,16 +155,16 @@ json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const Eval
       {"mean_mm", {{"estimate", e.cmp.mean}, {"threshold", s.cmp.mean}}},
       {"rms_mm", {{"estimate", e.cmp.rms}, {"threshold", s.cmp.rms}}},
       {"threshold_variant", {{"points", s.points}, {"vertices", s.vertices}, {"faces", s.faces}}},
-      {"coverage", coverage},
-      {"taps_per_minute", pace},
-      {"recording_s", rec.rec.size() ? rec.rec.t.back() : 0.0},
+      {"coverage", r.coverage},
+      {"taps_per_minute", r.taps_per_minute},
+      {"recording_s", r.recording_s},
       {"reconstruction_to_reference_mm",
        {{"estimate", side(e.cmp.a_to_b)}, {"threshold", side(s.cmp.a_to_b)}}},
       {"reference_to_reconstruction_mm",
        {{"estimate", side(e.cmp.b_to_a)}, {"threshold", side(s.cmp.b_to_a)}}},
-      {"episodes", sides.episodes},
-      {"far_side_first_contacts", sides.far_side_first_contacts},
-      {"force_reversals", sides.force_reversals}};
+      {"episodes", r.sides.episodes},
+      {"far_side_first_contacts", r.sides.far_side_first_contacts},
+      {"force_reversals", r.sides.force_reversals}};
 }
 
 void run_eval_shape(const EvalShapeArgs& a) {

@@ -11,6 +11,7 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/shape_lab.hpp"
+#include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/scene.hpp"
 
@@ -140,27 +141,24 @@ StepResult step_shape(const Context& c) {
     const ShapeTarget& t = targets[i];
     const lab::Scene scene =
         t.name == "bunny" ? eval::bunny_scene(bunny_ply) : lab::builtin_scene(t.name);
-    const lab::LabRecording rec = eval::record_taps(
-        scene, t.taps, c.options.seed + 20 + i,
-        [&](double f) {
-          c.progress((done_taps + 0.8 * f * static_cast<double>(t.taps)) / total_taps,
-                     fmt::format("{} taps on the {}", t.taps, t.label));
-        },
-        c.options.physics, tap);
-    c.progress((done_taps + 0.8 * static_cast<double>(t.taps)) / total_taps,
-               fmt::format("reconstruct the {}", t.label));
-    const TriMesh reference = eval::reference_mesh(scene.object.shape());
-    const TriMesh reachable = eval::reachable_part(reference, scene.object, tap.reach);
-    eval::ShapeCompareOptions co;
-    co.reachable_reference = &reachable;
+    eval::ShapeObjectOptions so;
+    so.taps = t.taps;
+    so.seed = c.options.seed + 20 + i;
+    so.physics = c.options.physics;
+    so.tap = tap;
+    so.coverage_samples = quick ? 5000 : 20000;
+    so.progress = [&](const std::string& what, double f, double) {
+      c.progress((done_taps + f * static_cast<double>(t.taps)) / total_taps,
+                 what == "taps" ? fmt::format("{} taps on the {}", t.taps, t.label)
+                                : fmt::format("reconstruct the {}", t.label));
+    };
+    eval::ShapeObjectResult res = eval::run_shape_object(scene, so);
     ShapeOutcome o;
     o.target = t;
-    o.estimate = eval::reconstruct_and_compare(rec, ContactMethod::Estimate, t.taps, reference, co);
-    o.threshold =
-        eval::reconstruct_and_compare(rec, ContactMethod::Threshold, t.taps, reference, co);
-    o.coverage = eval::tap_coverage(scene.object, o.estimate.matched.truth, 5.0,
-                                    quick ? 5000 : 20000, tap.reach);
-    o.taps_per_minute = eval::taps_per_minute(rec);
+    o.estimate = std::move(res.estimate);
+    o.threshold = std::move(res.threshold);
+    o.coverage = res.coverage;
+    o.taps_per_minute = res.taps_per_minute;
     done_taps += static_cast<double>(t.taps);
     for (const auto* v : {&o.estimate, &o.threshold}) {
       TriMesh m = v->mesh;

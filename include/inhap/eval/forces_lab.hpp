@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/dataset.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
@@ -99,5 +100,16 @@ struct ForceLabResult {
 
 /// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
+
+/// The training run's support as `model train` writes and `model eval` reports it: a
+/// dd::CoverageMap of the training run's in-contact proxies and forces, the share of the
+/// in-contact test samples outside it, and where the training run left the largest unvisited
+/// areas (x, y projection: explore there).
+struct ForceCoverage {
+  double outside = 0;  ///< share of the in-contact test samples outside the training support
+  std::vector<dd::CoverageGap> gaps;
+  double cell_mm = 0;  ///< cell size of the map (a gap's area is cells * cell_mm^2)
+};
+ForceCoverage training_coverage(const ForceLabResult& d);
 
 }  // namespace inhap::eval
