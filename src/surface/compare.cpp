@@ -274,4 +274,19 @@ CompareResult compare_surfaces(const TriMesh& a_in, const TriMesh& b, const Comp
   return res;
 }
 
+CropSides auto_crop_sides(const TriMesh& a, const TriMesh& b) {
+  auto closed = [](const TriMesh& m) {
+    return analyze_topology(m, build_adjacency(m)).watertight();
+  };
+  const bool ca = closed(a), cb = closed(b);
+  if (ca == cb) return CropSides::kBoth;
+  return cb ? CropSides::kB : CropSides::kA;
+}
+
+CroppedSides cropped_sides(const CompareOptions& o) {
+  const bool any =
+      !o.region.empty() || o.crop_distance > 0 || o.exclude_boundary || o.normal_overlap;
+  return {any && o.crop_sides != CropSides::kB, any && o.crop_sides != CropSides::kA};
+}
+
 }  // namespace inhap

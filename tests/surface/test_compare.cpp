@@ -226,3 +226,26 @@ TEST(Compare, CroppingOnlyTheReferenceScoresTheWholeReconstruction) {
   EXPECT_EQ(crop_sides_from_string(to_string(CropSides::kA)), CropSides::kA);
   EXPECT_THROW(crop_sides_from_string("c"), Error);
 }
+
+// `shape compare --crop-sides auto`: only a closed mesh (the complete reference) is cropped; the
+// sides actually cropped follow from the options.
+TEST(Compare, AutoCropSidesCropsOnlyTheClosedMesh) {
+  const TriMesh sphere = test::icosphere(2, 10.0);  // closed
+  TriMesh cap = sphere;                             // the sphere without its faces below z = 0
+  std::erase_if(cap.triangles, [&](const Tri& t) { return sphere.positions[t[0]].z() < 0; });
+  EXPECT_EQ(auto_crop_sides(cap, sphere), CropSides::kB);
+  EXPECT_EQ(auto_crop_sides(sphere, cap), CropSides::kA);
+  EXPECT_EQ(auto_crop_sides(sphere, sphere), CropSides::kBoth);
+  EXPECT_EQ(auto_crop_sides(cap, cap), CropSides::kBoth);
+
+  CompareOptions o;
+  o.crop_sides = CropSides::kB;
+  EXPECT_FALSE(cropped_sides(o).a);  // no crop set: nothing is cropped
+  EXPECT_FALSE(cropped_sides(o).b);
+  o.normal_overlap = true;
+  EXPECT_FALSE(cropped_sides(o).a);
+  EXPECT_TRUE(cropped_sides(o).b);
+  o.crop_sides = CropSides::kBoth;
+  EXPECT_TRUE(cropped_sides(o).a);
+  EXPECT_TRUE(cropped_sides(o).b);
+}

@@ -129,27 +129,15 @@ void run_compare(const CompareArgs& args) {
     o.region = read_points(args.crop_points).points;
     o.region_radius = args.crop_radius;
   }
-  // auto: when exactly one mesh is closed it is the complete reference and only it is cropped
-  // (the other, partial one is scored whole); otherwise both.
-  o.crop_sides = CropSides::kBoth;
-  if (args.crop_sides == "auto") {
-    auto closed = [](const TriMesh& m) {
-      return analyze_topology(m, build_adjacency(m)).watertight();
-    };
-    const bool ca = closed(a), cb = closed(b);
-    if (ca != cb) o.crop_sides = cb ? CropSides::kB : CropSides::kA;
-  } else {
-    o.crop_sides = crop_sides_from_string(args.crop_sides);
-  }
-  const bool any_crop =
-      !o.region.empty() || o.crop_distance > 0 || o.exclude_boundary || o.normal_overlap;
-  const bool crop_a = any_crop && o.crop_sides != CropSides::kB;
-  const bool crop_b = any_crop && o.crop_sides != CropSides::kA;
+  const bool auto_sides = args.crop_sides == "auto";
+  o.crop_sides = auto_sides ? auto_crop_sides(a, b) : crop_sides_from_string(args.crop_sides);
+  const CroppedSides cropped = cropped_sides(o);
+  const bool crop_a = cropped.a, crop_b = cropped.b;
   const CompareResult r = compare_surfaces(a, b, o);
   fmt::print("hausdorff {:.4f} mm, mean {:.4f} mm, rms {:.4f} mm\n", r.hausdorff, r.mean, r.rms);
   fmt::print("  cropped: {} {}, {} {}{}\n", args.a, crop_a ? "yes" : "no (every sample scored)",
              args.b, crop_b ? "yes" : "no (every sample scored)",
-             any_crop && args.crop_sides == "auto" && o.crop_sides != CropSides::kBoth
+             (crop_a || crop_b) && auto_sides && o.crop_sides != CropSides::kBoth
                  ? " (auto: only the closed mesh is cropped)"
                  : "");
   for (const auto& [from, to, side] :

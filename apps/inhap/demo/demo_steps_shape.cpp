@@ -99,6 +99,36 @@ Figure table_figure(const std::vector<ShapeOutcome>& all) {
   return f;
 }
 
+/// The meshes (vertex property 'error', mm), the CSV row and the summary rows of one object.
+void write_outcome(const Context& c, StepResult& r, const ShapeOutcome& o, std::string& csv) {
+  for (const auto* v : {&o.estimate, &o.threshold}) {
+    TriMesh m = v->mesh;
+    m.set_property("error", v->cmp.a_vertex_error);
+    write_mesh(c.file(r, fmt::format("shape_{}_{}.ply", o.target.name,
+                                     v == &o.estimate ? "estimate" : "threshold")),
+               m);
+  }
+  csv += fmt::format("{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f}\n",
+                     o.target.name, o.estimate.points, o.estimate.cmp.hausdorff,
+                     o.threshold.cmp.hausdorff, o.estimate.cmp.mean, o.threshold.cmp.mean,
+                     o.estimate.cmp.rms, o.threshold.cmp.rms, o.coverage, o.taps_per_minute);
+  r.rows.push_back(
+      {fmt::format("{} ({} taps): Hausdorff, estimate / threshold (mm)", o.target.label,
+                   o.estimate.points),
+       fmt::format("{} / {}", fmt_num(o.estimate.cmp.hausdorff),
+                   fmt_num(o.threshold.cmp.hausdorff)),
+       o.target.thesis_hausdorff == "-" ? "-" : o.target.thesis_hausdorff + " (Table 3.1)"});
+  r.rows.push_back(
+      {fmt::format("{}: mean distance, estimate / threshold (mm)", o.target.label),
+       fmt::format("{} / {}", fmt_num(o.estimate.cmp.mean), fmt_num(o.threshold.cmp.mean)),
+       o.target.thesis_hausdorff == "-" ? "-" : "< 1 (sec. 3.3.2)"});
+  r.rows.push_back(
+      {fmt::format("{}: coverage (reachable surface within 5 mm of a tap), taps per minute",
+                   o.target.label),
+       fmt::format("{:.2f}, {:.0f}", o.coverage, o.taps_per_minute),
+       "about 1,000 points in 5-15 min (ch. 3)"});
+}
+
 }  // namespace
 
 StepResult step_shape(const Context& c) {
@@ -160,31 +190,7 @@ StepResult step_shape(const Context& c) {
     o.coverage = res.coverage;
     o.taps_per_minute = res.taps_per_minute;
     done_taps += static_cast<double>(t.taps);
-    for (const auto* v : {&o.estimate, &o.threshold}) {
-      TriMesh m = v->mesh;
-      m.set_property("error", v->cmp.a_vertex_error);
-      write_mesh(c.file(r, fmt::format("shape_{}_{}.ply", t.name,
-                                       v == &o.estimate ? "estimate" : "threshold")),
-                 m);
-    }
-    csv += fmt::format("{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f}\n", t.name,
-                       o.estimate.points, o.estimate.cmp.hausdorff, o.threshold.cmp.hausdorff,
-                       o.estimate.cmp.mean, o.threshold.cmp.mean, o.estimate.cmp.rms,
-                       o.threshold.cmp.rms, o.coverage, o.taps_per_minute);
-    r.rows.push_back({fmt::format("{} ({} taps): Hausdorff, estimate / threshold (mm)", t.label,
-                                  o.estimate.points),
-                      fmt::format("{} / {}", fmt_num(o.estimate.cmp.hausdorff),
-                                  fmt_num(o.threshold.cmp.hausdorff)),
-                      t.thesis_hausdorff == "-" ? "-" : t.thesis_hausdorff + " (Table 3.1)"});
-    r.rows.push_back(
-        {fmt::format("{}: mean distance, estimate / threshold (mm)", t.label),
-         fmt::format("{} / {}", fmt_num(o.estimate.cmp.mean), fmt_num(o.threshold.cmp.mean)),
-         t.thesis_hausdorff == "-" ? "-" : "< 1 (sec. 3.3.2)"});
-    r.rows.push_back(
-        {fmt::format("{}: coverage (reachable surface within 5 mm of a tap), taps per minute",
-                     t.label),
-         fmt::format("{:.2f}, {:.0f}", o.coverage, o.taps_per_minute),
-         "about 1,000 points in 5-15 min (ch. 3)"});
+    write_outcome(c, r, o, csv);
     all.push_back(std::move(o));
   }
   write_file_atomic(c.file(r, "shape_table3_1.csv"), csv);

@@ -112,4 +112,9 @@ struct ForceCoverage {
 };
 ForceCoverage training_coverage(const ForceLabResult& d);
 
+/// The per-object report of `inhap eval forces` as the text of one JSON object: errors with and
+/// without the proxy (all, sliding-only, covered), servo-step times, proxy vs truth, training vs
+/// test support, the model's settings and the training coverage (training_coverage()).
+std::string force_lab_json(const ForceLabResult& d);
+
 }  // namespace inhap::eval

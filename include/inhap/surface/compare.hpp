@@ -108,4 +108,16 @@ struct CompareResult {
 CompareResult compare_surfaces(const TriMesh& a, const TriMesh& b,
                                const CompareOptions& options = {});
 
+/// The "auto" rule of `inhap shape compare --crop-sides`: when exactly one of the meshes is
+/// closed (watertight) it is the complete reference and only it is cropped (kA or kB; the other,
+/// partial one is scored whole, so its stray parts cannot hide); otherwise kBoth.
+CropSides auto_crop_sides(const TriMesh& a, const TriMesh& b);
+
+/// Which sides `options` actually crops: none when it sets no crop (no region, crop distance,
+/// boundary exclusion or normal overlap), else as its crop_sides says.
+struct CroppedSides {
+  bool a = false, b = false;
+};
+CroppedSides cropped_sides(const CompareOptions& options);
+
 }  // namespace inhap
