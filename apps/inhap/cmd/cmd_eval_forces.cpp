@@ -131,6 +131,38 @@ void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
   if (!cmd.count("--friction-cone")) o.params.friction_cone = false;
 }
 
+// The lab runs behind the evaluation: proxy source, physics and the coverage training operator.
+void add_lab_run_flags(CLI::App& cmd, EvalForcesOptions& o) {
+  cmd.add_option("--proxy", o.proxy,
+                 "estimated (palpate the scene, run the proxy estimator) or truth (the lab's true "
+                 "proxy and contact)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"estimated", "truth"}));
+  cmd.add_option("--physics", o.physics,
+                 "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cmd.add_option("--train-operator", o.train_operator,
+                 "Training run: coverage (grid of spots, every depth, slides between) or random "
+                 "(the ordinary exploration, as the test run)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"coverage", "random"}));
+  cmd.add_option("--coverage-share", o.coverage_share,
+                 "Coverage training run: share of the run spent on the grid of spots")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd.add_option("--spot-seconds", o.seconds_per_spot,
+                 "Coverage training run: planned seconds per spot (sets the grid spacing)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 10.0));
+  cmd.add_option("--coverage-force", o.coverage_force,
+                 "Coverage training run: force range of the slides between spots and of the "
+                 "strokes, N (min max)")
+      ->capture_default_str()
+      ->expected(2)
+      ->check(CLI::Range(0.1, 6.0));
+}
+
 void register_eval_forces(CLI::App& app) {
   auto o = std::make_shared<EvalForcesOptions>();
   auto* cmd = eval_group(app)->add_subcommand(
@@ -185,34 +217,7 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--threads", o->params.threads, "Training threads (0 = all cores)")
       ->capture_default_str();
   cmd->add_option("--keep", o->keep, "Folder to keep the recordings, truth and models in");
-  cmd->add_option("--proxy", o->proxy,
-                  "estimated (palpate the scene, run the proxy estimator) or truth (the lab's true "
-                  "proxy and contact)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"estimated", "truth"}));
-  cmd->add_option("--physics", o->physics,
-                  "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
-  cmd->add_option("--train-operator", o->train_operator,
-                  "Training run: coverage (grid of spots, every depth, slides between) or random "
-                  "(the ordinary exploration, as the test run)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"coverage", "random"}));
-  cmd->add_option("--coverage-share", o->coverage_share,
-                  "Coverage training run: share of the run spent on the grid of spots")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--spot-seconds", o->seconds_per_spot,
-                  "Coverage training run: planned seconds per spot (sets the grid spacing)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.5, 10.0));
-  cmd->add_option("--coverage-force", o->coverage_force,
-                  "Coverage training run: force range of the slides between spots and of the "
-                  "strokes, N (min max)")
-      ->capture_default_str()
-      ->expected(2)
-      ->check(CLI::Range(0.1, 6.0));
+  add_lab_run_flags(*cmd, *o);
   cli::add_switch(*cmd, "baselines", o->baselines,
                   "Also train the no-proxy and onset-proxy models (off: their fields are null)");
   cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
