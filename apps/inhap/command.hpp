@@ -32,6 +32,14 @@ inline CLI::App* eval_group(CLI::App& app) {
                           "Evaluations that reproduce the thesis' figures (units: mm, N, N/mm, s)");
 }
 
+/// `--physics builtin|mujoco`: the lab's contact physics (docs/lab-mujoco.md); `what` is the help.
+inline CLI::Option* add_physics_option(CLI::App& cmd, std::string& physics,
+                                       const std::string& what) {
+  return cmd.add_option("--physics", physics, what)
+      ->capture_default_str()
+      ->check(CLI::IsMember({"builtin", "mujoco"}));
+}
+
 /// A boolean set by a pair of flags --NAME and --no-NAME. The help marks the one that matches
 /// the default (CLI11's "--x,!--no-x" shows `{false}`, read as the default, for a default on).
 /// `mark_default` false: `what` already says the default.

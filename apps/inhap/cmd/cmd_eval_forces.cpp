@@ -138,10 +138,8 @@ void add_lab_run_flags(CLI::App& cmd, EvalForcesOptions& o) {
                  "proxy and contact)")
       ->capture_default_str()
       ->check(CLI::IsMember({"estimated", "truth"}));
-  cmd.add_option("--physics", o.physics,
-                 "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(cmd, o.physics,
+                          "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)");
   cmd.add_option("--train-operator", o.train_operator,
                  "Training run: coverage (grid of spots, every depth, slides between) or random "
                  "(the ordinary exploration, as the test run)")

@@ -221,13 +221,7 @@ void run_eval_shape(const EvalShapeArgs& a) {
 }
 
 void register_eval_shape(CLI::App& app) {
-  CLI::App* eval;
-  try {
-    eval = app.get_subcommand("eval");
-  } catch (const CLI::OptionNotFound&) {
-    eval = app.add_subcommand("eval", "Reproduce the thesis' evaluations on the virtual lab.");
-    eval->require_subcommand(1);
-  }
+  CLI::App* eval = eval_group(app);
   auto c = std::make_shared<EvalContactsArgs>();
   auto* contacts = eval->add_subcommand(
       "contacts",
@@ -236,12 +230,9 @@ void register_eval_shape(CLI::App& app) {
   contacts->add_option("--json", c->json_out, "write the numbers as JSON");
   contacts->add_option("--taps", c->taps, "taps per object")->check(CLI::Range(1, 100000));
   contacts->add_option("--seed", c->seed, "random seed of the lab (same seed, same numbers)");
-  contacts
-      ->add_option("--physics", c->physics,
-                   "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent "
-                   "are skipped)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(*contacts, c->physics,
+                          "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent "
+                          "are skipped)");
   contacts->add_option("--eps", c->eps, "contact threshold, N")->check(CLI::PositiveNumber);
   contacts->add_option("--window", c->window, "knee-fit window, samples")
       ->check(CLI::Range(4, 100000));
@@ -258,12 +249,10 @@ void register_eval_shape(CLI::App& app) {
       "the reachable surface within 5 mm of a tap; taps per simulated minute.");
   shape->add_option("--json", s->json_out, "write the numbers as JSON");
   shape->add_option("--seed", s->seed, "random seed of the lab");
-  shape
-      ->add_option("--physics", s->physics,
-                   "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent are "
-                   "skipped)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(
+      *shape, s->physics,
+      "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent are "
+      "skipped)");
   shape->add_option("--objects", s->objects, "only these objects (default: all four)")
       ->delimiter(',')
       ->check(CLI::IsMember({"foam-ball", "ridged-silicone", "silicone-hemisphere", "bunny"}));

@@ -103,9 +103,7 @@ void register_eval_sys(CLI::App& app) {
   cmd->add_option("--scenes", o->scenes, "comma-separated built-in scenes")->capture_default_str();
   cmd->add_option("--seconds", o->seconds, "length of the exploration recording, s")
       ->capture_default_str();
-  cmd->add_option("--physics", o->physics, "lab contact physics: builtin | mujoco")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(*cmd, o->physics, "lab contact physics: builtin | mujoco");
   cmd->add_option("--seed", o->seed, "seed of the device noise and the operator")
       ->capture_default_str();
   cmd->add_flag("--quick", o->quick,

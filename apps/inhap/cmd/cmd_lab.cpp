@@ -136,12 +136,11 @@ void register_lab(CLI::App& app) {
   rec->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
       ->capture_default_str()
       ->check(CLI::IsMember({"sphere", "tip"}));
-  rec->add_option("--physics", a->physics,
-                  "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
-                  "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
-                  "hemisphere, sphere and box shapes; docs/lab-mujoco.md)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(
+      *rec, a->physics,
+      "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
+      "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
+      "hemisphere, sphere and box shapes; docs/lab-mujoco.md)");
   rec->add_flag("--no-noise", a->no_noise, "no force-sensor noise in the raw reading");
   rec->add_flag("--whole-object", a->whole_object,
                 "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"

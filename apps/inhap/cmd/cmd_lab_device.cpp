@@ -73,9 +73,7 @@ void register_lab_device(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0.001, 86400.0));
   c->add_option("--seed", a->o.seed, "seed, as `inhap lab record --seed`")->capture_default_str();
-  c->add_option("--physics", a->o.physics, "builtin | mujoco")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(*c, a->o.physics, "builtin | mujoco");
   c->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
       ->capture_default_str()
       ->check(CLI::IsMember({"sphere", "tip"}));

@@ -350,9 +350,7 @@ void add_device_options(CLI::App* c, ServeArgs& a) {
       ->check(CLI::IsMember({"explore", "tap", "air"}));
   c->add_option("--seed", a.seed, "lab:SCENE: seed, as `inhap lab record --seed`")
       ->capture_default_str();
-  c->add_option("--physics", a.physics, "lab:SCENE: builtin | mujoco")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(*c, a.physics, "lab:SCENE: builtin | mujoco");
   c->add_flag("--no-realtime", a.no_realtime, "do not ask for SCHED_FIFO and mlockall");
 }
 

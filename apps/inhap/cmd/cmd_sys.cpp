@@ -383,9 +383,7 @@ void register_palpate(CLI::App* sys) {
                       "the scene's region");
   palpate->add_option("--seed", pa->opt.seed, "device noise seed")->capture_default_str();
   palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
-  palpate->add_option("--physics", pa->opt.physics, "lab contact physics: builtin | mujoco")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"builtin", "mujoco"}));
+  cli::add_physics_option(*palpate, pa->opt.physics, "lab contact physics: builtin | mujoco");
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
   palpate->add_option("--device", pa->device,
                       "udp or udp:PORT: palpate a device that joins over the bridge "
