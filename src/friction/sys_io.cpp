@@ -102,6 +102,7 @@ void write_sys_json(const std::string& path, const SysModel& m) {
   j["plateaus"] = m.plateaus;
   j["tangent_reference"] = vec(m.tangent_reference);
   j["border_options"] = border_options(m.border_options);
+  j["force_frame"] = to_string(m.force_frame);
   json pts = json::array();
   for (const SysPoint& p : m.points) {
     json jp;
@@ -236,6 +237,12 @@ SysModel read_sys_json(const std::string& path) {
     m.border_options.min_sliding_growth = r.number(o, "min_sliding_growth", w);
     m.border_options.refine = r.boolean(o, "refine", w, true);
     m.border_options.refine_points = r.integer(o, "refine_points", w);
+  }
+  if (j.contains("force_frame")) {  // optional: files before it were decomposed at the probe
+    const json& f = j["force_frame"];
+    const std::string v = f.is_string() ? f.get<std::string>() : std::string();
+    if (v != "anchor" && v != "probe") r.fail("$.force_frame", "\"anchor\" or \"probe\"");
+    m.force_frame = force_frame_from_string(v);
   }
   for (std::size_t i = 1; i < m.f_normal_levels.size(); ++i)
     if (!(m.f_normal_levels[i] > m.f_normal_levels[i - 1]) || !(m.f_normal_levels[0] > 0))

@@ -45,17 +45,23 @@ double wrap_angle(double a) {
   return a < 0 ? a + kTwoPi : a;
 }
 
-// |f_t| / f_n of the measured reaction force, decomposed at the normal of the surface under the
-// displaced probe (the shape's normal at p_c + u_meas; n_c without a shape).
-double contact_ratio(const CycleRecord& c, const ShapeQuery* shape) {
+// |f_t| / f_n of the measured reaction force decomposed at the normal n (NaN when f_n <= 0).
+double force_ratio(const CycleRecord& c, const Vec3& n) {
+  const double fn = c.f_meas.dot(n);
+  if (!(fn > 1e-6)) return std::numeric_limits<double>::quiet_NaN();
+  return (c.f_meas - fn * n).norm() / fn;
+}
+
+// The step's force ratio at n_c (anchor) and at the shape's normal under the displaced probe
+// p_c + u_meas (probe; n_c without a shape).
+void contact_ratios(const CycleRecord& c, const ShapeQuery* shape, BorderStep& st) {
   Vec3 n = c.nc, point;
   if (shape) {
     Vec3 nn;
     if (shape->closest(c.pc + c.u_meas, point, nn) && nn.allFinite()) n = nn;
   }
-  const double fn = c.f_meas.dot(n);
-  if (!(fn > 1e-6)) return std::numeric_limits<double>::quiet_NaN();
-  return (c.f_meas - fn * n).norm() / fn;
+  st.ratio_anchor = force_ratio(c, c.nc);
+  st.ratio_probe = force_ratio(c, n);
 }
 
 // Borders of one reference point from its steps (see fit_sys).
@@ -99,6 +105,25 @@ void fit_point(SysPoint& p, std::size_t nl, std::size_t nk, double plateau_gap,
 }
 
 }  // namespace
+
+const char* to_string(ForceFrame f) {
+  switch (f) {
+    case ForceFrame::kAnchor:
+      return "anchor";
+    case ForceFrame::kProbe:
+      return "probe";
+    case ForceFrame::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+ForceFrame force_frame_from_string(const std::string& s) {
+  if (s == "auto") return ForceFrame::kAuto;
+  if (s == "anchor") return ForceFrame::kAnchor;
+  if (s == "probe") return ForceFrame::kProbe;
+  throw Error(fmt::format("expected a force frame auto|anchor|probe, got '{}'", s));
+}
 
 std::size_t SysModel::point_index(int id) const {
   std::string ids;
@@ -179,7 +204,7 @@ BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, cons
   st.f_normal = s.f_normal;
   const CycleRecord& m = measured_cycle(s, l);
   st.depth = -m.u_meas.dot(m.nc);
-  st.ratio = contact_ratio(m, opt.shape);
+  contact_ratios(m, opt.shape, st);
   if (opt.shape) {  // geometric depth: from the undeformed surface, not from p_c
     const double d0 = opt.shape->depth(m.pc);
     if (std::isfinite(d0)) st.depth += d0;
@@ -266,8 +291,54 @@ SysPoint build_point(int id, const std::vector<const CycleRecord*>& list, SysMod
                         id, b.f_normal, k));
       p.borders.push_back(std::move(b));
     }
-  fit_point(p, nl, nk, m.plateaus[1] - m.plateaus[0], opt);
   return p;
+}
+
+// Every step's ratio from the frame f (kAnchor or kProbe).
+void use_frame(std::vector<SysPoint>& points, ForceFrame f) {
+  for (SysPoint& p : points)
+    for (SysBorder& b : p.borders)
+      for (BorderStep& st : b.steps)
+        st.ratio = f == ForceFrame::kAnchor ? st.ratio_anchor : st.ratio_probe;
+}
+
+// How much the limit ratio f_T / f_N depends on f_N: median over (point, direction) of
+// |ln(ratio at the highest measured level / ratio at the lowest)| (NaN: no pair to compare).
+double level_dependence(const SysModel& m) {
+  const std::size_t nl = m.f_normal_levels.size(), nk = m.angles.size();
+  std::vector<double> d;
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    for (std::size_t k = 0; k < nk; ++k) {
+      double lo = std::numeric_limits<double>::quiet_NaN(), hi = lo;
+      int levels = 0;
+      for (std::size_t j = 0; j < nl; ++j) {
+        const BorderResult& r = m.border(i, j, k).result;
+        if (r.no_sliding || r.extrapolated || !(r.ratio_limit > 0)) continue;
+        if (levels++ == 0) lo = r.ratio_limit;
+        hi = r.ratio_limit;
+      }
+      if (levels >= 2) d.push_back(std::abs(std::log(hi / lo)));
+    }
+  return d.empty() ? std::numeric_limits<double>::quiet_NaN() : median(d, 0.0);
+}
+
+// Fits every point's borders in the frame of opt.force_frame (kAuto: the one whose limits
+// depend least on f_N; a tie or nothing to compare keeps kProbe).
+void fit_points(SysModel& m, const FitOptions& opt) {
+  const std::size_t nl = m.f_normal_levels.size(), nk = m.angles.size();
+  const double gap = m.plateaus[1] - m.plateaus[0];
+  auto fit_all = [&](ForceFrame f) {
+    use_frame(m.points, f);
+    for (SysPoint& p : m.points) fit_point(p, nl, nk, gap, opt);
+    m.force_frame = f;
+  };
+  if (opt.force_frame != ForceFrame::kAuto) return fit_all(opt.force_frame);
+  fit_all(ForceFrame::kAnchor);
+  const double anchor = level_dependence(m);
+  fit_all(ForceFrame::kProbe);
+  const double probe = level_dependence(m);
+  if (std::isfinite(anchor) && (!std::isfinite(probe) || anchor < probe))
+    fit_all(ForceFrame::kAnchor);
 }
 
 }  // namespace
@@ -300,6 +371,7 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
   for (std::size_t k = 1; k < m.angles.size(); ++k)
     if (!(m.angles[k] > m.angles[k - 1]))
       throw Error("sys fit: expected direction indices in increasing angle order around n_c");
+  fit_points(m, opt);
   m.rebuild();
   return m;
 }

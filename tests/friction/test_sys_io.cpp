@@ -117,6 +117,7 @@ TEST(SysJson, RoundTripAndValidation) {
   ASSERT_EQ(b.points.size(), m.points.size());
   EXPECT_EQ(b.reference_mesh.triangles(), m.reference_mesh.triangles());
   EXPECT_EQ(b.angles, m.angles);
+  EXPECT_EQ(b.force_frame, m.force_frame);
   for (std::size_t i = 0; i < m.points.size(); ++i)
     for (double lv : {0.5, 1.5, 4.0})
       for (double th : {0.1, 2.0, 4.0}) {
@@ -141,6 +142,8 @@ TEST(SysJson, RoundTripAndValidation) {
   write_variant("\"version\": 1", "\"version\": 7");
   EXPECT_THROW(read_sys_json(dir.path("bad.json")), ParseError);
   write_variant("\"format\": \"inhap-sys\"", "\"format\": \"other\"");
+  EXPECT_THROW(read_sys_json(dir.path("bad.json")), ParseError);
+  write_variant("\"force_frame\": \"probe\"", "\"force_frame\": \"sideways\"");
   EXPECT_THROW(read_sys_json(dir.path("bad.json")), ParseError);
   write_file_atomic(dir.path("bad.json"), "{ not json");
   EXPECT_THROW(read_sys_json(dir.path("bad.json")), ParseError);

@@ -57,6 +57,7 @@ json eval_scene(const std::string& name, const EvalSysOptions& o) {
   j["palpation_wall_s_per_point"] = r.wall_s / static_cast<double>(r.sys.points.size());
   j["palpation_cpu_s"] = r.cpu_s;
   j["palpation_cpu_s_per_point"] = r.cpu_s / static_cast<double>(r.sys.points.size());
+  j["force_frame"] = friction::to_string(r.sys.force_frame);
   j["cycles"] = r.cycles.size();
   j["limits"] = rel.size();
   j["limit_rel_error_measured"] = {{"median", quantile(rel_measured, 0.5)},

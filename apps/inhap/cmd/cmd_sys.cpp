@@ -39,7 +39,7 @@ Vec3 parse_vec3(const std::string& s, const char* flag) {
 }
 
 struct FitArgs {
-  std::string cycles, mesh, out, tangent_reference = "1,0,0";
+  std::string cycles, mesh, out, tangent_reference = "1,0,0", force_frame = "auto";
   BorderOptions border;
   double probe_radius = 0.0, load_damping = 0.004;
 };
@@ -47,7 +47,8 @@ struct FitArgs {
 void print_summary(const SysModel& m) {
   fmt::print("{} reference points, f_N levels", m.points.size());
   for (double f : m.f_normal_levels) fmt::print(" {:g}", f);
-  fmt::print(" N, {} directions\n", m.angles.size());
+  fmt::print(" N, {} directions; forces split at the {} normal\n", m.angles.size(),
+             m.force_frame == ForceFrame::kAnchor ? "anchor (n_c)" : "probe (under the probe)");
   fmt::print("{:>5} {:>9}  {}\n", "point", "f_N (N)",
              "f_T elastic limit per direction (N), e = extrapolated beyond the force range, * = no "
              "sliding seen");
@@ -67,6 +68,7 @@ void run_fit(const FitArgs& a) {
   opt.border = a.border;
   opt.tangent_reference = parse_vec3(a.tangent_reference, "--tangent-reference");
   opt.load_damping = a.load_damping;
+  opt.force_frame = force_frame_from_string(a.force_frame);
   std::unique_ptr<MeshSurface> shape;
   if (!a.mesh.empty()) {
     shape = std::make_unique<MeshSurface>(read_mesh(a.mesh), a.probe_radius);
@@ -341,6 +343,12 @@ void register_fit(CLI::App* sys) {
       ->capture_default_str();
   fit->add_option("--noise-floor", fa->border.min_sliding_growth,
                   "plateau growth (mm) below which a step is not sliding")
+      ->capture_default_str();
+  fit->add_option("--force-frame", fa->force_frame,
+                  "normal the measured forces are split at for the limits (needs --mesh): anchor "
+                  "(n_c, where the stuck contact began), probe (the surface under the displaced "
+                  "probe) or auto (the one whose f_T/f_N depends least on f_N)")
+      ->check(CLI::IsMember({"auto", "anchor", "probe"}))
       ->capture_default_str();
   fit->callback([fa] { run_fit(*fa); });
 }

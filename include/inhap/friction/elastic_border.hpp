@@ -32,6 +32,11 @@ struct BorderStep {
   /// Measured |f_t| / f_n of the reaction force at t_measurement, decomposed at the normal of
   /// the surface under the displaced probe (NaN: unknown).
   double ratio = std::numeric_limits<double>::quiet_NaN();
+  /// The same ratio decomposed at the two candidate normals (ForceFrame in sys_model.hpp):
+  /// n_c, the normal where the stuck contact began, and the normal of the surface under the
+  /// displaced probe. `ratio` is one of them (NaN: unknown).
+  double ratio_anchor = std::numeric_limits<double>::quiet_NaN();
+  double ratio_probe = std::numeric_limits<double>::quiet_NaN();
   double growth() const { return u_long - u_short; }  ///< Delta u^p_plateau, mm
 };
 

@@ -42,6 +42,19 @@ struct SysPoint {
   }
 };
 
+/// Normal at which the measured force of a step is split into f_n and |f_t| for its elastic
+/// limit. Where the friction cone of a stuck contact lives depends on the material (and on the
+/// physics of a simulator): at n_c, the normal where the stuck patch began (kAnchor: a patch
+/// that is carried along by shear, e.g. the MuJoCo lab), or at the surface under the displaced
+/// probe (kProbe: the built-in lab). The two differ only on curved parts, by about the angle the
+/// probe moved over the surface (pre-sliding displacement / radius). kAuto picks, over the
+/// whole fit, the frame in which the limit ratio f_T / f_N of each (point, direction) depends
+/// least on f_N (Coulomb: not at all). Without a shape both are n_c.
+enum class ForceFrame { kAuto, kAnchor, kProbe };
+const char* to_string(ForceFrame f);
+/// "auto" | "anchor" | "probe"; throws inhap::Error naming the accepted spellings.
+ForceFrame force_frame_from_string(const std::string& s);
+
 struct SysModel {
   static constexpr int kFormatVersion = 1;
   std::vector<double> f_normal_levels;  ///< L levels f_N, N (increasing)
@@ -49,6 +62,9 @@ struct SysModel {
   std::vector<double> plateaus;         ///< short and long t_plateau, s
   Vec3 tangent_reference = Vec3::UnitX();
   BorderOptions border_options;
+  /// Frame the limits' forces were decomposed in (kAnchor or kProbe; files without the field:
+  /// kProbe, the rule before the choice existed).
+  ForceFrame force_frame = ForceFrame::kProbe;
   std::vector<SysPoint> points;
   ReferenceMesh reference_mesh;
 
@@ -74,6 +90,7 @@ struct FitOptions {
   const ShapeQuery* shape = nullptr;
   Vec3 tangent_reference = Vec3::UnitX();
   double angle_tolerance = 0.05;  ///< rad: direction k must be at the same angle at every point
+  ForceFrame force_frame = ForceFrame::kAuto;
 };
 
 /// Fits the sliding yield surfaces from palpation cycles. Cycles with status no_contact,
