@@ -341,6 +341,18 @@ void fit_points(SysModel& m, const FitOptions& opt) {
     fit_all(ForceFrame::kAnchor);
 }
 
+// The slip viscosity is a property of the material, and one point's estimate rests on the
+// 1-3 sliding steps of a few sweeps: every point takes the median over all points. A material
+// without creep (hard Coulomb friction, e.g. the MuJoCo lab) then gets 0 everywhere even when a
+// few points' sweeps were slowed by the device, and the proxy estimator's return stays
+// rate-independent there instead of trailing the anchor.
+void pool_creep(SysModel& m) {
+  std::vector<double> c;
+  for (const SysPoint& p : m.points) c.push_back(p.creep_viscosity);
+  const double pooled = median(c, 0.0);
+  for (SysPoint& p : m.points) p.creep_viscosity = pooled;
+}
+
 }  // namespace
 
 SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
@@ -372,6 +384,7 @@ SysModel fit_sys(std::span<const CycleRecord> cycles, const FitOptions& opt) {
     if (!(m.angles[k] > m.angles[k - 1]))
       throw Error("sys fit: expected direction indices in increasing angle order around n_c");
   fit_points(m, opt);
+  pool_creep(m);
   m.rebuild();
   return m;
 }
