@@ -445,6 +445,7 @@ ForceCoverage training_coverage(const ForceLabResult& d) {
   c.outside = n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
   c.gaps = dd::coverage_gaps(map);
   c.cell_mm = map.params().cell_mm;
+  c.map = map;
   return c;
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "command.hpp"
 #include "demo.hpp"
@@ -184,6 +185,69 @@ void write_series(const std::string& path, const eval::ForceLabResult& d) {
   csv.commit();
 }
 
+// Where the training recording went (issue 18): the (x, y) projection of the coverage map,
+// colour = training samples per column of cells (log scale), the largest unvisited gaps marked.
+Figure coverage_figure(const std::vector<eval::ForceLabResult>& all) {
+  Figure f{"coverage",
+           "Training coverage: where the exploration went, and where to explore more",
+           "Proxy positions of the training recording binned into cells (seen from above; "
+           "colour = samples per cell column, log10). Crosses: the largest unvisited regions "
+           "inside the explored area, where a model extrapolates (explore there before "
+           "training). The share of the held-out test samples outside the training support "
+           "is in the table.",
+           "plotly",
+           {}};
+  f.spec["data"] = nlohmann::json::array();
+  nlohmann::json layout = {{"height", 420}, {"grid", {{"rows", 1}, {"columns", all.size()}}}};
+  for (std::size_t s = 0; s < all.size(); ++s) {
+    const eval::ForceCoverage cov = eval::training_coverage(all[s]);
+    std::map<std::pair<int, int>, double> column;
+    for (const dd::CoverageCell& cell : cov.map.cells())
+      column[{cell.index[0], cell.index[1]}] += static_cast<double>(cell.samples);
+    nlohmann::json x = nlohmann::json::array(), y = x, z = x;
+    for (const auto& [ij, n] : column) {
+      x.push_back((ij.first + 0.5) * cov.cell_mm);
+      y.push_back((ij.second + 0.5) * cov.cell_mm);
+      z.push_back(std::log10(n));
+    }
+    const std::string ax = s == 0 ? "" : std::to_string(s + 1);
+    f.spec["data"].push_back({{"type", "scatter"},
+                              {"mode", "markers"},
+                              {"x", x},
+                              {"y", y},
+                              {"xaxis", "x" + ax},
+                              {"yaxis", "y" + ax},
+                              {"name", all[s].name},
+                              {"marker",
+                               {{"symbol", "square"},
+                                {"size", 6},
+                                {"color", z},
+                                {"colorscale", "Viridis"},
+                                {"showscale", s == 0},
+                                {"colorbar", {{"title", {{"text", "log10 samples"}}}}}}}});
+    nlohmann::json gx = nlohmann::json::array(), gy = gx, gt = gx;
+    for (const dd::CoverageGap& g : cov.gaps) {
+      gx.push_back(g.x_mm);
+      gy.push_back(g.y_mm);
+      gt.push_back(
+          fmt::format("{:.0f} mm2", static_cast<double>(g.cells) * cov.cell_mm * cov.cell_mm));
+    }
+    f.spec["data"].push_back({{"type", "scatter"},
+                              {"mode", "markers+text"},
+                              {"x", gx},
+                              {"y", gy},
+                              {"text", gt},
+                              {"textposition", "top center"},
+                              {"xaxis", "x" + ax},
+                              {"yaxis", "y" + ax},
+                              {"name", all[s].name + ": explore here"},
+                              {"marker", {{"symbol", "x"}, {"size", 12}, {"color", "#d62728"}}}});
+    layout["xaxis" + ax] = {{"title", {{"text", all[s].name + ": x (mm)"}}}};
+    layout["yaxis" + ax] = {{"title", {{"text", "y (mm)"}}}, {"scaleanchor", "x" + ax}};
+  }
+  f.spec["layout"] = layout;
+  return f;
+}
 }  // namespace
 
 StepResult step_force_model(const Context& c) {
@@ -235,8 +299,16 @@ StepResult step_force_model(const Context& c) {
           {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
            fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
            "with < without (fig. 4.14)"});
+    const eval::ForceCoverage cov = eval::training_coverage(d);
+    std::string where;
+    for (std::size_t g = 0; g < std::min<std::size_t>(2, cov.gaps.size()); ++g)
+      where += fmt::format("{}({:.0f}, {:.0f})", g ? ", " : "; explore more at x, y mm ",
+                           cov.gaps[g].x_mm, cov.gaps[g].y_mm);
+    r.rows.push_back({fmt::format("{}: test samples outside the training support", t.name),
+                      fmt::format("{:.1f} %{}", 100.0 * cov.outside, where), "-"});
     summary.push_back(
         {{"name", t.name},
+         {"coverage", cov.outside},
          {"proxy_source", d.test_track.proxy_source},
          {"contact_source", d.test_track.contact_source},
          {"train_samples", d.train.rec.size()},
@@ -254,6 +326,7 @@ StepResult step_force_model(const Context& c) {
     r.figures.push_back(time_figure(d, d.name == "dome" ? "fig4_12" : "fig4_11"));
   r.figures.push_back(magnitude_figure(all, baselines));
   r.figures.push_back(box_figure(all, baselines));
+  r.figures.push_back(coverage_figure(all));
   r.note = fmt::format("proxy: {}", all.back().test_track.proxy_source);
   return r;
 }

@@ -108,7 +108,8 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
 struct ForceCoverage {
   double outside = 0;  ///< share of the in-contact test samples outside the training support
   std::vector<dd::CoverageGap> gaps;
-  double cell_mm = 0;  ///< cell size of the map (a gap's area is cells * cell_mm^2)
+  double cell_mm = 0;   ///< cell size of the map (a gap's area is cells * cell_mm^2)
+  dd::CoverageMap map;  ///< the training recording's cells (proxy positions x largest |f|)
 };
 ForceCoverage training_coverage(const ForceLabResult& d);
 
