@@ -87,11 +87,6 @@ ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
   return t;
 }
 
-std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
-  Rng r(seed ^ (0x5851f42d4c957f2dull * (stream + 1)));  // as lab::record_scene
-  return r.next_u64();
-}
-
 /// The ordinary random free exploration (the test run; the training run with "random").
 lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::uint64_t seed,
                                 const std::function<void(double)>& prog, lab::Physics physics) {
@@ -103,25 +98,21 @@ lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::ui
   return lab::record_scene(scene, spec, prog);
 }
 
-/// The explore operator's coverage-driven training mode, device set up as lab::record_scene.
+/// The explore operator's coverage-driven training mode (`inhap lab record --coverage`).
 lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::uint64_t seed,
                                   const ForceLabOptions& o,
                                   const std::function<void(double)>& prog) {
-  lab::DeviceParams dp;
-  dp.seed = derive_seed(seed, 0);
-  dp.physics = o.physics;
-  lab::SimDevice device(scene.object, dp);
-  lab::ExploreOptions eo;
-  eo.coverage = true;
-  eo.coverage_share = o.coverage_share;
-  eo.seconds_per_spot = o.seconds_per_spot;
-  eo.coverage_force_min = o.coverage_force_min;
-  eo.coverage_force_max = o.coverage_force_max;
-  auto op = lab::make_explore_operator(scene, derive_seed(seed, 1), seconds, eo);
-  lab::LabRecording r = lab::record(device, *op, seconds, prog);
-  r.comments = {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}", scene.name,
-                            op->name(), seconds, seed)};
-  return r;
+  lab::RecordSpec spec;
+  spec.operator_name = "explore";
+  spec.seconds = seconds;
+  spec.seed = seed;
+  spec.physics = o.physics;
+  spec.explore.coverage = true;
+  spec.explore.coverage_share = o.coverage_share;
+  spec.explore.seconds_per_spot = o.seconds_per_spot;
+  spec.explore.coverage_force_min = o.coverage_force_min;
+  spec.explore.coverage_force_max = o.coverage_force_max;
+  return lab::record_scene(scene, spec, prog);
 }
 
 /// Estimated vs true proxy of the test run: RMS distance where both are in contact, and the

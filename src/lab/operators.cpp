@@ -119,9 +119,13 @@ RecordSetup make_record_setup(const Scene& scene, const RecordSpec& spec) {
   s.params.seed = derive_seed(spec.seed, 0);
   s.params.physics = spec.physics;
   s.device = std::make_unique<SimDevice>(scene.object, s.params);
-  s.op = spec.operator_name == "tap"
-             ? make_tap_operator(scene, derive_seed(spec.seed, 1), spec.tap)
-             : make_operator(spec.operator_name, scene, derive_seed(spec.seed, 1), spec.seconds);
+  const std::uint64_t op_seed = derive_seed(spec.seed, 1);
+  if (spec.operator_name == "tap")
+    s.op = make_tap_operator(scene, op_seed, spec.tap);
+  else if (spec.operator_name == "explore")
+    s.op = make_explore_operator(scene, op_seed, spec.seconds, spec.explore);
+  else
+    s.op = make_operator(spec.operator_name, scene, op_seed, spec.seconds);
   return s;
 }
 
@@ -134,9 +138,8 @@ std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& s
                       setup.op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
                                               ? std::string(" (whole object)")
                                               : std::string()),
-                      spec.seconds, spec.seed,
-                      spec.probe.kind == ProbeKind::tip ? "tip" : "sphere", spec.probe.radius_mm,
-                      to_string(spec.physics)),
+                      spec.seconds, spec.seed, spec.probe.kind == ProbeKind::tip ? "tip" : "sphere",
+                      spec.probe.radius_mm, to_string(spec.physics)),
           fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
                       "gravity {}, inertia {}",
                       dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",

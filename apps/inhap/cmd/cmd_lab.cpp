@@ -21,7 +21,8 @@ struct RecordArgs {
   std::string scene, scene_file, op = "explore", out, probe = "sphere", physics = "builtin";
   double seconds = 60;
   std::uint64_t seed = 1;
-  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false;
+  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false,
+       coverage = false;
 };
 
 constexpr double kLongRecordingS = 600.0, kMaxRecordingS = 3600.0;
@@ -72,6 +73,9 @@ void run_record(const RecordArgs& a) {
   spec.gravity = !a.no_gravity;
   spec.inertia = !a.no_inertia;
   spec.tap.whole_object = a.whole_object;
+  if (a.coverage && a.op != "explore")
+    throw Error(fmt::format("--coverage: expected --operator explore, got '{}'", a.op));
+  spec.explore.coverage = a.coverage;
   // Both outputs are checked before the simulation (which may take minutes) and written
   // all-or-nothing after it.
   check_output_path(a.out);
@@ -145,6 +149,10 @@ void register_lab(CLI::App& app) {
   rec->add_flag("--whole-object", a->whole_object,
                 "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"
                 "excluded), spread evenly, >= 1 tap/s, instead of the region seen from above");
+  rec->add_flag("--coverage", a->coverage,
+                "explore operator: a training exploration that covers the object (a grid of\n"
+                "spots over the region, every depth at each, slides between them; then the random\n"
+                "exploration), as eval forces records its training run; see docs/force-model.md");
   rec->add_flag("--no-gravity", a->no_gravity, "no tool weight in the raw reading");
   rec->add_flag("--no-inertia", a->no_inertia, "no tool inertia in the raw reading");
   rec->callback([a] { run_record(*a); });

@@ -110,6 +110,7 @@ struct RecordSpec {
   bool noise = true, gravity = true, inertia = true;
   Physics physics = Physics::builtin;  ///< contact physics of the device (physics.hpp)
   TapOptions tap;                      ///< operator "tap" only
+  ExploreOptions explore;              ///< operator "explore" only
 };
 
 /// The device and operator of a recording: the device's noise seed and the operator's seed are
