@@ -17,7 +17,7 @@ import path from 'node:path';
 const arg = (k) => { const i = process.argv.indexOf(k); return i > 0 ? process.argv[i + 1] : undefined; };
 const bin = arg('--inhap'), web = arg('--web'), out = arg('--out');
 let puppeteer;
-try { puppeteer = createRequire(path.join(web, 'package.json'))('puppeteer-core'); }
+try { puppeteer = createRequire(path.resolve(web, 'package.json'))('puppeteer-core'); }
 catch { console.log('skipped: puppeteer-core is not installed (./run setup runs npm ci --prefix web)'); process.exit(77); }
 if (!fs.existsSync('/usr/bin/chromium')) { console.log('skipped: no /usr/bin/chromium'); process.exit(77); }
 fs.mkdirSync(out, { recursive: true });
@@ -76,6 +76,10 @@ try {
   // Sampling: wait for >= 50 taps, pause the operator, delete two samples by clicking.
   const wantTaps = 50;
   await page.waitForFunction((n) => window.studio.taps >= n, { timeout: 90000, polling: 250 }, wantTaps);
+  const f0 = await page.evaluate(() => window.studio.frames), ts0 = Date.now();
+  await sleep(2000);
+  const fpsSampling = (await page.evaluate(() => window.studio.frames) - f0) / ((Date.now() - ts0) / 1000);
+  log(`MEASURED page frame rate in the sampling view (operator tapping): ${fpsSampling.toFixed(1)} fps`);
   await page.click('#pause');
   await page.waitForFunction(() => window.studio.lastReply && window.studio.lastReply.mode === 'idle', { timeout: 10000 });
   await sleep(300);

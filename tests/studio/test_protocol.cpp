@@ -41,9 +41,9 @@ TEST(StudioProtocol, ParseRefusesMalformedFrames) {
 TEST(StudioProtocol, CheckedGettersRefuseWrongKindsAndRanges) {
   const Message m =
       parse_message(R"({"type":"probe","x":"1","y":1e300,"z":5,"seq":1.5,"ids":[1,"a"],"ok":1})");
-  EXPECT_THROW(get_number(m, "x", -10, 10), ProtocolError);   // a string
-  EXPECT_THROW(get_number(m, "z", -1, 1), ProtocolError);     // out of range
-  EXPECT_THROW(get_number(m, "w", -1, 1), ProtocolError);     // missing
+  EXPECT_THROW(get_number(m, "x", -10, 10), ProtocolError);  // a string
+  EXPECT_THROW(get_number(m, "z", -1, 1), ProtocolError);    // out of range
+  EXPECT_THROW(get_number(m, "w", -1, 1), ProtocolError);    // missing
   EXPECT_THROW(get_number(m, "y", -1e4, 1e4), ProtocolError);
   EXPECT_THROW(get_integer(m, "seq", 0, 10), ProtocolError);  // not an integer
   EXPECT_THROW(get_integer_list(m, "ids", 0, 10, 5), ProtocolError);

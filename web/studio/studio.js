@@ -22,7 +22,7 @@ ws.onmessage = (ev) => {
   S.messages++;
   switch (m.type) {
     case 'state': onState(m); break;
-    case 'tap': addSample(m); S.taps++; updateCounts(); break;
+    case 'tap': addSample(m); S.taps = m.taps; updateCounts(); break;
     case 'samples': setSamples(m); break;
     case 'mesh': onMesh(m); break;
     case 'trial': onTrial(m); break;
@@ -131,6 +131,7 @@ function setSamples(msg) {
   for (const [id, e] of S.samples) if (!live.has(id)) { sampleGroup.remove(e.m); thresholdGroup.remove(e.t); S.samples.delete(id); }
   for (const s of msg.samples) addSample(s);
   S.deleted = msg.deleted;
+  S.taps = msg.taps;
   updateCounts();
 }
 function updateCounts() {
@@ -204,6 +205,15 @@ $('openmesh').onclick = () => send({ type: 'open_mesh', source: $('meshsrc').val
 $('algo').onchange = () => send({ type: 'algorithm', name: $('algo').value });
 const fT = [], fY = [];
 let plotReady = false;
+// plotly.js (3.5 MB) is loaded when the explore view first opens, not with the page.
+let plotlyLoading = false;
+function loadPlotly() {
+  if (plotlyLoading) return;
+  plotlyLoading = true;
+  const s = document.createElement('script');
+  s.src = '/lib/plotly.min.js';
+  document.head.appendChild(s);
+}
 function plotForce() {
   if (S.view !== 'explore' || typeof Plotly === 'undefined') return;
   const data = [{ x: fT, y: fY, mode: 'lines', line: { color: '#e07000' } }];
@@ -303,7 +313,7 @@ function setView(v) {
   $('palp').classList.toggle('hidden', v !== 'palpation');
   showFor(v);
   if (v === 'sampling') send({ type: 'mode', mode: tapping ? 'sampling' : 'idle' });
-  if (v === 'explore') { send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
+  if (v === 'explore') { loadPlotly(); send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
   if (v === 'experiment' && S.trial) send({ type: 'mode', mode: 'experiment' });
   resize();
 }

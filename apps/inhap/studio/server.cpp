@@ -132,9 +132,16 @@ Server::Server(int port, std::string web_dir, std::string token)
   port_ = sp[0].port;
   mg_set_request_handler(ctx_, "/", http_cb, this);
   mg_set_websocket_handler(ctx_, "/ws", ws_connect_cb, ws_ready_cb, ws_data_cb, ws_close_cb, this);
+  worker_ = std::thread([this] { work(); });
 }
 
 Server::~Server() {
+  {
+    std::lock_guard lock(mu_);
+    quit_ = true;
+  }
+  queue_cv_.notify_all();
+  worker_.join();
   if (ctx_) mg_stop(ctx_);
   mg_exit_library();
 }
@@ -197,16 +204,37 @@ int Server::on_ws_data(mg_connection* conn, int bits, char* data, std::size_t le
   const int opcode = bits & 0x0f;
   if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
   if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings are answered by civetweb
-  Handler h;
   {
     std::lock_guard lock(mu_);
-    h = handler_;
+    if (queue_.size() >= 4096) return 1;  // a page flooding the server loses messages
+    queue_.emplace_back(conn, std::string(data, len));
   }
-  const std::string reply =
-      h ? h(std::string(data, len)) : error_reply("?", "the studio is starting, try again");
-  if (!reply.empty())
-    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, reply.data(), reply.size());
+  queue_cv_.notify_one();
   return 1;
+}
+
+void Server::work() {
+  for (;;) {
+    std::pair<mg_connection*, std::string> item;
+    Handler h;
+    {
+      std::unique_lock lock(mu_);
+      queue_cv_.wait(lock, [this] { return quit_ || !queue_.empty(); });
+      if (quit_) return;
+      item = std::move(queue_.front());
+      queue_.pop_front();
+      h = handler_;
+    }
+    const std::string reply =
+        h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    if (!reply.empty()) send_to(item.first, reply);
+  }
+}
+
+void Server::send_to(mg_connection* conn, const std::string& text) {
+  std::lock_guard lock(mu_);
+  if (clients_.count(conn))
+    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
 }
 
 void Server::on_ws_close(const mg_connection* conn) {

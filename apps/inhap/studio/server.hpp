@@ -5,11 +5,15 @@
 // the Session and broadcasts the Session's stream to every open page.
 #pragma once
 
+#include <condition_variable>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <set>
 #include <string>
+#include <thread>
+#include <utility>
 
 struct mg_context;
 struct mg_connection;
@@ -47,12 +51,21 @@ class Server {
 
  private:
   bool allowed(const mg_connection* conn, bool websocket) const;
+  void work();
+  void send_to(mg_connection* conn, const std::string& text);
   std::string web_dir_, token_;
   int port_ = 0;
   mg_context* ctx_ = nullptr;
   mutable std::mutex mu_;
   std::set<mg_connection*> clients_;
   Handler handler_;
+  // Messages run on one worker thread of our own (civetweb's threads have small stacks, too
+  // small for the reconstruction), in arrival order; the reply goes to the sender if it is
+  // still connected.
+  std::deque<std::pair<mg_connection*, std::string>> queue_;
+  std::condition_variable queue_cv_;
+  bool quit_ = false;
+  std::thread worker_;
 };
 
 }  // namespace inhap::studio

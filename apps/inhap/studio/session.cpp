@@ -222,7 +222,10 @@ std::string Session::handle(std::string_view text) {
 }
 
 std::string Session::dispatch(const Message& m) {
-  if (m.type == "hello") return hello();
+  if (m.type == "hello") {
+    broadcast_(samples_json());  // the taps made before this page connected
+    return hello();
+  }
   if (m.type == "mode")
     return set_mode(get_choice(m, "mode", {"sampling", "idle", "explore", "experiment"}));
   if (m.type == "probe") return do_probe(m);

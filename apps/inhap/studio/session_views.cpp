@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -55,6 +56,7 @@ void Session::on_contact(const Contact& c) {
   }
   nlohmann::json j = sample_json(s);
   j["type"] = "tap";
+  j["taps"] = s.id + 1;
   broadcast_(j.dump());
 }
 
@@ -124,7 +126,11 @@ std::string Session::do_reconstruct(const Message& m) {
   if (pts.size() < 8)
     throw ProtocolError(fmt::format("reconstruct: {} samples, expected at least 8", pts.size()));
   ReconstructReport rep;
+  const auto t0 = std::chrono::steady_clock::now();
   TriMesh mesh = reconstruct_surface(pts, dirs, o, &rep);
+  fmt::print(stderr, "studio: reconstructed {} samples -> {} faces (alpha {:.2f} mm) in {:.1f} s\n",
+             pts.size(), mesh.num_triangles(), rep.alpha,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   std::vector<double> dist(mesh.num_vertices());
   for (std::size_t v = 0; v < dist.size(); ++v) {
     double best = std::numeric_limits<double>::infinity();
@@ -156,7 +162,8 @@ std::string Session::do_export(const Message& m) {
   std::optional<std::filesystem::path> mesh_path;
   if (m.body.contains("mesh")) mesh_path = workspace_.resolve(get_string(m, "mesh"));
   for (const std::filesystem::path* p :
-       {&points_path, mesh_path ? static_cast<const std::filesystem::path*>(&*mesh_path) : nullptr}) {
+       {&points_path,
+        mesh_path ? static_cast<const std::filesystem::path*>(&*mesh_path) : nullptr}) {
     if (!p) continue;
     const std::string ext = p->extension().string();
     if (ext != ".ply" && ext != ".obj")
