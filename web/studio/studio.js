@@ -54,6 +54,7 @@ const arrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector
 scene.add(probe, ihip, cihip, arrow);
 const sampleGroup = new THREE.Group(), thresholdGroup = new THREE.Group();
 scene.add(sampleGroup, thresholdGroup);
+S.scene = scene; S.renderer = renderer;
 const sampleGeo = new THREE.SphereGeometry(1.0, 10, 8), thrGeo = new THREE.SphereGeometry(0.5, 6, 4);
 const sampleMat = new THREE.MeshLambertMaterial({ color: 0xc02828 }), thrMat = new THREE.MeshBasicMaterial({ color: 0x999999 });
 let objectMesh = null, reconMesh = null, exploreMesh = null;
@@ -325,6 +326,11 @@ function frame() {
   S.frames++; fpsN++;
   const now = performance.now();
   if (now - fpsT >= 1000) { S.fps = (fpsN * 1000) / (now - fpsT); fpsT = now; fpsN = 0;
+    // A slow renderer (no GPU: SwiftShader) draws fewer pixels rather than fewer frames.
+    const pr = renderer.getPixelRatio();
+    if (S.fps < 45 && pr > 0.5) { renderer.setPixelRatio(pr * 0.75); resize(); }
+    else if (S.fps > 58 && pr < 1) { renderer.setPixelRatio(Math.min(1, pr / 0.75)); resize(); }
+    S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState();
   if (S.view === 'sampling' || S.view === 'explore') renderer.render(scene, camera);

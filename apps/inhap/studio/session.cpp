@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "inhap/core/error.hpp"
-#include "inhap/eval/shape_lab.hpp"
 #include "inhap/rendering/datasets.hpp"
+#include "studio/display.hpp"
 
 namespace inhap::studio {
 
@@ -248,12 +248,8 @@ std::string Session::dispatch(const Message& m) {
 }
 
 std::string Session::hello() const {
-  if (lab_) {  // the scene's object, drawn under the samples (not every shape has a mesh)
-    try {
-      broadcast_(mesh_json(eval::reference_mesh(scene_.object.shape()), "object", ""));
-    } catch (const Error&) {
-    }
-  }
+  if (lab_)  // the scene's object as the operator sees it from above, drawn under the samples
+    broadcast_(mesh_json(top_view_mesh(scene_.object.shape()), "object", ""));
   nlohmann::json j{{"type", "hello"},
                    {"mode", mode()},
                    {"device", options_.device},

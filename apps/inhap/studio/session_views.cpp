@@ -10,6 +10,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/surface/reconstruct.hpp"
+#include "studio/display.hpp"
 #include "studio/session.hpp"
 
 namespace inhap::studio {
@@ -283,7 +284,10 @@ std::string Session::do_open_mesh(const Message& m) {
     stop_rig();
     start_rig("explore");
   }
-  nlohmann::json j = nlohmann::json::parse(mesh_json(explore_mesh_, "explore", "stiffness"));
+  // The page draws a light copy (top_view_mesh); the loop renders the mesh itself.
+  nlohmann::json j = nlohmann::json::parse(
+      mesh_json(top_view_mesh(explore_mesh_, "stiffness"), "explore", "stiffness"));
+  j["faces_rendered"] = explore_mesh_.num_triangles();
   j["name"] = name;
   j["algorithm"] = algorithm_ == render::Algorithm::kTCA ? "tca" : "cba";
   return j.dump();
