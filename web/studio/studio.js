@@ -49,7 +49,7 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.2);
 sun.position.set(100, -150, 300);
 scene.add(sun);
 const sphere = (r, c) => new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), new THREE.MeshLambertMaterial({ color: c }));
-const probe = sphere(1.5, 0xd02020), ihip = sphere(1.1, 0x20a020), cihip = sphere(0.9, 0x2040d0);
+const probe = sphere(2.4, 0xd02020), ihip = sphere(1.9, 0x20a020), cihip = sphere(1.5, 0x2040d0);
 const arrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, 0xff8800, 3, 2);
 scene.add(probe, ihip, cihip, arrow);
 const sampleGroup = new THREE.Group(), thresholdGroup = new THREE.Group();
@@ -217,7 +217,7 @@ function loadPlotly() {
 }
 function plotForce() {
   if (S.view !== 'explore' || typeof Plotly === 'undefined') return;
-  const data = [{ x: fT, y: fY, mode: 'lines', line: { color: '#e07000' } }];
+  const data = [{ x: fT.slice(), y: fY.slice(), mode: 'lines', line: { color: '#e07000' } }];
   const layout = { margin: { l: 40, r: 10, t: 10, b: 30 }, xaxis: { title: { text: 't (s)' } }, yaxis: { title: { text: '|f| (N)' }, rangemode: 'tozero' } };
   if (!plotReady) { Plotly.newPlot('fplot', data, layout, { staticPlot: true }); plotReady = true; } else Plotly.react('fplot', data, layout);
 }

@@ -286,9 +286,9 @@ std::string Session::do_probe(const Message& m) {
   if (!(n.norm() > 0.1)) throw ProtocolError("probe: expected a normal (nx, ny, nz) of length 1");
   n.normalize();
   if (!rig_ || !rig_->mouse) return nlohmann::json{{"type", "ok"}, {"request", "probe"}}.dump();
-  // Hover 4 mm above the point; pressed, up to 8 mm into the surface: the hand's spring
+  // Hover 3 mm above the point; pressed, up to 12 mm into the surface: the hand's spring
   // (0.6 N/mm) against the rendered surface sets the force.
-  rig_->mailbox.write(Vec3(x, y, z) + n * (4.0 - 12.0 * press), static_cast<std::uint64_t>(seq));
+  rig_->mailbox.write(Vec3(x, y, z) + n * (3.0 - 15.0 * press), static_cast<std::uint64_t>(seq));
   return {};  // no reply: the state stream shows the probe
 }
 

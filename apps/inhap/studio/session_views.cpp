@@ -70,8 +70,10 @@ std::size_t Session::live_samples() const {
 std::string Session::samples_json() const {
   nlohmann::json pts = nlohmann::json::array();
   std::size_t deleted = 0;
+  long taps = 0;
   {
     std::lock_guard lock(data_mu_);
+    taps = next_id_;
     for (const Sample& s : samples_) {
       if (s.deleted)
         ++deleted;
@@ -79,8 +81,11 @@ std::string Session::samples_json() const {
         pts.push_back(sample_json(s));
     }
   }
-  return nlohmann::json{
-      {"type", "samples"}, {"samples", pts}, {"deleted", deleted}, {"undo", undo_.size()}}
+  return nlohmann::json{{"type", "samples"},
+                        {"samples", pts},
+                        {"deleted", deleted},
+                        {"undo", undo_.size()},
+                        {"taps", taps}}
       .dump();
 }
 
