@@ -161,6 +161,11 @@ try {
   check(rows.length === 3, `three answers in participant-007.csv (${rows.length})`);
   check(rows.map((r) => r.split(',')[6]).join(' ') === '0 12 24', `answers at cells 0, 12, 24 (${rows.map((r) => r.split(',')[6]).join(' ')})`);
 
+  await page.click('#summary');
+  await page.waitForFunction(() => window.studio.summary, { timeout: 10000 }).catch(() => {});
+  const summary = await page.evaluate(() => window.studio.summary);
+  check(summary && summary.trials === 1 && summary.conditions.length === 1,
+    `experimenter view scores the saved answers (${summary ? summary.trials : 0} trial)`);
   await page.click('button[data-view=palpation]');
   await page.screenshot({ path: path.join(out, 'studio-palpation.png') });
   check(consoleErrors.length === 0, `no console errors (${consoleErrors.length}${consoleErrors.length ? ': ' + consoleErrors.slice(0, 3).join(' | ') : ''})`);

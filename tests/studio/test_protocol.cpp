@@ -4,7 +4,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/format.h>
 #include "inhap/core/atomic_file.hpp"
+
+#include "inhap/core/error.hpp"
+#include "inhap/rendering/datasets.hpp"
+#include "studio/experiment_summary.hpp"
 #include "studio/protocol.hpp"
 #include "studio/session.hpp"
 #include "support/temp_dir.hpp"
@@ -98,4 +103,39 @@ TEST(StudioSession, MalformedMessagesChangeNothing) {
   EXPECT_EQ(ex["type"], "ok") << ex.dump();
   EXPECT_EQ(ex["points"], 11);
   EXPECT_TRUE(std::filesystem::exists(ws.root() / "out.ply"));
+}
+
+TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
+  // Truth from Table 5.1 via the library; answers written as the Experiment view writes them.
+  inhap::test::TempDir tmp;
+  const auto truth = [](int m) { return int(inhap::render::true_shape_class(m)); };
+  std::string csv =
+      "# comment\nparticipant,session,trial,algorithm,task,layout_seed,cell,model,label,truth,"
+      "correct,t\n";
+  // trial 0 (TCA, shape): models 1-3 right, model 4 wrong; trial 1 (TCA, shape): model 5 right.
+  for (int m = 0; m < 4; ++m)
+    csv += fmt::format("2,0,0,tca,shape,11,{},{},{},0,0,1.0\n", m, m + 1,
+                       m < 3 ? truth(m) : (truth(m) + 1) % 3);
+  csv += fmt::format("2,0,1,tca,shape,12,7,5,{},0,0,2.0\n", truth(4));
+  inhap::write_file_atomic(tmp.path("participant-002.csv"), csv);
+  inhap::write_file_atomic(tmp.path("other.csv"), "not answers\n");  // ignored
+  const json s = inhap::studio::summarize_answers(tmp.root());
+  EXPECT_EQ(s["trials"], 2);
+  ASSERT_EQ(s["conditions"].size(), 1u);
+  const json& c = s["conditions"][0];
+  EXPECT_EQ(c["algorithm"], inhap::render::to_string(inhap::render::Algorithm::kTCA));
+  EXPECT_DOUBLE_EQ(c["mean"].get<double>(), (3 + 1) / 2.0);  // 3 then 1 correct of 25
+  EXPECT_DOUBLE_EQ(c["model_ratio"][0].get<double>(), 0.5);  // right in trial 0 only
+  EXPECT_DOUBLE_EQ(c["model_ratio"][3].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(c["model_ratio"][4].get<double>(), 0.5);
+
+  inhap::write_file_atomic(tmp.path("participant-003.csv"),
+                           "3,0,0,tca,shape,1,0,26,1,0,0,1\n");
+  try {
+    inhap::studio::summarize_answers(tmp.root());
+    ADD_FAILURE() << "model 26 accepted";
+  } catch (const inhap::ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("participant-003.csv"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), 1u);
+  }
 }

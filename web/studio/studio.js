@@ -27,6 +27,7 @@ ws.onmessage = (ev) => {
     case 'mesh': onMesh(m); break;
     case 'trial': onTrial(m); break;
     case 'hello': S.ready = true; S.hello = m; break;
+    case 'summary': onSummary(m); break;
     case 'error': S.errors.push(m); S.lastReply = m; $('status').textContent = 'error: ' + m.message; break;
     default: S.lastReply = m;
   }
@@ -303,6 +304,20 @@ window.addEventListener('keydown', (ev) => {
 });
 $('expstart').onclick = () => send({ type: 'experiment', participant: +$('participant').value });
 $('nexttrial').onclick = () => send({ type: 'next_trial' });
+// Experimenter: fig. 5.10 (mean correct of 25 per condition) and fig. 5.11 (per-model ratio),
+// scored by the library from the participant CSVs in the workspace.
+$('summary').onclick = () => { loadPlotly(); send({ type: 'summary' }); };
+function onSummary(m) {
+  S.summary = m;
+  const rows = m.conditions.map((c) => `${c.algorithm} ${c.task}: ${c.mean.toFixed(1)} ± ${c.sd_trials.toFixed(1)} of 25 (${c.trials} trials); below 0.5: ${c.below_half.length ? 'M' + c.below_half.join(', M') : 'none'}`);
+  $('summaryinfo').innerHTML = `${m.files.length} participant file(s), ${m.trials} trial(s)<br>` + rows.join('<br>');
+  const draw = () => {
+    if (typeof Plotly === 'undefined') return setTimeout(draw, 200);
+    const traces = m.conditions.map((c) => ({ type: 'bar', name: `${c.algorithm} ${c.task}`, x: c.model_ratio.map((_, i) => 'M' + (i + 1)), y: c.model_ratio }));
+    Plotly.newPlot('ratioplot', traces, { margin: { l: 35, r: 5, t: 5, b: 30 }, height: 220, width: 300, yaxis: { range: [0, 1] }, showlegend: true, legend: { orientation: 'h' } }, { staticPlot: true });
+  };
+  draw();
+}
 
 // --- views ---------------------------------------------------------------------------------
 function setView(v) {

@@ -9,6 +9,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/rendering/datasets.hpp"
 #include "studio/display.hpp"
+#include "studio/experiment_summary.hpp"
 
 namespace inhap::studio {
 
@@ -240,6 +241,7 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "experiment") return do_experiment(m);
   if (m.type == "answer") return do_answer(m);
   if (m.type == "next_trial") return do_next_trial();
+  if (m.type == "summary") return summarize_answers(workspace_.root()).dump();
   if (m.type == "stats") {
     fmt::print(stderr, "page: {}\n", m.body.dump());
     return nlohmann::json{{"type", "ok"}, {"request", "stats"}}.dump();
