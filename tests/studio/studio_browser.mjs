@@ -125,11 +125,11 @@ try {
   for (let i = 0; i < 20; ++i) { await page.mouse.move(cx + i, cy); await sleep(30); }
   const fps0 = await page.evaluate(() => window.studio.frames);
   const tf0 = Date.now();
-  await page.evaluate(() => { window.studio.latencies.length = 0; window.studio.contactSeen = false; window.studio.maxForce = 0; });
+  await page.evaluate(() => { window.studio.latencies.length = 0; window.studio.latencyMs.length = 0; window.studio.contactSeen = false; window.studio.maxForce = 0; });
   await page.mouse.down();
   for (let i = 0; i < 60; ++i) { await page.mouse.move(cx + 20 - i, cy + i * 1.5); await sleep(33); }
   await sleep(300);
-  const ex = await page.evaluate(() => ({ contact: window.studio.contactSeen, f: window.studio.maxForce, lat: window.studio.latencies.slice(), fps: window.studio.fps }));
+  const ex = await page.evaluate(() => ({ contact: window.studio.contactSeen, f: window.studio.maxForce, lat: window.studio.latencies.slice(), ms: window.studio.latencyMs.slice(), fps: window.studio.fps }));
   const fpsMeasured = (await page.evaluate(() => window.studio.frames) - fps0) / ((Date.now() - tf0) / 1000);
   await page.screenshot({ path: path.join(out, 'studio-explore.png') });
   await page.mouse.up();
@@ -137,6 +137,8 @@ try {
   check(ex.f > 0, `explore: non-zero force (max ${ex.f.toFixed(2)} N)`);
   const lat = ex.lat.slice().sort((a, b) => a - b);
   const q = (p) => (lat.length ? lat[Math.min(lat.length - 1, Math.floor(p * lat.length))] : NaN);
+  const ms = ex.ms.slice().sort((a, b) => a - b);
+  log(`MEASURED round trip (target sent -> applied by the servo thread -> state on the page): median ${ms[Math.floor(ms.length / 2)].toFixed(1)} ms, p90 ${ms[Math.floor(0.9 * ms.length)].toFixed(1)} ms`);
   log(`MEASURED mouse-to-probe latency: median ${q(0.5)} frames, p90 ${q(0.9)}, max ${lat[lat.length - 1]} (${lat.length} moves); page ${fpsMeasured.toFixed(1)} fps while dragging (rAF counter ${ex.fps.toFixed(1)})`);
 
   // Experiment: participant 7, three answers at three models.

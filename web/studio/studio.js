@@ -9,7 +9,7 @@ const $ = (id) => document.getElementById(id);
 const S = (window.studio = {
   ready: false, view: 'sampling', taps: 0, samples: new Map(), deleted: 0, mesh: null,
   lastReply: null, errors: [], state: null, contactSeen: false, maxForce: 0,
-  frames: 0, fps: 0, latencies: [], trial: null, answered: 0, messages: 0,
+  frames: 0, fps: 0, latencies: [], latencyMs: [], trial: null, answered: 0, messages: 0,
 });
 
 // --- socket -------------------------------------------------------------------------------
@@ -36,7 +36,7 @@ ws.onmessage = (ev) => {
 
 // --- three.js stage ------------------------------------------------------------------------
 const host = $('view3d');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+const renderer = new THREE.WebGLRenderer({ antialias: false, powerPreference: "high-performance" });
 renderer.setPixelRatio(1);
 host.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
@@ -191,7 +191,8 @@ $('opensess').onclick = () => send({ type: 'open_session', path: $('sessname').v
 
 // --- explore -------------------------------------------------------------------------------
 let pressing = false, dragFrom = null, seq = 0, lastHit = null;
-const pending = [];  // [seq, frame sent]
+const pending = [];  // [seq, frame sent, time sent]
+const arrived = [];  // [seq, time sent] not yet timed on arrival
 function exploreMove(ev) {
   if (!exploreMesh || ev.target !== renderer.domElement && !pressing) return;
   const hit = pick(ev, [exploreMesh]);
@@ -200,7 +201,7 @@ function exploreMove(ev) {
   const drag = pressing && dragFrom ? Math.hypot(ev.clientX - dragFrom[0], ev.clientY - dragFrom[1]) : 0;
   const press = pressing ? Math.min(1, 0.35 + drag / 300) : 0;
   seq++;
-  pending.push([seq, S.frames]);
+  pending.push([seq, S.frames]); arrived.push([seq, performance.now()]);
   send({ type: 'probe', x: lastHit.p.x, y: lastHit.p.y, z: lastHit.p.z, nx: lastHit.n.x, ny: lastHit.n.y, nz: lastHit.n.z, press, seq });
 }
 $('openmesh').onclick = () => send({ type: 'open_mesh', source: $('meshsrc').value, path: $('meshpath').value || 'x.ply' });
@@ -227,6 +228,8 @@ setInterval(plotForce, 200);
 // --- state ---------------------------------------------------------------------------------
 function onState(m) {
   S.state = m;
+  // round trip in ms: the target sent, applied by the servo thread, its state back on the page
+  while (arrived.length && arrived[0][0] <= m.seq) { S.latencyMs.push(performance.now() - arrived[0][1]); arrived.shift(); }
   const f = Math.hypot(...m.f);
   if (m.contact) S.contactSeen = true;
   if (S.view === 'explore') { S.maxForce = Math.max(S.maxForce, f); fT.push(m.t); fY.push(f); if (fT.length > 600) { fT.shift(); fY.shift(); } }
@@ -283,7 +286,7 @@ function expMove(ev) {
   if (!S.trial) return;
   const [x, y] = svgToMm(ev);
   const drag = expPress && expFrom ? Math.hypot(ev.clientX - expFrom[0], ev.clientY - expFrom[1]) : 0;
-  seq++; pending.push([seq, S.frames]);
+  seq++; pending.push([seq, S.frames]); arrived.push([seq, performance.now()]);
   send({ type: 'probe', x, y, z: 0, nx: 0, ny: 0, nz: 1, press: expPress ? Math.min(1, 0.35 + drag / 300) : 0, seq });
 }
 svg.addEventListener('pointermove', expMove);

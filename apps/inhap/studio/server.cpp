@@ -118,9 +118,17 @@ Server::Server(int port, std::string web_dir, std::string token)
   if (port < 0 || port > 65535) throw Error("--port: expected 0-65535");
   mg_init_library(0);
   const std::string ports = fmt::format("127.0.0.1:{}", port);
-  const char* options[] = {
-      "listening_ports",      ports.c_str(), "num_threads", "8", "enable_keep_alive", "no",
-      "websocket_timeout_ms", "3600000",     nullptr};
+  const char* options[] = {"listening_ports",
+                           ports.c_str(),
+                           "num_threads",
+                           "8",
+                           "enable_keep_alive",
+                           "no",
+                           "websocket_timeout_ms",
+                           "3600000",
+                           "tcp_nodelay",
+                           "1",
+                           nullptr};
   mg_callbacks callbacks{};
   ctx_ = mg_start(&callbacks, this, options);
   if (!ctx_) throw Error(fmt::format("cannot listen on {} (in use?)", ports));

@@ -165,31 +165,41 @@ void Session::stop_rig() {
 }
 
 void Session::stream_loop() {
+  // Polls the ring every 2 ms; broadcasts the newest sample every 1/stream_hz, or at once when
+  // the servo thread has just applied a new mouse target (the page's latency).
   using clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration<double>(1.0 / options_.stream_hz);
-  auto next = clock::now();
+  const auto period = std::chrono::duration_cast<clock::duration>(
+      std::chrono::duration<double>(1.0 / options_.stream_hz));
+  const auto poll = std::chrono::milliseconds(2);
+  auto next = clock::now(), last_sent = next;
+  std::uint64_t sent_seq = 0;
   const bool sampling = mode() == "sampling";
+  bool have = false;
+  haptics::LoopSample last;
   while (!stop_stream_) {
-    next += std::chrono::duration_cast<clock::duration>(period);
+    next += poll;
     std::this_thread::sleep_until(next);
-    haptics::LoopSample s, last;
-    bool any = false;
+    haptics::LoopSample s;
     std::vector<Contact> found;
     while (rig_->ring.pop(s)) {
-      any = true;
+      have = true;
       last = s;
       if (!sampling) continue;
       const Vec3 f = compensate_step(rig_->comp, rig_->comp_state, s.p_mm, s.sensor_force_n);
       if (auto c = rig_->taps.add(s.t_s, s.p_mm, f)) found.push_back(*c);
     }
     for (const Contact& c : found) on_contact(c);
-    if (!any) continue;
+    const std::uint64_t seq = rig_->mouse ? rig_->mouse->applied_seq() : 0;
+    const auto now = clock::now();
+    if (!have || (now - last_sent < period && seq == sent_seq)) continue;
     {
       std::lock_guard lock(data_mu_);
       latest_ = last;
       have_latest_ = true;
     }
     broadcast_(state_json(last));
+    last_sent = now;
+    sent_seq = seq;
   }
 }
 
