@@ -55,6 +55,8 @@ void run_studio(const StudioArgs& a) {
   server.set_handler({});
   session.stop();
   fmt::print(stderr, "inhap studio: stopped ({} samples)\n", session.live_samples());
+  if (const std::string l = session.server_latency(); !l.empty())
+    fmt::print(stderr, "mouse target handled -> its state sent: {}\n", l);
 }
 
 void register_studio(CLI::App& app) {

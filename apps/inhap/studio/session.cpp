@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -97,6 +98,14 @@ void Session::stop() {
   std::lock_guard cmd(cmd_mu_);
   stop_rig();
   if (bridge_) bridge_->stop();
+}
+
+std::string Session::server_latency() const {
+  std::vector<double> v = server_latency_ms_;
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  return fmt::format("median {:.1f} ms, p90 {:.1f} ms, max {:.1f} ms ({} targets)", v[v.size() / 2],
+                     v[v.size() * 9 / 10], v.back(), v.size());
 }
 
 std::string Session::mode() const {
@@ -198,6 +207,9 @@ void Session::stream_loop() {
       have_latest_ = true;
     }
     broadcast_(state_json(last));
+    if (seq != sent_seq && seq == probe_written_seq_ && server_latency_ms_.size() < 100000)
+      server_latency_ms_.push_back(
+          1e-6 * double(clock::now().time_since_epoch().count() - probe_written_ns_));
     last_sent = now;
     sent_seq = seq;
   }
@@ -301,6 +313,8 @@ std::string Session::do_probe(const Message& m) {
   // Hover 3 mm above the point; pressed, up to 12 mm into the surface: the hand's spring
   // (0.6 N/mm) against the rendered surface sets the force.
   rig_->mailbox.write(Vec3(x, y, z) + n * (3.0 - 15.0 * press), static_cast<std::uint64_t>(seq));
+  probe_written_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
+  probe_written_seq_ = static_cast<std::uint64_t>(seq);
   return {};  // no reply: the state stream shows the probe
 }
 

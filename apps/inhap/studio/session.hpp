@@ -81,6 +81,8 @@ class Session {
   /// Starts the first view (sampling). With udp, waits up to connect_s for a device.
   void start(double connect_s = 60);
   void stop();
+  /// Median and p90 of the server side of the mouse-to-probe latency, ms ("" when none).
+  std::string server_latency() const;
   /// One message from the page: returns the reply (JSON). Never throws; a refused message gets
   /// an error reply and changes nothing.
   std::string handle(std::string_view text);
@@ -142,6 +144,10 @@ class Session {
   std::string explore_name_;
   render::Algorithm algorithm_ = render::Algorithm::kTCA;
   std::uint64_t probe_seq_ = 0;
+  // Server side of the page's latency: probe message handled -> state with its seq broadcast.
+  std::atomic<std::int64_t> probe_written_ns_{0};
+  std::atomic<std::uint64_t> probe_written_seq_{0};
+  std::vector<double> server_latency_ms_;  // streamer thread only; printed by stop()
   // experiment
   int participant_ = -1;
   std::vector<render::TrialSpec> schedule_;
