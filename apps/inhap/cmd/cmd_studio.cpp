@@ -52,7 +52,7 @@ void run_studio(const StudioArgs& a) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= a.seconds)
       break;
   }
-  server.set_handler({});
+  server.stop_handling();  // no message runs on the session from here on
   session.stop();
   fmt::print(stderr, "inhap studio: stopped ({} samples)\n", session.live_samples());
   if (const std::string l = session.server_latency(); !l.empty())

@@ -144,18 +144,23 @@ Server::Server(int port, std::string web_dir, std::string token)
 }
 
 Server::~Server() {
-  {
-    std::lock_guard lock(mu_);
-    quit_ = true;
-  }
-  queue_cv_.notify_all();
-  worker_.join();
+  stop_handling();
   if (ctx_) mg_stop(ctx_);
   mg_exit_library();
 }
 
 std::string Server::url() const {
   return fmt::format("http://127.0.0.1:{}/?token={}", port_, token_);
+}
+
+void Server::stop_handling() {
+  {
+    std::lock_guard lock(mu_);
+    quit_ = true;
+    handler_ = {};
+  }
+  queue_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
 }
 
 void Server::set_handler(Handler h) {
@@ -214,7 +219,7 @@ int Server::on_ws_data(mg_connection* conn, int bits, char* data, std::size_t le
   if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings are answered by civetweb
   {
     std::lock_guard lock(mu_);
-    if (queue_.size() >= 4096) return 1;  // a page flooding the server loses messages
+    if (quit_ || queue_.size() >= 4096) return 1;  // stopping, or a page flooding the server
     queue_.emplace_back(conn, std::string(data, len));
   }
   queue_cv_.notify_one();

@@ -41,6 +41,9 @@ class Server {
   /// Sends a text frame to every open page.
   void broadcast(const std::string& text);
   std::size_t clients() const;
+  /// Stops running messages (waits for the one running); later messages are dropped. Call before
+  /// the handler's target goes away.
+  void stop_handling();
 
   // civetweb callbacks (public for the C trampolines)
   int on_http(mg_connection* conn);
