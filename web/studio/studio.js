@@ -57,7 +57,7 @@ const sampleGroup = new THREE.Group(), thresholdGroup = new THREE.Group();
 scene.add(sampleGroup, thresholdGroup);
 S.scene = scene; S.renderer = renderer;
 const sampleGeo = new THREE.SphereGeometry(1.0, 10, 8), thrGeo = new THREE.SphereGeometry(0.5, 6, 4);
-const sampleMat = new THREE.MeshLambertMaterial({ color: 0xc02828 }), thrMat = new THREE.MeshBasicMaterial({ color: 0x999999 });
+const sampleMat = new THREE.MeshLambertMaterial({ color: 0xc02828 }), outlierMat = new THREE.MeshLambertMaterial({ color: 0xff9900 }), thrMat = new THREE.MeshBasicMaterial({ color: 0x999999 });
 let objectMesh = null, reconMesh = null, exploreMesh = null;
 
 function fitCamera(box) {
@@ -98,8 +98,10 @@ function onMesh(m) {
   if (m.role === 'reconstruction') {
     if (reconMesh) scene.remove(reconMesh);
     reconMesh = mesh; S.mesh = { vertices: m.vertices.length / 3, faces: m.faces.length / 3 };
+    // the samples the pipeline's outlier filter dropped, in orange
+    for (const [id, e] of S.samples) e.m.material = (m.outliers || []).includes(id) ? outlierMat : sampleMat;
     const r = colorMap(m.values || [0]);
-    $('recinfo').textContent = `${S.mesh.faces} faces, alpha ${m.report.alpha.toFixed(2)} mm, distance ${r.lo.toFixed(2)}-${r.hi.toFixed(2)} mm`;
+    $('recinfo').textContent = `${S.mesh.faces} faces, alpha ${m.report.alpha.toFixed(2)} mm, ${m.report.outliers} outliers (orange), distance ${r.lo.toFixed(2)}-${r.hi.toFixed(2)} mm`;
   }
   if (m.role === 'explore') { if (exploreMesh) scene.remove(exploreMesh); exploreMesh = mesh; S.exploreMesh = m.faces.length / 3; }
   scene.add(mesh);
