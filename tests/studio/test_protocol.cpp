@@ -8,6 +8,7 @@
 #include "inhap/core/atomic_file.hpp"
 
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 #include "inhap/rendering/datasets.hpp"
 #include "studio/experiment_summary.hpp"
 #include "studio/protocol.hpp"
@@ -129,8 +130,7 @@ TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
   EXPECT_DOUBLE_EQ(c["model_ratio"][3].get<double>(), 0.0);
   EXPECT_DOUBLE_EQ(c["model_ratio"][4].get<double>(), 0.5);
 
-  inhap::write_file_atomic(tmp.path("participant-003.csv"),
-                           "3,0,0,tca,shape,1,0,26,1,0,0,1\n");
+  inhap::write_file_atomic(tmp.path("participant-003.csv"), "3,0,0,tca,shape,1,0,26,1,0,0,1\n");
   try {
     inhap::studio::summarize_answers(tmp.root());
     ADD_FAILURE() << "model 26 accepted";
@@ -138,4 +138,38 @@ TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
     EXPECT_NE(std::string(e.what()).find("participant-003.csv"), std::string::npos) << e.what();
     EXPECT_EQ(e.line(), 1u);
   }
+}
+
+TEST(StudioSession, OpensADataDrivenModelOrNothing) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  const std::string corpus = std::string(INHAP_SOURCE_DIR) + "/tests/fuzz/corpus/";
+  inhap::write_file_atomic((ws.root() / "model.json").string(),
+                           inhap::read_file(corpus + "model/small.json"));
+  inhap::write_file_atomic((ws.root() / "sys.json").string(),
+                           inhap::read_file(corpus + "sys/small.json"));
+  inhap::TriMesh plane;  // a 100 mm square at z = 0
+  plane.positions = {{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  inhap::write_mesh((ws.root() / "plane.ply").string(), plane);
+  StudioOptions o;
+  Session s(o, ws, [](const std::string&) {});
+
+  // A missing file: refused, and TCA-MESH can still be chosen (nothing data-driven was opened).
+  json r = reply(
+      s,
+      R"({"type":"open_mesh","source":"model","model":"model.json","sys":"none.json","shape":"plane.ply"})");
+  EXPECT_EQ(r["type"], "error") << r.dump();
+  EXPECT_EQ(reply(s, R"({"type":"algorithm","name":"tca"})")["type"], "ok");
+
+  r = reply(
+      s,
+      R"({"type":"open_mesh","source":"model","model":"model.json","sys":"sys.json","shape":"plane.ply"})");
+  ASSERT_EQ(r["type"], "mesh") << r.dump();
+  EXPECT_EQ(r["algorithm"], "data-driven");
+  EXPECT_EQ(r["faces"].size(), 6u);  // the plane's two triangles
+  // now TCA-MESH / CBA are refused: the shape carries no stiffness map
+  EXPECT_EQ(reply(s, R"({"type":"algorithm","name":"cba"})")["type"], "error");
+  // back to a stiffness mesh
+  EXPECT_EQ(reply(s, R"({"type":"open_mesh","source":"study25"})")["algorithm"], "tca");
 }

@@ -206,7 +206,12 @@ function exploreMove(ev) {
   pending.push([seq, S.frames]); arrived.push([seq, performance.now()]);
   send({ type: 'probe', x: lastHit.p.x, y: lastHit.p.y, z: lastHit.p.z, nx: lastHit.n.x, ny: lastHit.n.y, nz: lastHit.n.z, press, seq });
 }
-$('openmesh').onclick = () => send({ type: 'open_mesh', source: $('meshsrc').value, path: $('meshpath').value || 'x.ply' });
+$('openmesh').onclick = () => {
+  const src = $('meshsrc').value, v = $('meshpath').value || 'x.ply';
+  if (src !== 'model') return send({ type: 'open_mesh', source: src, path: v });
+  const [model, sys, shape] = v.split(',').map((x) => x.trim());
+  send({ type: 'open_mesh', source: 'model', model, sys, shape });
+};
 $('algo').onchange = () => send({ type: 'algorithm', name: $('algo').value });
 const fT = [], fY = [];
 let plotReady = false;

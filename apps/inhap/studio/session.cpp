@@ -149,6 +149,8 @@ void Session::start_rig(const std::string& mode) {
                                       ? schedule_[trial_].algorithm
                                       : algorithm_;
     rig->renderer = std::make_unique<haptics::MeshRenderer>(*rig->model, alg);
+    if (mode == "explore" && data_driven_)
+      rig->renderer = std::make_unique<haptics::DataDrivenRenderer>(data_driven_->model);
   }
   haptics::LoopOptions lo;
   lo.realtime = options_.realtime;

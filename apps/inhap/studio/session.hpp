@@ -21,6 +21,9 @@
 
 #include "inhap/contact/compensation.hpp"
 #include "inhap/contact/detector.hpp"
+#include "inhap/datadriven/force_model.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/trimesh.hpp"
 #include "inhap/haptics/bridge_device.hpp"
 #include "inhap/haptics/renderers.hpp"
@@ -68,6 +71,20 @@ class StreamTapDetector {
   std::vector<Vec3> p_, f_;
   bool in_ = false;
   std::size_t above_ = 0, below_ = 0, start_ = 0;
+};
+
+/// A data-driven model for the explore view (thesis 4.4-4.5): the force model, the sliding yield
+/// surfaces and the shape, kept together because DataDrivenModel points into them.
+struct DataDrivenBundle {
+  DataDrivenBundle(dd::ForceModel f, friction::SysModel y, const TriMesh& mesh, double probe_radius)
+      : force(std::move(f)),
+        sys(std::move(y)),
+        shape(mesh, probe_radius),
+        model(sys, shape, force) {}
+  dd::ForceModel force;
+  friction::SysModel sys;
+  friction::MeshSurface shape;
+  haptics::DataDrivenModel model;
 };
 
 class Session {
@@ -143,6 +160,7 @@ class Session {
   TriMesh explore_mesh_;
   std::string explore_name_;
   render::Algorithm algorithm_ = render::Algorithm::kTCA;
+  std::shared_ptr<DataDrivenBundle> data_driven_;  ///< set: explore renders it, not the mesh
   std::uint64_t probe_seq_ = 0;
   // Server side of the page's latency: probe message handled -> state with its seq broadcast.
   std::atomic<std::int64_t> probe_written_ns_{0};

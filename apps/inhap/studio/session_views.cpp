@@ -8,6 +8,7 @@
 
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/datadriven/model_io.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/surface/reconstruct.hpp"
 #include "studio/display.hpp"
@@ -270,21 +271,34 @@ std::string Session::mesh_json(const TriMesh& mesh, const std::string& role,
 }
 
 std::string Session::do_open_mesh(const Message& m) {
-  const std::string source = get_choice(m, "source", {"study25", "workspace"});
+  const std::string source = get_choice(m, "source", {"study25", "workspace", "model"});
   TriMesh mesh;
   std::string name = source;
+  std::shared_ptr<DataDrivenBundle> dd;
   if (source == "study25") {
     mesh = render::StudySurface(render::DatasetParams{}, render::identity_layout()).mesh();
-  } else {
+  } else if (source == "workspace") {
     const auto path = workspace_.resolve(get_string(m, "path"));
     mesh = read_mesh(path.string());
     name = path.filename().string();
     if (!mesh.has_property("stiffness"))
       throw ProtocolError(fmt::format("{}: expected a vertex property \"stiffness\" (N/mm)", name));
+  } else {  // a trained force model with its sliding yield surfaces and shape (inhap serve --render
+            // model)
+    const auto model = workspace_.resolve(get_string(m, "model"));
+    const auto sys = workspace_.resolve(get_string(m, "sys"));
+    const auto shape = workspace_.resolve(get_string(m, "shape"));
+    const double radius = get_number_or(m, "probe_radius", 0, 50, 0);
+    mesh = read_mesh(shape.string());
+    dd = std::make_shared<DataDrivenBundle>(dd::load_force_model(model.string()),
+                                            friction::read_sys_json(sys.string()), mesh, radius);
+    name = model.filename().string();
   }
+  // Everything loaded: only now does the session change.
   const std::string old_mode = mode();
   explore_mesh_ = std::move(mesh);
   explore_name_ = name;
+  data_driven_ = std::move(dd);
   if (old_mode == "explore") {
     stop_rig();
     start_rig("explore");
@@ -294,12 +308,18 @@ std::string Session::do_open_mesh(const Message& m) {
       mesh_json(top_view_mesh(explore_mesh_, "stiffness"), "explore", "stiffness"));
   j["faces_rendered"] = explore_mesh_.num_triangles();
   j["name"] = name;
-  j["algorithm"] = algorithm_ == render::Algorithm::kTCA ? "tca" : "cba";
+  j["algorithm"] = data_driven_                            ? "data-driven"
+                   : algorithm_ == render::Algorithm::kTCA ? "tca"
+                                                           : "cba";
   return j.dump();
 }
 
 std::string Session::do_algorithm(const Message& m) {
   const std::string a = get_choice(m, "name", {"tca", "cba"});
+  if (data_driven_)
+    throw ProtocolError(
+        "algorithm: the open model is data-driven; open a mesh with a stiffness map for TCA-MESH "
+        "or CBA");
   algorithm_ = a == "tca" ? render::Algorithm::kTCA : render::Algorithm::kCBA;
   if (mode() == "explore") {
     stop_rig();
