@@ -1,0 +1,100 @@
+// `inhap studio`: the servo loop plus a local web page (docs/studio.md): sampling by tapping,
+// exploring a model, the thesis 5.4 participant screen. Units: mm, N, N/mm, s.
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "command.hpp"
+#include "studio/security.hpp"
+#include "studio/server.hpp"
+#include "studio/session.hpp"
+
+namespace inhap::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_studio_signal(int) {
+  g_stop.store(true);
+}
+
+struct StudioArgs {
+  studio::StudioOptions session;
+  std::string workspace = "studio-workspace", web_dir;
+  int port = 8765;
+  double seconds = 0, connect = 60;
+};
+
+void run_studio(const StudioArgs& a) {
+  const studio::Workspace workspace(a.workspace);
+  const std::string web = studio::find_studio_web_dir(a.web_dir);
+  studio::Server server(a.port, web, studio::make_token());
+  studio::Session session(a.session, workspace,
+                          [&server](const std::string& text) { server.broadcast(text); });
+  std::signal(SIGINT, on_studio_signal);
+  std::signal(SIGTERM, on_studio_signal);
+  session.start(a.connect);
+  server.set_handler([&session](const std::string& text) { return session.handle(text); });
+  // stdout: the URL alone on its line (scripts and the browser test read it).
+  fmt::print("{}\n", server.url());
+  std::fflush(stdout);
+  fmt::print(stderr, "inhap studio: {} ({}), workspace {}; open the URL above (Ctrl-C stops)\n",
+             a.session.device, session.mode(), workspace.root().string());
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!g_stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (a.seconds > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= a.seconds)
+      break;
+  }
+  server.stop_handling();  // no message runs on the session from here on
+  session.stop();
+  fmt::print(stderr, "inhap studio: stopped ({} samples)\n", session.live_samples());
+  if (const std::string l = session.server_latency(); !l.empty())
+    fmt::print(stderr, "mouse target handled -> its state sent: {}\n", l);
+}
+
+void register_studio(CLI::App& app) {
+  auto a = std::make_shared<StudioArgs>();
+  auto* c = app.add_subcommand(
+      "studio",
+      "The servo loop plus a local web page (docs/studio.md): sample an object by tapping and\n"
+      "reconstruct it, explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4\n"
+      "participant screen. Listens on 127.0.0.1 only and prints the URL with its access token.\n"
+      "Units: mm, N, N/mm, s.");
+  c->add_option("--device", a->session.device,
+                "lab:SCENE (the virtual lab: a simulated operator taps for sampling, the mouse "
+                "moves the probe through a simulated hand elsewhere) or udp / udp:PORT (a device "
+                "over the bridge, docs/bridge.md)")
+      ->capture_default_str();
+  c->add_option("--workspace", a->workspace,
+                "folder the page may read and write in (exports, sessions, answers; created)")
+      ->capture_default_str();
+  c->add_option("--port", a->port, "TCP port on 127.0.0.1 (0: any free port)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 65535));
+  c->add_option("--speed", a->session.speed,
+                "lab:SCENE: simulated seconds per wall-clock second (0.1-20)")
+      ->capture_default_str();
+  c->add_option("--seed", a->session.seed, "lab:SCENE: seed of the operator and the device noise")
+      ->capture_default_str();
+  c->add_option("--web-dir", a->web_dir,
+                "folder with studio/ and node_modules (default: web/ of the source tree, or "
+                "INHAP_WEB_DIR)");
+  c->add_option("--seconds", a->seconds, "stop after this many seconds (0: at Ctrl-C)")
+      ->capture_default_str();
+  c->add_option("--connect-timeout", a->connect, "udp: give up if no device joins within this, s")
+      ->capture_default_str();
+  c->add_flag("--realtime", a->session.realtime, "ask for SCHED_FIFO and mlockall for the loop");
+  c->callback([a] { run_studio(*a); });
+}
+
+INHAP_COMMAND(75, "studio", register_studio);
+
+}  // namespace
+}  // namespace inhap::cli

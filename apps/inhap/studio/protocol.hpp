@@ -1,0 +1,51 @@
+// inhap studio: the WebSocket messages between the page and the server (docs/studio.md,
+// "Protocol"). Every message is one JSON object with a string "type". A message that is not
+// JSON, not an object, has an unknown type or a field of the wrong kind or range is refused
+// with {"type":"error","request":TYPE,"message":...} and changes nothing: handlers read every
+// field through these checked getters before they touch any state.
+// Units: mm, N, s.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "inhap/core/error.hpp"
+
+namespace inhap::studio {
+
+/// A refused message (the reply's "message").
+class ProtocolError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The message types the server accepts.
+const std::vector<std::string>& message_types();
+
+struct Message {
+  std::string type;
+  nlohmann::json body;  ///< the whole object
+};
+
+/// Parses one text frame (at most 1 MB). Throws ProtocolError: not JSON, not an object, no
+/// string "type", or a type not in message_types().
+Message parse_message(std::string_view text);
+
+/// Checked getters: throw ProtocolError naming the field and what was expected.
+double get_number(const Message& m, const char* key, double lo, double hi);
+double get_number_or(const Message& m, const char* key, double lo, double hi, double fallback);
+long get_integer(const Message& m, const char* key, long lo, long hi);
+bool get_bool_or(const Message& m, const char* key, bool fallback);
+std::string get_string(const Message& m, const char* key, std::size_t max_size = 1024);
+/// One of `choices`.
+std::string get_choice(const Message& m, const char* key, const std::vector<std::string>& choices);
+/// A list of integers, each in [lo, hi], at most max_items.
+std::vector<long> get_integer_list(const Message& m, const char* key, long lo, long hi,
+                                   std::size_t max_items);
+
+/// {"type":"error","request":request,"message":message}
+std::string error_reply(std::string_view request, std::string_view message);
+
+}  // namespace inhap::studio

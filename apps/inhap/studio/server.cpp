@@ -1,0 +1,264 @@
+#include "studio/server.hpp"
+
+#include <civetweb.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "inhap/core/error.hpp"
+#include "studio/protocol.hpp"
+#include "studio/security.hpp"
+
+namespace fs = std::filesystem;
+
+namespace inhap::studio {
+namespace {
+
+// URL path -> file below the web folder. The page's own files are listed, nothing else is served.
+const std::map<std::string, std::pair<std::string, std::string>>& routes() {
+  static const std::map<std::string, std::pair<std::string, std::string>> r = {
+      {"/", {"studio/index.html", "text/html; charset=utf-8"}},
+      {"/index.html", {"studio/index.html", "text/html; charset=utf-8"}},
+      {"/studio.js", {"studio/studio.js", "text/javascript; charset=utf-8"}},
+      {"/studio.css", {"studio/studio.css", "text/css; charset=utf-8"}},
+      {"/lib/three.module.js", {"node_modules/three/build/three.module.js", "text/javascript"}},
+      {"/lib/three.core.js", {"node_modules/three/build/three.core.js", "text/javascript"}},
+      {"/lib/OrbitControls.js",
+       {"node_modules/three/examples/jsm/controls/OrbitControls.js", "text/javascript"}},
+      {"/lib/plotly.min.js", {"node_modules/plotly.js-dist-min/plotly.min.js", "text/javascript"}},
+  };
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void send_text(mg_connection* conn, int status, const char* reason, const std::string& body,
+               const char* type = "text/plain; charset=utf-8", const std::string& extra = {}) {
+  mg_printf(conn,
+            "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: "
+            "no-store\r\nX-Content-Type-Options: nosniff\r\nX-Frame-Options: DENY\r\n"
+            "Referrer-Policy: no-referrer\r\n%sConnection: close\r\n\r\n",
+            status, reason, type, body.size(), extra.c_str());
+  mg_write(conn, body.data(), body.size());
+}
+
+const char* header(const mg_connection* conn, const char* name) {
+  const char* h = mg_get_header(conn, name);
+  return h ? h : "";
+}
+
+int http_cb(mg_connection* conn, void* self) {
+  return static_cast<Server*>(self)->on_http(conn);
+}
+int ws_connect_cb(const mg_connection* conn, void* self) {
+  return static_cast<Server*>(self)->on_ws_connect(conn);
+}
+void ws_ready_cb(mg_connection* conn, void* self) {
+  static_cast<Server*>(self)->on_ws_ready(conn);
+}
+int ws_data_cb(mg_connection* conn, int bits, char* data, size_t len, void* self) {
+  return static_cast<Server*>(self)->on_ws_data(conn, bits, data, len);
+}
+void ws_close_cb(const mg_connection* conn, void* self) {
+  static_cast<Server*>(self)->on_ws_close(conn);
+}
+
+bool has_studio(const fs::path& d) {
+  return fs::exists(d / "studio/index.html");
+}
+
+}  // namespace
+
+std::string find_studio_web_dir(const std::string& given) {
+  std::vector<fs::path> candidates;
+  if (!given.empty()) {
+    candidates.push_back(given);
+  } else if (const char* env = std::getenv("INHAP_WEB_DIR"); env && *env) {
+    candidates.push_back(env);
+  } else {
+    std::array<char, 4096> buf{};
+    const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
+    if (n > 0) {
+      fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
+      for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
+        candidates.push_back(d / "web");
+        candidates.push_back(d / "share/inhap/web");
+      }
+    }
+    candidates.push_back(fs::current_path() / "web");
+  }
+  for (const auto& c : candidates) {
+    if (!has_studio(c)) continue;
+    for (const auto& [url, file] : routes())
+      if (!fs::exists(c / file.first))
+        throw Error(fmt::format("{}: {} is missing: run ./run setup (it runs npm ci --prefix web)",
+                                c.string(), file.first));
+    return c.string();
+  }
+  throw Error(fmt::format(
+      "cannot find the studio page web/studio/index.html (looked in {}{}): give --web-dir DIR "
+      "or set INHAP_WEB_DIR",
+      candidates.empty() ? std::string("nothing") : candidates.front().string(),
+      candidates.size() > 1 ? fmt::format(" and {} more", candidates.size() - 1) : ""));
+}
+
+Server::Server(int port, std::string web_dir, std::string token)
+    : web_dir_(std::move(web_dir)), token_(std::move(token)) {
+  if (port < 0 || port > 65535) throw Error("--port: expected 0-65535");
+  mg_init_library(0);
+  const std::string ports = fmt::format("127.0.0.1:{}", port);
+  const char* options[] = {"listening_ports",
+                           ports.c_str(),
+                           "num_threads",
+                           "8",
+                           "enable_keep_alive",
+                           "no",
+                           "websocket_timeout_ms",
+                           "3600000",
+                           "tcp_nodelay",
+                           "1",
+                           nullptr};
+  mg_callbacks callbacks{};
+  ctx_ = mg_start(&callbacks, this, options);
+  if (!ctx_) throw Error(fmt::format("cannot listen on {} (in use?)", ports));
+  std::array<mg_server_port, 4> sp{};
+  if (mg_get_server_ports(ctx_, int(sp.size()), sp.data()) < 1) {
+    mg_stop(ctx_);
+    throw Error("civetweb: no listening port");
+  }
+  port_ = sp[0].port;
+  mg_set_request_handler(ctx_, "/", http_cb, this);
+  mg_set_websocket_handler(ctx_, "/ws", ws_connect_cb, ws_ready_cb, ws_data_cb, ws_close_cb, this);
+  worker_ = std::thread([this] { work(); });
+}
+
+Server::~Server() {
+  stop_handling();
+  if (ctx_) mg_stop(ctx_);
+  mg_exit_library();
+}
+
+std::string Server::url() const {
+  return fmt::format("http://127.0.0.1:{}/?token={}", port_, token_);
+}
+
+void Server::stop_handling() {
+  {
+    std::lock_guard lock(mu_);
+    quit_ = true;
+    handler_ = {};
+  }
+  queue_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void Server::set_handler(Handler h) {
+  std::lock_guard lock(mu_);
+  handler_ = std::move(h);
+}
+
+std::size_t Server::clients() const {
+  std::lock_guard lock(mu_);
+  return clients_.size();
+}
+
+bool Server::allowed(const mg_connection* conn, bool websocket) const {
+  const mg_request_info* ri = mg_get_request_info(conn);
+  if (!host_allowed(header(conn, "Host"), port_)) return false;
+  if (!origin_allowed(header(conn, "Origin"), port_, websocket)) return false;
+  return request_authorized(ri->query_string ? ri->query_string : "", header(conn, "Cookie"),
+                            token_);
+}
+
+int Server::on_http(mg_connection* conn) {
+  const mg_request_info* ri = mg_get_request_info(conn);
+  if (!allowed(conn, false)) {
+    send_text(conn, 403, "Forbidden", "403 forbidden: open the URL inhap studio printed\n");
+    return 403;
+  }
+  if (std::string(ri->request_method) != "GET") {
+    send_text(conn, 405, "Method Not Allowed", "405\n");
+    return 405;
+  }
+  const auto it = routes().find(ri->local_uri ? ri->local_uri : "");
+  if (it == routes().end()) {
+    send_text(conn, 404, "Not Found", "404 not found\n");
+    return 404;
+  }
+  const std::string body = slurp(fs::path(web_dir_) / it->second.first);
+  // The cookie lets the page's module imports (which carry no query) through.
+  const std::string cookie =
+      fmt::format("Set-Cookie: {}={}; HttpOnly; SameSite=Strict; Path=/\r\n", kCookieName, token_);
+  send_text(conn, 200, "OK", body, it->second.second.c_str(), cookie);
+  return 200;
+}
+
+int Server::on_ws_connect(const mg_connection* conn) {
+  return allowed(conn, true) ? 0 : 1;  // non-zero: refused
+}
+
+void Server::on_ws_ready(mg_connection* conn) {
+  std::lock_guard lock(mu_);
+  clients_.insert(conn);
+}
+
+int Server::on_ws_data(mg_connection* conn, int bits, char* data, std::size_t len) {
+  const int opcode = bits & 0x0f;
+  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
+  if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings are answered by civetweb
+  {
+    std::lock_guard lock(mu_);
+    if (quit_ || queue_.size() >= 4096) return 1;  // stopping, or a page flooding the server
+    queue_.emplace_back(conn, std::string(data, len));
+  }
+  queue_cv_.notify_one();
+  return 1;
+}
+
+void Server::work() {
+  for (;;) {
+    std::pair<mg_connection*, std::string> item;
+    Handler h;
+    {
+      std::unique_lock lock(mu_);
+      queue_cv_.wait(lock, [this] { return quit_ || !queue_.empty(); });
+      if (quit_) return;
+      item = std::move(queue_.front());
+      queue_.pop_front();
+      h = handler_;
+    }
+    const std::string reply =
+        h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    if (!reply.empty()) send_to(item.first, reply);
+  }
+}
+
+void Server::send_to(mg_connection* conn, const std::string& text) {
+  std::lock_guard lock(mu_);
+  if (clients_.count(conn))
+    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+}
+
+void Server::on_ws_close(const mg_connection* conn) {
+  std::lock_guard lock(mu_);
+  clients_.erase(const_cast<mg_connection*>(conn));
+}
+
+void Server::broadcast(const std::string& text) {
+  std::lock_guard lock(mu_);
+  for (mg_connection* c : clients_)
+    mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+}
+
+}  // namespace inhap::studio

@@ -1,0 +1,74 @@
+// inhap studio: the HTTP + WebSocket server (civetweb, Debian libcivetweb-dev; docs/studio.md
+// says why). Binds 127.0.0.1 only; every request and WebSocket upgrade is checked by
+// security.hpp (token, Host, Origin); serves the page (web/studio/) and the JavaScript libraries
+// from web/node_modules (three.js, plotly.js; offline, no CDN); hands WebSocket text frames to
+// the Session and broadcasts the Session's stream to every open page.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <utility>
+
+struct mg_context;
+struct mg_connection;
+
+namespace inhap::studio {
+
+/// The folder with studio/index.html and node_modules: `given`, else INHAP_WEB_DIR, else web/
+/// beside or above the executable, else ./web. Throws Error naming what is missing.
+std::string find_studio_web_dir(const std::string& given);
+
+class Server {
+ public:
+  using Handler = std::function<std::string(const std::string&)>;
+  /// Starts listening on 127.0.0.1:port (0: a free port). Throws Error when it cannot.
+  Server(int port, std::string web_dir, std::string token);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  int port() const { return port_; }
+  const std::string& token() const { return token_; }
+  std::string url() const;
+  /// Where WebSocket text frames go (set before the page connects; until then they are refused).
+  void set_handler(Handler h);
+  /// Sends a text frame to every open page.
+  void broadcast(const std::string& text);
+  std::size_t clients() const;
+  /// Stops running messages (waits for the one running); later messages are dropped. Call before
+  /// the handler's target goes away.
+  void stop_handling();
+
+  // civetweb callbacks (public for the C trampolines)
+  int on_http(mg_connection* conn);
+  int on_ws_connect(const mg_connection* conn);
+  void on_ws_ready(mg_connection* conn);
+  int on_ws_data(mg_connection* conn, int bits, char* data, std::size_t len);
+  void on_ws_close(const mg_connection* conn);
+
+ private:
+  bool allowed(const mg_connection* conn, bool websocket) const;
+  void work();
+  void send_to(mg_connection* conn, const std::string& text);
+  std::string web_dir_, token_;
+  int port_ = 0;
+  mg_context* ctx_ = nullptr;
+  mutable std::mutex mu_;
+  std::set<mg_connection*> clients_;
+  Handler handler_;
+  // Messages run on one worker thread of our own (civetweb's threads have small stacks, too
+  // small for the reconstruction), in arrival order; the reply goes to the sender if it is
+  // still connected.
+  std::deque<std::pair<mg_connection*, std::string>> queue_;
+  std::condition_variable queue_cv_;
+  bool quit_ = false;
+  std::thread worker_;
+};
+
+}  // namespace inhap::studio

@@ -1,0 +1,323 @@
+// inhap studio session: device, servo loop per view, streamer (see session.hpp).
+#include "studio/session.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "inhap/core/error.hpp"
+#include "inhap/rendering/datasets.hpp"
+#include "studio/display.hpp"
+#include "studio/experiment_summary.hpp"
+
+namespace inhap::studio {
+
+// What one view runs: the device (lab) or the shared bridge, the renderer and its model, the
+// loop and its observer ring.
+struct Session::Rig {
+  std::unique_ptr<LabHandDevice> lab_device;
+  Device* device = nullptr;
+  TargetMailbox mailbox;
+  MouseOperator* mouse = nullptr;
+  std::unique_ptr<render::Model> model;
+  std::unique_ptr<haptics::Renderer> renderer;
+  haptics::ObserverRing ring;
+  std::unique_ptr<haptics::ServoLoop> loop;
+  CompensatorConfig comp;
+  CompensatorState comp_state;
+  StreamTapDetector taps;
+};
+
+std::optional<Contact> StreamTapDetector::add(double t, const Vec3& p, const Vec3& f) {
+  t_.push_back(t), p_.push_back(p), f_.push_back(f);
+  const std::size_t i = t_.size() - 1;
+  const double mag = f.norm();
+  if (!in_) {
+    above_ = mag > options_.eps_f ? above_ + 1 : 0;
+    if (above_ >= options_.min_contact) in_ = true, start_ = i + 1 - above_, below_ = 0;
+    // Keep the buffer short between taps (the window before a detection is all the knee needs).
+    const std::size_t keep = options_.window + 64;
+    if (!in_ && t_.size() > 8 * keep) {
+      const auto cut = static_cast<std::ptrdiff_t>(t_.size() - keep);
+      t_.erase(t_.begin(), t_.begin() + cut);
+      p_.erase(p_.begin(), p_.begin() + cut);
+      f_.erase(f_.begin(), f_.begin() + cut);
+    }
+    return std::nullopt;
+  }
+  below_ = mag < options_.release_fraction * options_.eps_f ? below_ + 1 : 0;
+  if (below_ < 5) return std::nullopt;
+  in_ = false, above_ = 0, below_ = 0;
+  const std::size_t from = start_ > options_.window + 32 ? start_ - options_.window - 32 : 0;
+  const std::size_t n = t_.size() - from;
+  const auto c = detect_contacts(std::span<const double>(t_.data() + from, n),
+                                 std::span<const Vec3>(p_.data() + from, n),
+                                 std::span<const Vec3>(f_.data() + from, n), options_);
+  if (c.empty()) return std::nullopt;
+  return c.back();
+}
+
+Session::Session(const StudioOptions& options, const Workspace& workspace, Broadcast broadcast)
+    : options_(options), workspace_(workspace), broadcast_(std::move(broadcast)) {
+  if (options_.device.rfind("lab:", 0) == 0) {
+    scene_ = lab::builtin_scene(options_.device.substr(4));
+  } else {
+    const auto port = haptics::parse_udp_device(options_.device);
+    if (!port)
+      throw Error(
+          fmt::format("--device: expected lab:SCENE, udp or udp:PORT (PORT 1-65535), got \"{}\"",
+                      options_.device));
+    lab_ = false;
+    haptics::BridgeOptions bo;
+    bo.port = *port;
+    bridge_ = std::make_unique<haptics::BridgeDevice>(bo);
+  }
+  if (!(options_.speed >= 0.1 && options_.speed <= 20))
+    throw Error("--speed: expected 0.1-20 simulated seconds per second");
+  explore_name_ = "study25";
+  explore_mesh_ = render::StudySurface(render::DatasetParams{}, render::identity_layout()).mesh();
+}
+
+Session::~Session() {
+  stop();
+}
+
+void Session::start(double connect_s) {
+  if (bridge_) {
+    fmt::print(stderr, "inhap studio: waiting for a device on udp port {}\n", bridge_->port());
+    if (!bridge_->connect(connect_s))
+      throw Error(fmt::format("no device joined within {:g} s", connect_s));
+  }
+  std::lock_guard cmd(cmd_mu_);
+  start_rig(mode_);
+}
+
+void Session::stop() {
+  std::lock_guard cmd(cmd_mu_);
+  stop_rig();
+  if (bridge_) bridge_->stop();
+}
+
+std::string Session::server_latency() const {
+  std::vector<double> v = server_latency_ms_;
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  return fmt::format("median {:.1f} ms, p90 {:.1f} ms, max {:.1f} ms ({} targets)", v[v.size() / 2],
+                     v[v.size() * 9 / 10], v.back(), v.size());
+}
+
+std::string Session::mode() const {
+  std::lock_guard lock(data_mu_);
+  return mode_;
+}
+
+void Session::start_rig(const std::string& mode) {
+  auto rig = std::make_unique<Rig>();
+  const bool mouse = mode != "sampling";
+  if (lab_) {
+    lab::DeviceParams dp;
+    dp.seed = options_.seed;
+    dp.probe = lab::ProbeSpec::tip();
+    std::unique_ptr<lab::HandOperator> op;
+    if (mouse) {
+      const Box3 b = explore_mesh_.bbox();
+      const Vec3 start = mode == "experiment" && surface_
+                             ? Vec3(surface_->cell_centre(12).x(), surface_->cell_centre(12).y(), 6)
+                             : Vec3(b.center().x(), b.center().y(), b.max.z() + 10);
+      auto m = std::make_unique<MouseOperator>(rig->mailbox, start);
+      rig->mouse = m.get();
+      op = std::move(m);
+    } else {
+      op = lab::make_tap_operator(scene_, options_.seed + 1);
+    }
+    rig->lab_device = std::make_unique<LabHandDevice>(
+        mouse ? out_of_the_way_object() : scene_.object, dp, std::move(op), options_.speed);
+    rig->device = rig->lab_device.get();
+    rig->comp = CompensatorConfig::from(rig->lab_device->device_info());
+  } else {
+    rig->device = bridge_.get();
+    rig->comp = CompensatorConfig::from(bridge_->info());
+  }
+  if (mode == "sampling") {
+    rig->renderer = std::make_unique<haptics::NullRenderer>();
+  } else {
+    const TriMesh& mesh = mode == "experiment" && surface_ ? surface_->mesh() : explore_mesh_;
+    rig->model = std::make_unique<render::Model>(mesh, render::Params{});
+    const render::Algorithm alg = mode == "experiment" && trial_ < schedule_.size()
+                                      ? schedule_[trial_].algorithm
+                                      : algorithm_;
+    rig->renderer = std::make_unique<haptics::MeshRenderer>(*rig->model, alg);
+    if (mode == "explore" && data_driven_)
+      rig->renderer = std::make_unique<haptics::DataDrivenRenderer>(data_driven_->model);
+  }
+  haptics::LoopOptions lo;
+  lo.realtime = options_.realtime;
+  rig->loop = std::make_unique<haptics::ServoLoop>(*rig->device, *rig->renderer, lo);
+  rig->loop->add_observer(rig->ring);
+  {
+    std::lock_guard lock(data_mu_);
+    mode_ = mode;
+    have_latest_ = false;
+  }
+  rig_ = std::move(rig);
+  rig_->loop->start();
+  stop_stream_ = false;
+  streamer_ = std::thread([this] { stream_loop(); });
+}
+
+void Session::stop_rig() {
+  if (!rig_) return;
+  stop_stream_ = true;
+  if (streamer_.joinable()) streamer_.join();
+  rig_->loop->stop();
+  rig_.reset();
+}
+
+void Session::stream_loop() {
+  // Polls the ring every 2 ms; broadcasts the newest sample every 1/stream_hz, or at once when
+  // the servo thread has just applied a new mouse target (the page's latency).
+  using clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<clock::duration>(
+      std::chrono::duration<double>(1.0 / options_.stream_hz));
+  const auto poll = std::chrono::milliseconds(2);
+  auto next = clock::now(), last_sent = next;
+  std::uint64_t sent_seq = 0;
+  const bool sampling = mode() == "sampling";
+  bool have = false;
+  haptics::LoopSample last;
+  while (!stop_stream_) {
+    next += poll;
+    std::this_thread::sleep_until(next);
+    haptics::LoopSample s;
+    std::vector<Contact> found;
+    while (rig_->ring.pop(s)) {
+      have = true;
+      last = s;
+      if (!sampling) continue;
+      const Vec3 f = compensate_step(rig_->comp, rig_->comp_state, s.p_mm, s.sensor_force_n);
+      if (auto c = rig_->taps.add(s.t_s, s.p_mm, f)) found.push_back(*c);
+    }
+    for (const Contact& c : found) on_contact(c);
+    const std::uint64_t seq = rig_->mouse ? rig_->mouse->applied_seq() : 0;
+    const auto now = clock::now();
+    if (!have || (now - last_sent < period && seq == sent_seq)) continue;
+    {
+      std::lock_guard lock(data_mu_);
+      latest_ = last;
+      have_latest_ = true;
+    }
+    broadcast_(state_json(last));
+    if (seq != sent_seq && seq == probe_written_seq_ && server_latency_ms_.size() < 100000)
+      server_latency_ms_.push_back(
+          1e-6 * double(clock::now().time_since_epoch().count() - probe_written_ns_));
+    last_sent = now;
+    sent_seq = seq;
+  }
+}
+
+std::string Session::state_json(const haptics::LoopSample& s) const {
+  const auto v = [](const Vec3& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
+  nlohmann::json j{{"type", "state"},
+                   {"tick", s.tick},
+                   {"t", s.t_s},
+                   {"p", v(s.p_mm)},
+                   {"hip", v(s.out.hip_mm)},
+                   {"ihip", v(s.out.ihip_mm)},
+                   {"cihip", v(s.out.cihip_mm)},
+                   {"f", v(s.commanded_n)},
+                   {"fs", v(s.sensor_force_n)},
+                   {"contact", s.out.contact},
+                   {"watchdog", s.watchdog},
+                   {"seq", rig_ && rig_->mouse ? rig_->mouse->applied_seq() : 0}};
+  return j.dump();
+}
+
+std::string Session::handle(std::string_view text) {
+  std::string request = "?";
+  try {
+    const Message m = parse_message(text);
+    request = m.type;
+    std::lock_guard cmd(cmd_mu_);
+    return dispatch(m);
+  } catch (const std::exception& e) {
+    return error_reply(request, e.what());
+  }
+}
+
+std::string Session::dispatch(const Message& m) {
+  if (m.type == "hello") {
+    broadcast_(samples_json());  // the taps made before this page connected
+    return hello();
+  }
+  if (m.type == "mode")
+    return set_mode(get_choice(m, "mode", {"sampling", "idle", "explore", "experiment"}));
+  if (m.type == "probe") return do_probe(m);
+  if (m.type == "delete") return do_delete(m);
+  if (m.type == "undo") return do_undo();
+  if (m.type == "reconstruct") return do_reconstruct(m);
+  if (m.type == "export") return do_export(m);
+  if (m.type == "save_session") return do_save_session(m);
+  if (m.type == "open_session") return do_open_session(m);
+  if (m.type == "open_mesh") return do_open_mesh(m);
+  if (m.type == "algorithm") return do_algorithm(m);
+  if (m.type == "experiment") return do_experiment(m);
+  if (m.type == "answer") return do_answer(m);
+  if (m.type == "next_trial") return do_next_trial();
+  if (m.type == "summary") return summarize_answers(workspace_.root()).dump();
+  if (m.type == "stats") {
+    fmt::print(stderr, "page: {}\n", m.body.dump());
+    return nlohmann::json{{"type", "ok"}, {"request", "stats"}}.dump();
+  }
+  throw ProtocolError("unhandled message type " + m.type);
+}
+
+std::string Session::hello() const {
+  if (lab_)  // the scene's object as the operator sees it from above, drawn under the samples
+    broadcast_(mesh_json(top_view_mesh(scene_.object.shape()), "object", ""));
+  nlohmann::json j{{"type", "hello"},
+                   {"mode", mode()},
+                   {"device", options_.device},
+                   {"lab", lab_},
+                   {"scene", lab_ ? scene_.name : std::string()},
+                   {"speed", options_.speed},
+                   {"workspace", workspace_.root().string()},
+                   {"stream_hz", options_.stream_hz}};
+  return j.dump();
+}
+
+std::string Session::set_mode(const std::string& mode) {
+  if (mode == "experiment" && !surface_)
+    throw ProtocolError("mode: start an experiment first ({\"type\":\"experiment\",...})");
+  stop_rig();
+  if (mode == "idle") {  // sampling with the operator paused: no loop, the samples stay
+    std::lock_guard lock(data_mu_);
+    mode_ = mode;
+  } else {
+    start_rig(mode);
+  }
+  nlohmann::json j{{"type", "ok"}, {"request", "mode"}, {"mode", mode}};
+  return j.dump();
+}
+
+std::string Session::do_probe(const Message& m) {
+  const double x = get_number(m, "x", -1e4, 1e4), y = get_number(m, "y", -1e4, 1e4),
+               z = get_number(m, "z", -1e4, 1e4);
+  const double nx = get_number_or(m, "nx", -1, 1, 0), ny = get_number_or(m, "ny", -1, 1, 0),
+               nz = get_number_or(m, "nz", -1, 1, 1);
+  const double press = get_number_or(m, "press", 0, 1, 0);
+  const long seq = get_integer(m, "seq", 0, 1L << 52);
+  Vec3 n(nx, ny, nz);
+  if (!(n.norm() > 0.1)) throw ProtocolError("probe: expected a normal (nx, ny, nz) of length 1");
+  n.normalize();
+  if (!rig_ || !rig_->mouse) return nlohmann::json{{"type", "ok"}, {"request", "probe"}}.dump();
+  // Hover 3 mm above the point; pressed, up to 12 mm into the surface: the hand's spring
+  // (0.6 N/mm) against the rendered surface sets the force.
+  rig_->mailbox.write(Vec3(x, y, z) + n * (3.0 - 15.0 * press), static_cast<std::uint64_t>(seq));
+  probe_written_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
+  probe_written_seq_ = static_cast<std::uint64_t>(seq);
+  return {};  // no reply: the state stream shows the probe
+}
+
+}  // namespace inhap::studio

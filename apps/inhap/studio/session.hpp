@@ -1,0 +1,185 @@
+// inhap studio: one session = the device, the servo loop of the current view and what the views
+// edit (tapped samples, the reconstruction, the opened model, the experiment). The server hands
+// it every WebSocket message (handle(), on the server's threads); a streamer thread drains the
+// servo loop's observer ring, detects taps as they happen (sampling) and broadcasts the state at
+// about 125 Hz. The page never reaches the servo thread: the mouse target goes through a seqlock
+// (hand_device.hpp), the state comes from the observer ring.
+// Units: mm, N, s, N/mm.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "inhap/contact/compensation.hpp"
+#include "inhap/contact/detector.hpp"
+#include "inhap/datadriven/force_model.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/sys_model.hpp"
+#include "inhap/geometry/trimesh.hpp"
+#include "inhap/haptics/bridge_device.hpp"
+#include "inhap/haptics/renderers.hpp"
+#include "inhap/haptics/servo_loop.hpp"
+#include "inhap/lab/scene.hpp"
+#include "inhap/rendering/experiment.hpp"
+#include "studio/hand_device.hpp"
+#include "studio/protocol.hpp"
+#include "studio/security.hpp"
+
+namespace inhap::studio {
+
+struct StudioOptions {
+  std::string device = "lab:dome";  ///< lab:SCENE or udp[:PORT]
+  double speed = 1.0;               ///< lab: simulated seconds per wall second
+  std::uint64_t seed = 1;
+  bool realtime = false;  ///< ask for SCHED_FIFO + mlockall
+  double stream_hz = 125;
+};
+
+/// A tapped sample with its provenance.
+struct Sample {
+  long id = 0;
+  Vec3 point = Vec3::Zero();      ///< knee-estimated contact point p(t_c), mm
+  Vec3 threshold = Vec3::Zero();  ///< p(t_d), the plain threshold point, mm (for comparison)
+  Vec3 direction = Vec3::UnitZ();
+  double t_contact = 0, peak_force = 0;
+  bool estimated = false, deleted = false;
+};
+
+/// Finds taps in a stream of (t, p, compensated f), one sample at a time: an episode starts when
+/// ||f|| stays above eps_f for min_contact samples and ends when it stays below
+/// release_fraction * eps_f for 5 samples; then detect_contacts (the library's knee estimator)
+/// runs on that episode with the window before it.
+class StreamTapDetector {
+ public:
+  explicit StreamTapDetector(ContactOptions options = {}) : options_(options) {}
+  /// A contact when this sample ended a tap.
+  std::optional<Contact> add(double t, const Vec3& p, const Vec3& f);
+  const ContactOptions& options() const { return options_; }
+
+ private:
+  ContactOptions options_;
+  std::vector<double> t_;
+  std::vector<Vec3> p_, f_;
+  bool in_ = false;
+  std::size_t above_ = 0, below_ = 0, start_ = 0;
+};
+
+/// A data-driven model for the explore view (thesis 4.4-4.5): the force model, the sliding yield
+/// surfaces and the shape, kept together because DataDrivenModel points into them.
+struct DataDrivenBundle {
+  DataDrivenBundle(dd::ForceModel f, friction::SysModel y, const TriMesh& mesh, double probe_radius)
+      : force(std::move(f)),
+        sys(std::move(y)),
+        shape(mesh, probe_radius),
+        model(sys, shape, force) {}
+  dd::ForceModel force;
+  friction::SysModel sys;
+  friction::MeshSurface shape;
+  haptics::DataDrivenModel model;
+};
+
+class Session {
+ public:
+  using Broadcast = std::function<void(const std::string&)>;
+  Session(const StudioOptions& options, const Workspace& workspace, Broadcast broadcast);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  /// Starts the first view (sampling). With udp, waits up to connect_s for a device.
+  void start(double connect_s = 60);
+  void stop();
+  /// Median and p90 of the server side of the mouse-to-probe latency, ms ("" when none).
+  std::string server_latency() const;
+  /// One message from the page: returns the reply (JSON). Never throws; a refused message gets
+  /// an error reply and changes nothing.
+  std::string handle(std::string_view text);
+  std::string mode() const;
+  std::size_t live_samples() const;
+
+ private:
+  struct Rig;
+  std::string dispatch(const Message& m);
+  std::string hello() const;
+  std::string set_mode(const std::string& mode);
+  void start_rig(const std::string& mode);
+  void stop_rig();
+  void stream_loop();
+  std::string state_json(const haptics::LoopSample& s) const;
+  // sampling
+  void on_contact(const Contact& c);
+  std::string samples_json() const;
+  std::string do_delete(const Message& m);
+  std::string do_undo();
+  std::string do_reconstruct(const Message& m);
+  std::string do_export(const Message& m);
+  std::string do_save_session(const Message& m);
+  std::string do_open_session(const Message& m);
+  // explore
+  std::string do_probe(const Message& m);
+  std::string do_open_mesh(const Message& m);
+  std::string do_algorithm(const Message& m);
+  std::string mesh_json(const TriMesh& mesh, const std::string& role,
+                        const std::string& scalar) const;
+  // experiment
+  std::string do_experiment(const Message& m);
+  std::string do_answer(const Message& m);
+  std::string do_next_trial();
+  std::string trial_json() const;
+  void write_answers() const;
+
+  StudioOptions options_;
+  const Workspace& workspace_;
+  Broadcast broadcast_;
+  lab::Scene scene_;
+  bool lab_ = true;
+  std::unique_ptr<haptics::BridgeDevice> bridge_;
+
+  std::mutex cmd_mu_;           // serialises commands (mode changes, rig rebuilds)
+  mutable std::mutex data_mu_;  // samples, latest sample, mesh
+  std::unique_ptr<Rig> rig_;
+  std::string mode_ = "sampling";
+  std::thread streamer_;
+  std::atomic<bool> stop_stream_{false};
+
+  // sampling
+  std::vector<Sample> samples_;
+  std::vector<std::vector<long>> undo_;
+  long next_id_ = 0;
+  std::optional<TriMesh> reconstruction_;
+  // explore
+  TriMesh explore_mesh_;
+  std::string explore_name_;
+  render::Algorithm algorithm_ = render::Algorithm::kTCA;
+  std::shared_ptr<DataDrivenBundle> data_driven_;  ///< set: explore renders it, not the mesh
+  std::uint64_t probe_seq_ = 0;
+  // Server side of the page's latency: probe message handled -> state with its seq broadcast.
+  std::atomic<std::int64_t> probe_written_ns_{0};
+  std::atomic<std::uint64_t> probe_written_seq_{0};
+  std::vector<double> server_latency_ms_;  // streamer thread only; printed by stop()
+  // experiment
+  int participant_ = -1;
+  std::vector<render::TrialSpec> schedule_;
+  std::size_t trial_ = 0;
+  std::optional<render::StudySurface> surface_;
+  struct Answer {
+    render::TrialSpec spec;
+    int cell = 0, model = 0, value = 0, truth = 0;
+    double t_s = 0;
+  };
+  std::vector<Answer> answers_;
+  std::array<int, render::kNumModels> trial_answers_{};
+  haptics::LoopSample latest_;
+  bool have_latest_ = false;
+};
+
+}  // namespace inhap::studio

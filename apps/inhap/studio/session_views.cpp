@@ -1,0 +1,424 @@
+// inhap studio session: the sampling, explore and experiment views' commands (session.hpp).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "inhap/core/atomic_file.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/model_io.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+#include "inhap/surface/reconstruct.hpp"
+#include "studio/display.hpp"
+#include "studio/session.hpp"
+
+namespace inhap::studio {
+namespace {
+
+nlohmann::json vec(const Vec3& p) {
+  return nlohmann::json::array({p.x(), p.y(), p.z()});
+}
+
+nlohmann::json sample_json(const Sample& s) {
+  return {{"id", s.id},
+          {"point", vec(s.point)},
+          {"threshold", vec(s.threshold)},
+          {"direction", vec(s.direction)},
+          {"t", s.t_contact},
+          {"peak_force", s.peak_force},
+          {"estimated", s.estimated}};
+}
+
+Vec3 vec_from(const nlohmann::json& j, const char* what) {
+  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+    throw ProtocolError(fmt::format("session file: \"{}\" expected [x, y, z]", what));
+  const Vec3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  if (!v.allFinite()) throw ProtocolError(fmt::format("session file: \"{}\" not finite", what));
+  return v;
+}
+
+}  // namespace
+
+// --- sampling --------------------------------------------------------------------------------
+
+void Session::on_contact(const Contact& c) {
+  Sample s;
+  s.point = c.point;
+  s.threshold = c.p_detect;
+  s.direction = c.direction;
+  s.t_contact = c.t_contact;
+  s.peak_force = c.peak_force;
+  s.estimated = c.estimated;
+  {
+    std::lock_guard lock(data_mu_);
+    s.id = next_id_++;
+    samples_.push_back(s);
+  }
+  nlohmann::json j = sample_json(s);
+  j["type"] = "tap";
+  j["taps"] = s.id + 1;
+  broadcast_(j.dump());
+}
+
+std::size_t Session::live_samples() const {
+  std::lock_guard lock(data_mu_);
+  return static_cast<std::size_t>(
+      std::count_if(samples_.begin(), samples_.end(), [](const Sample& s) { return !s.deleted; }));
+}
+
+std::string Session::samples_json() const {
+  nlohmann::json pts = nlohmann::json::array();
+  std::size_t deleted = 0;
+  long taps = 0;
+  {
+    std::lock_guard lock(data_mu_);
+    taps = next_id_;
+    for (const Sample& s : samples_) {
+      if (s.deleted)
+        ++deleted;
+      else
+        pts.push_back(sample_json(s));
+    }
+  }
+  return nlohmann::json{{"type", "samples"},
+                        {"samples", pts},
+                        {"deleted", deleted},
+                        {"undo", undo_.size()},
+                        {"taps", taps}}
+      .dump();
+}
+
+std::string Session::do_delete(const Message& m) {
+  const auto ids = get_integer_list(m, "ids", 0, std::numeric_limits<int>::max(), 100000);
+  {
+    std::lock_guard lock(data_mu_);
+    std::vector<Sample*> hit;  // every id checked before any sample changes
+    for (long id : ids) {
+      auto it = std::find_if(samples_.begin(), samples_.end(),
+                             [id](const Sample& s) { return s.id == id && !s.deleted; });
+      if (it == samples_.end()) throw ProtocolError(fmt::format("delete: no live sample {}", id));
+      hit.push_back(&*it);
+    }
+    for (Sample* s : hit) s->deleted = true;
+    undo_.push_back(ids);
+  }
+  return samples_json();
+}
+
+std::string Session::do_undo() {
+  {
+    std::lock_guard lock(data_mu_);
+    if (undo_.empty()) throw ProtocolError("undo: nothing to undo");
+    for (long id : undo_.back())
+      for (Sample& s : samples_)
+        if (s.id == id) s.deleted = false;
+    undo_.pop_back();
+  }
+  return samples_json();
+}
+
+std::string Session::do_reconstruct(const Message& m) {
+  ReconstructOptions o;
+  o.alpha = get_number_or(m, "alpha", 0, 1000, 0);
+  if (!get_bool_or(m, "taubin", true)) o.taubin_iterations = 0;
+  if (!get_bool_or(m, "sqrt3", true)) o.subdivisions = 0;
+  std::vector<Vec3> pts, dirs;
+  {
+    std::lock_guard lock(data_mu_);
+    for (const Sample& s : samples_)
+      if (!s.deleted) pts.push_back(s.point), dirs.push_back(s.direction);
+  }
+  if (pts.size() < 8)
+    throw ProtocolError(fmt::format("reconstruct: {} samples, expected at least 8", pts.size()));
+  ReconstructReport rep;
+  const auto t0 = std::chrono::steady_clock::now();
+  TriMesh mesh = reconstruct_surface(pts, dirs, o, &rep);
+  fmt::print(stderr, "studio: reconstructed {} samples -> {} faces (alpha {:.2f} mm) in {:.1f} s\n",
+             pts.size(), mesh.num_triangles(), rep.alpha,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  std::vector<double> dist(mesh.num_vertices());
+  for (std::size_t v = 0; v < dist.size(); ++v) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Vec3& p : pts) best = std::min(best, (mesh.positions[v] - p).squaredNorm());
+    dist[v] = std::sqrt(best);
+  }
+  mesh.set_property("distance", dist);
+  nlohmann::json j = nlohmann::json::parse(mesh_json(mesh, "reconstruction", "distance"));
+  j["report"] = {{"points_in", rep.points_in}, {"outliers", rep.outliers},
+                 {"alpha", rep.alpha},         {"faces", rep.faces},
+                 {"vertices", rep.vertices},   {"components", rep.components}};
+  std::vector<long> outlier_ids;
+  {
+    std::lock_guard lock(data_mu_);
+    std::size_t k = 0;
+    for (const Sample& s : samples_)
+      if (!s.deleted) {
+        if (k < rep.used.size() && !rep.used[k]) outlier_ids.push_back(s.id);
+        ++k;
+      }
+    reconstruction_ = std::move(mesh);
+  }
+  j["outliers"] = outlier_ids;
+  return j.dump();
+}
+
+std::string Session::do_export(const Message& m) {
+  const auto points_path = workspace_.resolve(get_string(m, "points"));
+  std::optional<std::filesystem::path> mesh_path;
+  if (m.body.contains("mesh")) mesh_path = workspace_.resolve(get_string(m, "mesh"));
+  for (const std::filesystem::path* p :
+       {&points_path,
+        mesh_path ? static_cast<const std::filesystem::path*>(&*mesh_path) : nullptr}) {
+    if (!p) continue;
+    const std::string ext = p->extension().string();
+    if (ext != ".ply" && ext != ".obj")
+      throw ProtocolError(
+          fmt::format("export: {}: expected a .ply or .obj name", p->filename().string()));
+  }
+  TriMesh cloud;
+  {
+    std::lock_guard lock(data_mu_);
+    if (mesh_path && !reconstruction_) throw ProtocolError("export: no reconstruction yet");
+    for (const Sample& s : samples_)
+      if (!s.deleted) cloud.positions.push_back(s.point), cloud.normals.push_back(s.direction);
+    if (cloud.positions.empty()) throw ProtocolError("export: no samples");
+  }
+  OutputTransaction tx;
+  write_mesh(points_path.string(), cloud);
+  if (mesh_path) write_mesh(mesh_path->string(), *reconstruction_);
+  tx.commit();
+  nlohmann::json j{{"type", "ok"}, {"request", "export"}, {"points", cloud.num_vertices()}};
+  if (mesh_path) j["faces"] = reconstruction_->num_triangles();
+  return j.dump();
+}
+
+std::string Session::do_save_session(const Message& m) {
+  const auto path = workspace_.resolve(get_string(m, "path"));
+  nlohmann::json pts = nlohmann::json::array();
+  {
+    std::lock_guard lock(data_mu_);
+    for (const Sample& s : samples_) {
+      nlohmann::json j = sample_json(s);
+      j["deleted"] = s.deleted;
+      pts.push_back(j);
+    }
+  }
+  nlohmann::json doc{{"format", "inhap-studio-session"},
+                     {"version", 1},
+                     {"units", "mm, N, s"},
+                     {"device", options_.device},
+                     {"operator", lab_ ? "tap (simulated)" : "device"},
+                     {"seed", options_.seed},
+                     {"samples", pts}};
+  write_file_atomic(path.string(), doc.dump(1) + "\n");
+  return nlohmann::json{{"type", "ok"}, {"request", "save_session"}, {"samples", pts.size()}}
+      .dump();
+}
+
+std::string Session::do_open_session(const Message& m) {
+  const auto path = workspace_.resolve(get_string(m, "path"));
+  const nlohmann::json doc = nlohmann::json::parse(read_file(path.string()), nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || doc.value("format", "") != "inhap-studio-session" ||
+      !doc.contains("samples") || !doc["samples"].is_array())
+    throw ProtocolError(
+        fmt::format("{}: expected an inhap studio session file", path.filename().string()));
+  std::vector<Sample> loaded;
+  long next = 0;
+  for (const auto& e : doc["samples"]) {
+    if (!e.is_object() || !e.contains("id") || !e["id"].is_number_integer())
+      throw ProtocolError("session file: a sample without an integer \"id\"");
+    Sample s;
+    s.id = e["id"].get<long>();
+    s.point = vec_from(e.value("point", nlohmann::json()), "point");
+    s.threshold = vec_from(e.value("threshold", nlohmann::json()), "threshold");
+    s.direction = vec_from(e.value("direction", nlohmann::json()), "direction");
+    s.deleted = e.value("deleted", false);
+    s.estimated = e.value("estimated", false);
+    next = std::max(next, s.id + 1);
+    loaded.push_back(s);
+  }
+  {
+    std::lock_guard lock(data_mu_);
+    samples_ = std::move(loaded);
+    next_id_ = std::max(next_id_, next);
+    undo_.clear();
+  }
+  return samples_json();
+}
+
+// --- explore ---------------------------------------------------------------------------------
+
+std::string Session::mesh_json(const TriMesh& mesh, const std::string& role,
+                               const std::string& scalar) const {
+  std::vector<float> v;
+  v.reserve(mesh.num_vertices() * 3);
+  for (const Vec3& p : mesh.positions)
+    v.push_back(float(p.x())), v.push_back(float(p.y())), v.push_back(float(p.z()));
+  std::vector<std::uint32_t> f;
+  f.reserve(mesh.num_triangles() * 3);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) f.push_back(static_cast<std::uint32_t>(t[k]));
+  nlohmann::json j{{"type", "mesh"}, {"role", role}, {"vertices", v}, {"faces", f}};
+  if (mesh.has_property(scalar)) {
+    std::vector<float> s;
+    for (double d : mesh.property(scalar)) s.push_back(float(d));
+    j["scalar"] = scalar;
+    j["values"] = s;
+  }
+  return j.dump();
+}
+
+std::string Session::do_open_mesh(const Message& m) {
+  const std::string source = get_choice(m, "source", {"study25", "workspace", "model"});
+  TriMesh mesh;
+  std::string name = source;
+  std::shared_ptr<DataDrivenBundle> dd;
+  if (source == "study25") {
+    mesh = render::StudySurface(render::DatasetParams{}, render::identity_layout()).mesh();
+  } else if (source == "workspace") {
+    const auto path = workspace_.resolve(get_string(m, "path"));
+    mesh = read_mesh(path.string());
+    name = path.filename().string();
+    if (!mesh.has_property("stiffness"))
+      throw ProtocolError(fmt::format("{}: expected a vertex property \"stiffness\" (N/mm)", name));
+  } else {  // a trained force model with its sliding yield surfaces and shape (inhap serve --render
+            // model)
+    const auto model = workspace_.resolve(get_string(m, "model"));
+    const auto sys = workspace_.resolve(get_string(m, "sys"));
+    const auto shape = workspace_.resolve(get_string(m, "shape"));
+    const double radius = get_number_or(m, "probe_radius", 0, 50, 0);
+    mesh = read_mesh(shape.string());
+    dd = std::make_shared<DataDrivenBundle>(dd::load_force_model(model.string()),
+                                            friction::read_sys_json(sys.string()), mesh, radius);
+    name = model.filename().string();
+  }
+  // Everything loaded: only now does the session change.
+  const std::string old_mode = mode();
+  explore_mesh_ = std::move(mesh);
+  explore_name_ = name;
+  data_driven_ = std::move(dd);
+  if (old_mode == "explore") {
+    stop_rig();
+    start_rig("explore");
+  }
+  // The page draws a light copy (top_view_mesh); the loop renders the mesh itself.
+  nlohmann::json j = nlohmann::json::parse(
+      mesh_json(top_view_mesh(explore_mesh_, "stiffness"), "explore", "stiffness"));
+  j["faces_rendered"] = explore_mesh_.num_triangles();
+  j["name"] = name;
+  j["algorithm"] = data_driven_                            ? "data-driven"
+                   : algorithm_ == render::Algorithm::kTCA ? "tca"
+                                                           : "cba";
+  return j.dump();
+}
+
+std::string Session::do_algorithm(const Message& m) {
+  const std::string a = get_choice(m, "name", {"tca", "cba"});
+  if (data_driven_)
+    throw ProtocolError(
+        "algorithm: the open model is data-driven; open a mesh with a stiffness map for TCA-MESH "
+        "or CBA");
+  algorithm_ = a == "tca" ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  if (mode() == "explore") {
+    stop_rig();
+    start_rig("explore");
+  }
+  return nlohmann::json{{"type", "ok"}, {"request", "algorithm"}, {"name", a}}.dump();
+}
+
+// --- experiment ------------------------------------------------------------------------------
+
+std::string Session::trial_json() const {
+  const render::TrialSpec& s = schedule_[trial_];
+  nlohmann::json centres = nlohmann::json::array();
+  for (int c = 0; c < render::kNumModels; ++c)
+    centres.push_back({surface_->cell_centre(c).x(), surface_->cell_centre(c).y()});
+  return nlohmann::json{{"type", "trial"},
+                        {"participant", participant_},
+                        {"index", trial_},
+                        {"trials", schedule_.size()},
+                        {"session", s.session},
+                        {"trial", s.trial},
+                        {"task", render::to_string(s.task)},
+                        {"centres", centres},
+                        {"cell_mm", surface_->params().cell_mm},
+                        {"size_mm", surface_->params().cell_mm * surface_->params().cells},
+                        {"highlight_mm", render::ProtocolConfig{}.highlight_radius_mm},
+                        {"answered", trial_answers_}}
+      .dump();
+}
+
+std::string Session::do_experiment(const Message& m) {
+  const int participant = static_cast<int>(get_integer(m, "participant", 0, 999));
+  render::StudyConfig sc;
+  sc.participants = participant + 1;
+  sc.seed = options_.seed;
+  schedule_ = render::participant_schedule(sc, participant);
+  participant_ = participant;
+  trial_ = 0;
+  answers_.clear();
+  trial_answers_.fill(-1);
+  surface_.emplace(render::DatasetParams{}, render::shuffled_layout(schedule_[0].layout_seed));
+  stop_rig();
+  start_rig("experiment");
+  write_answers();
+  return trial_json();
+}
+
+std::string Session::do_answer(const Message& m) {
+  if (!surface_ || mode() != "experiment") throw ProtocolError("answer: no experiment running");
+  const int value = static_cast<int>(get_integer(m, "value", 0, 2));
+  Vec3 hip;
+  {
+    std::lock_guard lock(data_mu_);
+    if (!have_latest_) throw ProtocolError("answer: no probe position yet");
+    hip = latest_.out.hip_mm;
+  }
+  const double r = render::ProtocolConfig{}.highlight_radius_mm;
+  const int cell = surface_->cell_at(hip.x(), hip.y());
+  if (cell < 0 || (surface_->cell_centre(cell) - hip.head<2>()).norm() > r)
+    throw ProtocolError(
+        fmt::format("answer: the probe is at no model (within {:g} mm of a centre)", r));
+  const render::TrialSpec& spec = schedule_[trial_];
+  Answer a;
+  a.spec = spec;
+  a.cell = cell;
+  a.model = surface_->layout().model_at_cell[static_cast<std::size_t>(cell)];
+  a.value = value;
+  a.truth = spec.task == render::Task::kShape ? int(render::true_shape_class(a.model))
+                                              : int(render::true_stiffness_class(a.model));
+  a.t_s = latest_.t_s;
+  answers_.push_back(a);
+  trial_answers_[static_cast<std::size_t>(cell)] = value;
+  write_answers();
+  return trial_json();
+}
+
+std::string Session::do_next_trial() {
+  if (!surface_) throw ProtocolError("next_trial: no experiment running");
+  if (trial_ + 1 >= schedule_.size()) throw ProtocolError("next_trial: this was the last trial");
+  ++trial_;
+  trial_answers_.fill(-1);
+  surface_.emplace(render::DatasetParams{}, render::shuffled_layout(schedule_[trial_].layout_seed));
+  stop_rig();
+  start_rig("experiment");
+  return trial_json();
+}
+
+void Session::write_answers() const {
+  const auto path = workspace_.resolve(fmt::format("participant-{:03d}.csv", participant_));
+  std::string out =
+      "# inhap studio answers (thesis 5.4): label = ShapeClass (0 flat, 1 bump, 2 hole) or "
+      "StiffnessClass (0 same, 1 harder, 2 softer); t s (device time)\n"
+      "participant,session,trial,algorithm,task,layout_seed,cell,model,label,truth,correct,t\n";
+  for (const Answer& a : answers_)
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", participant_, a.spec.session,
+                       a.spec.trial, render::to_string(a.spec.algorithm),
+                       render::to_string(a.spec.task), a.spec.layout_seed, a.cell, a.model + 1,
+                       a.value, a.truth, a.value == a.truth ? 1 : 0, a.t_s);
+  write_file_atomic(path.string(), out);
+}
+
+}  // namespace inhap::studio

@@ -1,0 +1,175 @@
+// inhap studio messages: malformed input gets an error reply and changes nothing
+// (apps/inhap/studio/protocol.hpp, session.hpp).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
+#include "inhap/core/atomic_file.hpp"
+
+#include "inhap/core/error.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+#include "inhap/rendering/datasets.hpp"
+#include "studio/experiment_summary.hpp"
+#include "studio/protocol.hpp"
+#include "studio/session.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace inhap::studio;
+using nlohmann::json;
+
+namespace {
+
+json reply(Session& s, const std::string& text) {
+  return json::parse(s.handle(text));
+}
+
+// A session file with n samples (ids 0..n-1) on a plane z = 10.
+std::string session_file(int n) {
+  json pts = json::array();
+  for (int i = 0; i < n; ++i)
+    pts.push_back({{"id", i},
+                   {"point", {i * 3.0, (i % 4) * 2.5, 10.0}},
+                   {"threshold", {i * 3.0, (i % 4) * 2.5, 10.2}},
+                   {"direction", {0, 0, 1}}});
+  return json{{"format", "inhap-studio-session"}, {"version", 1}, {"samples", pts}}.dump();
+}
+
+}  // namespace
+
+TEST(StudioProtocol, ParseRefusesMalformedFrames) {
+  for (const char* bad : {"", "{", "[1,2]", "42", "\"x\"", "{\"kind\":\"hello\"}", "{\"type\":7}",
+                          "{\"type\":\"rm -rf\"}", "null"})
+    EXPECT_THROW(parse_message(bad), ProtocolError) << bad;
+  EXPECT_EQ(parse_message("{\"type\":\"hello\"}").type, "hello");
+}
+
+TEST(StudioProtocol, CheckedGettersRefuseWrongKindsAndRanges) {
+  const Message m =
+      parse_message(R"({"type":"probe","x":"1","y":1e300,"z":5,"seq":1.5,"ids":[1,"a"],"ok":1})");
+  EXPECT_THROW(get_number(m, "x", -10, 10), ProtocolError);  // a string
+  EXPECT_THROW(get_number(m, "z", -1, 1), ProtocolError);    // out of range
+  EXPECT_THROW(get_number(m, "w", -1, 1), ProtocolError);    // missing
+  EXPECT_THROW(get_number(m, "y", -1e4, 1e4), ProtocolError);
+  EXPECT_THROW(get_integer(m, "seq", 0, 10), ProtocolError);  // not an integer
+  EXPECT_THROW(get_integer_list(m, "ids", 0, 10, 5), ProtocolError);
+  EXPECT_THROW(get_bool_or(m, "ok", false), ProtocolError);
+  EXPECT_DOUBLE_EQ(get_number(m, "z", 0, 10), 5.0);
+}
+
+TEST(StudioSession, MalformedMessagesChangeNothing) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  inhap::write_file_atomic((ws.root() / "s.json").string(), session_file(12));
+  std::vector<std::string> sent;
+  StudioOptions o;
+  Session s(o, ws, [&](const std::string& t) { sent.push_back(t); });  // not started: no loop
+  EXPECT_EQ(reply(s, R"({"type":"open_session","path":"s.json"})")["type"], "samples");
+  ASSERT_EQ(s.live_samples(), 12u);
+
+  // Each is refused with an error reply naming the request; the samples stay as they were.
+  const std::vector<std::string> bad = {
+      "not json",
+      R"({"type":"delete","ids":[0,99]})",  // 99 does not exist: 0 is not deleted either
+      R"({"type":"delete","ids":[]})",
+      R"({"type":"delete","ids":"0"})",
+      R"({"type":"delete"})",
+      R"({"type":"undo"})",  // nothing to undo
+      R"({"type":"export","points":"../out.ply"})",
+      R"({"type":"export","points":"/tmp/out.ply"})",
+      R"({"type":"export","points":"out.txt"})",
+      R"({"type":"open_session","path":"../s.json"})",
+      R"({"type":"open_mesh","source":"elsewhere"})",
+      R"({"type":"reconstruct","alpha":-1})",
+      R"({"type":"answer","value":1})",  // no experiment
+      R"({"type":"mode","mode":"palpation"})",
+      R"({"type":"probe","x":1,"y":2,"z":"3","seq":1})",
+  };
+  for (const auto& text : bad) {
+    const json r = reply(s, text);
+    EXPECT_EQ(r["type"], "error") << text;
+    EXPECT_FALSE(r["message"].get<std::string>().empty()) << text;
+    EXPECT_EQ(s.live_samples(), 12u) << text;
+  }
+  EXPECT_FALSE(std::filesystem::exists(tmp.root() / "out.ply"));
+  EXPECT_FALSE(std::filesystem::exists(ws.root() / "out.txt"));
+
+  // The well-formed versions work: delete two, undo one, export the rest.
+  EXPECT_EQ(reply(s, R"({"type":"delete","ids":[0,5]})")["type"], "samples");
+  EXPECT_EQ(s.live_samples(), 10u);
+  EXPECT_EQ(reply(s, R"({"type":"undo"})")["type"], "samples");
+  EXPECT_EQ(s.live_samples(), 12u);
+  EXPECT_EQ(reply(s, R"({"type":"delete","ids":[3]})")["type"], "samples");
+  const json ex = reply(s, R"({"type":"export","points":"out.ply"})");
+  EXPECT_EQ(ex["type"], "ok") << ex.dump();
+  EXPECT_EQ(ex["points"], 11);
+  EXPECT_TRUE(std::filesystem::exists(ws.root() / "out.ply"));
+}
+
+TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
+  // Truth from Table 5.1 via the library; answers written as the Experiment view writes them.
+  inhap::test::TempDir tmp;
+  const auto truth = [](int m) { return int(inhap::render::true_shape_class(m)); };
+  std::string csv =
+      "# comment\nparticipant,session,trial,algorithm,task,layout_seed,cell,model,label,truth,"
+      "correct,t\n";
+  // trial 0 (TCA, shape): models 1-3 right, model 4 wrong; trial 1 (TCA, shape): model 5 right.
+  for (int m = 0; m < 4; ++m)
+    csv += fmt::format("2,0,0,tca,shape,11,{},{},{},0,0,1.0\n", m, m + 1,
+                       m < 3 ? truth(m) : (truth(m) + 1) % 3);
+  csv += fmt::format("2,0,1,tca,shape,12,7,5,{},0,0,2.0\n", truth(4));
+  inhap::write_file_atomic(tmp.path("participant-002.csv"), csv);
+  inhap::write_file_atomic(tmp.path("other.csv"), "not answers\n");  // ignored
+  const json s = inhap::studio::summarize_answers(tmp.root());
+  EXPECT_EQ(s["trials"], 2);
+  ASSERT_EQ(s["conditions"].size(), 1u);
+  const json& c = s["conditions"][0];
+  EXPECT_EQ(c["algorithm"], inhap::render::to_string(inhap::render::Algorithm::kTCA));
+  EXPECT_DOUBLE_EQ(c["mean"].get<double>(), (3 + 1) / 2.0);  // 3 then 1 correct of 25
+  EXPECT_DOUBLE_EQ(c["model_ratio"][0].get<double>(), 0.5);  // right in trial 0 only
+  EXPECT_DOUBLE_EQ(c["model_ratio"][3].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(c["model_ratio"][4].get<double>(), 0.5);
+
+  inhap::write_file_atomic(tmp.path("participant-003.csv"), "3,0,0,tca,shape,1,0,26,1,0,0,1\n");
+  try {
+    inhap::studio::summarize_answers(tmp.root());
+    ADD_FAILURE() << "model 26 accepted";
+  } catch (const inhap::ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("participant-003.csv"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), 1u);
+  }
+}
+
+TEST(StudioSession, OpensADataDrivenModelOrNothing) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  const std::string corpus = std::string(INHAP_SOURCE_DIR) + "/tests/fuzz/corpus/";
+  inhap::write_file_atomic((ws.root() / "model.json").string(),
+                           inhap::read_file(corpus + "model/small.json"));
+  inhap::write_file_atomic((ws.root() / "sys.json").string(),
+                           inhap::read_file(corpus + "sys/small.json"));
+  inhap::TriMesh plane;  // a 100 mm square at z = 0
+  plane.positions = {{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  inhap::write_mesh((ws.root() / "plane.ply").string(), plane);
+  StudioOptions o;
+  Session s(o, ws, [](const std::string&) {});
+
+  // A missing file: refused, and TCA-MESH can still be chosen (nothing data-driven was opened).
+  json r = reply(
+      s,
+      R"({"type":"open_mesh","source":"model","model":"model.json","sys":"none.json","shape":"plane.ply"})");
+  EXPECT_EQ(r["type"], "error") << r.dump();
+  EXPECT_EQ(reply(s, R"({"type":"algorithm","name":"tca"})")["type"], "ok");
+
+  r = reply(
+      s,
+      R"({"type":"open_mesh","source":"model","model":"model.json","sys":"sys.json","shape":"plane.ply"})");
+  ASSERT_EQ(r["type"], "mesh") << r.dump();
+  EXPECT_EQ(r["algorithm"], "data-driven");
+  EXPECT_EQ(r["faces"].size(), 6u);  // the plane's two triangles
+  // now TCA-MESH / CBA are refused: the shape carries no stiffness map
+  EXPECT_EQ(reply(s, R"({"type":"algorithm","name":"cba"})")["type"], "error");
+  // back to a stiffness mesh
+  EXPECT_EQ(reply(s, R"({"type":"open_mesh","source":"study25"})")["algorithm"], "tca");
+}
