@@ -1,5 +1,5 @@
 // inhap studio messages: malformed input gets an error reply and changes nothing
-// (apps/inhap/studio/protocol.hpp, session.hpp).
+// (include/inhap/studio/protocol.hpp, session.hpp).
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -10,9 +10,9 @@
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/rendering/datasets.hpp"
-#include "studio/experiment_summary.hpp"
-#include "studio/protocol.hpp"
-#include "studio/session.hpp"
+#include "inhap/studio/experiment_summary.hpp"
+#include "inhap/studio/protocol.hpp"
+#include "inhap/studio/session.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace inhap::studio;

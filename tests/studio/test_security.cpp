@@ -1,4 +1,4 @@
-// inhap studio access rules (apps/inhap/studio/security.hpp): the token, Host and Origin checks
+// inhap studio access rules (include/inhap/studio/security.hpp): the token, Host and Origin checks
 // and the workspace path guard.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <set>
 
 #include "inhap/core/error.hpp"
-#include "studio/security.hpp"
+#include "inhap/studio/security.hpp"
 #include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "studio/session.hpp"
+#include "inhap/studio/session.hpp"
 
 using inhap::Vec3;
 

@@ -11,9 +11,9 @@
 #include <thread>
 
 #include "command.hpp"
-#include "studio/security.hpp"
-#include "studio/server.hpp"
-#include "studio/session.hpp"
+#include "inhap/studio/security.hpp"
+#include "inhap/studio/server.hpp"
+#include "inhap/studio/session.hpp"
 
 namespace inhap::cli {
 namespace {

@@ -11,8 +11,8 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/surface/reconstruct.hpp"
-#include "studio/display.hpp"
-#include "studio/session.hpp"
+#include "inhap/studio/display.hpp"
+#include "inhap/studio/session.hpp"
 
 namespace inhap::studio {
 namespace {

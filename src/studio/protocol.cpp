@@ -1,4 +1,4 @@
-#include "studio/protocol.hpp"
+#include "inhap/studio/protocol.hpp"
 
 #include <fmt/format.h>
 

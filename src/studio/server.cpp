@@ -1,4 +1,4 @@
-#include "studio/server.hpp"
+#include "inhap/studio/server.hpp"
 
 #include <civetweb.h>
 #include <fmt/format.h>
@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "inhap/core/error.hpp"
-#include "studio/protocol.hpp"
-#include "studio/security.hpp"
+#include "inhap/studio/protocol.hpp"
+#include "inhap/studio/security.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,5 +1,5 @@
 // inhap studio session: device, servo loop per view, streamer (see session.hpp).
-#include "studio/session.hpp"
+#include "inhap/studio/session.hpp"
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 
 #include "inhap/core/error.hpp"
 #include "inhap/rendering/datasets.hpp"
-#include "studio/display.hpp"
-#include "studio/experiment_summary.hpp"
+#include "inhap/studio/display.hpp"
+#include "inhap/studio/experiment_summary.hpp"
 
 namespace inhap::studio {
 

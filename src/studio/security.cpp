@@ -1,4 +1,4 @@
-#include "studio/security.hpp"
+#include "inhap/studio/security.hpp"
 
 #include <fmt/format.h>
 #include <sodium.h>

@@ -1,4 +1,4 @@
-#include "studio/display.hpp"
+#include "inhap/studio/display.hpp"
 
 #include <optional>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "studio/experiment_summary.hpp"
+#include "inhap/studio/experiment_summary.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "studio/hand_device.hpp"
+#include "inhap/studio/hand_device.hpp"
 
 #include <algorithm>
 

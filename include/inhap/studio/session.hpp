@@ -30,9 +30,9 @@
 #include "inhap/haptics/servo_loop.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/rendering/experiment.hpp"
-#include "studio/hand_device.hpp"
-#include "studio/protocol.hpp"
-#include "studio/security.hpp"
+#include "inhap/studio/hand_device.hpp"
+#include "inhap/studio/protocol.hpp"
+#include "inhap/studio/security.hpp"
 
 namespace inhap::studio {
 
