@@ -10,9 +10,9 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/geometry/mesh_io.hpp"
-#include "inhap/surface/reconstruct.hpp"
 #include "inhap/studio/display.hpp"
 #include "inhap/studio/session.hpp"
+#include "inhap/surface/reconstruct.hpp"
 
 namespace inhap::studio {
 namespace {
