@@ -3,6 +3,7 @@
 #include "inhap/core/stats.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,21 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   rep.shell_depth = depth;
   const std::size_t n = pts.size();
   std::vector<Vec3> both(pts);
-  for (std::size_t i = 0; i < n; ++i) both.push_back(pts[i] - depth * normals[i]);
+  std::vector<double> depths(n, depth);
+  if (o.thin_part_depth > 0) {
+    // A thin part sampled on both sides (an ear): a twin deeper than about half the thickness
+    // lands on or beyond the far side's points, and the outer faces there go missing.
+    const KnnTable t = knn_table(pts, 24);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < t.k; ++j) {
+        const Vec3& q = pts[static_cast<std::size_t>(t.index[i * t.k + j])];
+        const Vec3& nq = normals[static_cast<std::size_t>(t.index[i * t.k + j])];
+        const double behind = (pts[i] - q).dot(normals[i]);
+        if (nq.dot(normals[i]) < 0 && behind > 0)
+          depths[i] = std::min(depths[i], std::max(0.2 * depth, o.thin_part_depth * behind));
+      }
+  }
+  for (std::size_t i = 0; i < n; ++i) both.push_back(pts[i] - depths[i] * normals[i]);
   AlphaShapeOptions ao;
   ao.alpha = o.alpha;
   ao.one_component = !o.patches;
@@ -86,7 +101,19 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
           agrees &&
           fn.dot(normals[static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(v)])]) >=
               min_cos;
-    if (agrees) soup.triangles.push_back(t);
+    // A face across air: two of its points face each other (opposed contact directions, each
+    // pointing toward the other point), e.g. a sheet between two ears.
+    bool across_air = false;
+    if (o.air_gap_cos > -1 && !dirs.empty())
+      for (int k = 0; k < 3; ++k) {
+        const auto i = static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(t[k])]);
+        const auto j =
+            static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(t[(k + 1) % 3])]);
+        const Vec3 u = pts[j] - pts[i];
+        if (dirs[i].dot(dirs[j]) < o.air_gap_cos && dirs[i].dot(u) > 0 && dirs[j].dot(u) < 0)
+          across_air = true;
+      }
+    if (agrees && !across_air) soup.triangles.push_back(t);
   }
   return soup;
 }
@@ -127,7 +154,8 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   if (pts.size() < 4)
     throw Error("surface reconstruction: expected at least 4 points, got " +
                 std::to_string(pts.size()) + " after outlier removal");
-  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs);
+  const double jet_cos = std::cos(o.jet_max_angle_deg * 3.14159265358979323846 / 180.0);
+  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs, jet_cos);
   if (o.jitter_mm > 0) pts = jitter(pts, o.jitter_mm, o.seed);
   rep.points_used = pts.size();
 
@@ -156,7 +184,9 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {
     const double max_move =
         0.5 * std::max(rep.shell_depth, median(knn_mean_distances(pts, 6), 0.0));
-    mesh.positions = project_onto_jets(pts, mesh.positions, o.jet_k, max_move);
+    mesh.positions = project_onto_jets(
+        pts, mesh.positions, o.jet_k, max_move,
+        o.sided_final_projection ? std::span<const Vec3>(dirs) : std::span<const Vec3>(), jet_cos);
     mesh.compute_normals();
   }
   rep.vertices = mesh.num_vertices();

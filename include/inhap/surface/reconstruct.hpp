@@ -32,7 +32,11 @@ struct ReconstructOptions {
   std::size_t outlier_k = 8;    ///< neighbours for the outlier test (0: no outlier removal)
   double outlier_sigmas = 6.0;  ///< robust z-score above which a point is an outlier
   std::size_t jet_k = 18;       ///< neighbours for the jet fit (0: no smoothing)
-  double alpha = 0;             ///< alpha radius, mm; 0: automatic (see `patches`)
+  /// With directions: a jet is fitted only to neighbours whose direction is within this of the
+  /// point's (deg).
+  double jet_max_angle_deg = 90;
+  bool sided_final_projection = false;
+  double alpha = 0;  ///< alpha radius, mm; 0: automatic (see `patches`)
   /// Shell, automatic alpha: a tap set of a whole object is patchy (head, back, haunches...
   /// tapped apart from each other). true: alpha is the smallest putting every point on the
   /// shell (set by the sparsest local spacing), the shell may have several components, and
@@ -48,6 +52,8 @@ struct ReconstructOptions {
   /// 0 or >= 180: keep every face.
   double max_face_normal_deg = 0;
   double shell_depth = 0;  ///< Shell: twin depth, mm; 0: the median 6-NN spacing
+  double thin_part_depth = 0;
+  double air_gap_cos = -2;
   std::size_t taubin_iterations = 10;
   double taubin_lambda = 0.5, taubin_mu = -0.53;
   std::size_t subdivisions = 1;  ///< sqrt(3) steps
