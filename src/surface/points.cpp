@@ -128,19 +128,36 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
 }
 
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
-                             std::span<const Vec3> directions, double min_cos) {
+                             std::span<const Vec3> directions, double min_cos,
+                             double feature_factor) {
   if (directions.size() != points.size()) return jet_smooth(points, k);
   std::vector<Vec3> out(points.begin(), points.end());
   const KnnTable t = knn_table(points, 3 * k);
   if (t.k < 5) return out;
-  std::vector<std::int32_t> nb;
+  std::vector<std::vector<std::int32_t>> nbs(points.size());
+  std::vector<double> moves(points.size(), 0.0);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    nb.clear();
+    std::vector<std::int32_t>& nb = nbs[i];
     for (std::size_t j = 0; j < t.k && nb.size() < k; ++j) {
       const auto m = t.index[i * t.k + j];
       if (directions[static_cast<std::size_t>(m)].dot(directions[i]) > min_cos) nb.push_back(m);
     }
     out[i] = project_on_jet(points[i], nb, points);
+    moves[i] = (out[i] - points[i]).norm();
+  }
+  if (feature_factor > 0) {
+    // A sharp feature (a crest, a corner) inside the neighbourhood: the quadric misfits and
+    // moves the point far more than the typical (noise) move. Refit on the nearer half of the
+    // neighbours and keep the smaller move.
+    const double limit = feature_factor * median(moves, 0.0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (!(moves[i] > limit)) continue;
+      const std::size_t half = std::max<std::size_t>(8, k / 2);
+      if (nbs[i].size() <= half) continue;
+      const Vec3 p =
+          project_on_jet(points[i], std::span<const std::int32_t>(nbs[i]).subspan(0, half), points);
+      if ((p - points[i]).norm() < moves[i]) out[i] = p;
+    }
   }
   return out;
 }

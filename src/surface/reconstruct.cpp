@@ -25,9 +25,13 @@ void orient_normals(std::vector<Vec3>& normals, std::span<const Vec3> pts,
   if (!directions.empty()) {
     const KnnTable t = knn_table(pts, 12);
     for (std::size_t i = 0; i < normals.size(); ++i) {
+      // Only neighbours on the point's side: on a thin part sampled on both sides (an ear) the
+      // two sides' directions cancel.
       Vec3 ref = directions[i];
-      for (std::size_t j = 0; j < t.k; ++j)
-        ref += directions[static_cast<std::size_t>(t.index[i * t.k + j])];
+      for (std::size_t j = 0; j < t.k; ++j) {
+        const Vec3& d = directions[static_cast<std::size_t>(t.index[i * t.k + j])];
+        if (d.dot(directions[i]) > 0) ref += d;
+      }
       if (normals[i].dot(ref) < 0) normals[i] = -normals[i];
     }
     return;
@@ -109,9 +113,8 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
         const auto i = static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(t[k])]);
         const auto j =
             static_cast<std::size_t>(as.input_index[static_cast<std::size_t>(t[(k + 1) % 3])]);
-        const Vec3 u = pts[j] - pts[i];
-        if (dirs[i].dot(dirs[j]) < o.air_gap_cos && dirs[i].dot(u) > 0 && dirs[j].dot(u) < 0)
-          across_air = true;
+        across_air =
+            across_air || faces_each_other(pts[i], dirs[i], pts[j], dirs[j], o.air_gap_cos);
       }
     if (agrees && !across_air) soup.triangles.push_back(t);
   }
@@ -119,6 +122,12 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
 }
 
 }  // namespace
+
+bool faces_each_other(const Vec3& a, const Vec3& da, const Vec3& b, const Vec3& db,
+                      double max_cos) {
+  const Vec3 u = b - a;
+  return da.dot(db) < max_cos && da.dot(u) > 0 && db.dot(u) < 0;
+}
 
 TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> directions,
                             const ReconstructOptions& o, ReconstructReport* report) {
@@ -155,7 +164,7 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
     throw Error("surface reconstruction: expected at least 4 points, got " +
                 std::to_string(pts.size()) + " after outlier removal");
   const double jet_cos = std::cos(o.jet_max_angle_deg * 3.14159265358979323846 / 180.0);
-  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs, jet_cos);
+  if (o.jet_k > 0) pts = jet_smooth(pts, o.jet_k, dirs, jet_cos, o.jet_feature_factor);
   if (o.jitter_mm > 0) pts = jitter(pts, o.jitter_mm, o.seed);
   rep.points_used = pts.size();
 

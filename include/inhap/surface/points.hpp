@@ -53,7 +53,8 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k);
 /// first k such), so the two sides of a thin part (an ear tapped front and back) are not
 /// averaged into its middle. Empty `directions`: jet_smooth(points, k).
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
-                             std::span<const Vec3> directions, double min_cos = 0.0);
+                             std::span<const Vec3> directions, double min_cos = 0.0,
+                             double feature_factor = 0.0);
 
 /// Moves each query onto the second-order jet (as jet_smooth) fitted to its k nearest
 /// `points` alone, along the jet frame's normal: puts the vertices of a mesh built from the

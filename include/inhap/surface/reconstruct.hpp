@@ -31,10 +31,11 @@ struct ReconstructOptions {
   SurfaceMode mode = SurfaceMode::Shell;
   std::size_t outlier_k = 8;    ///< neighbours for the outlier test (0: no outlier removal)
   double outlier_sigmas = 6.0;  ///< robust z-score above which a point is an outlier
-  std::size_t jet_k = 18;       ///< neighbours for the jet fit (0: no smoothing)
+  std::size_t jet_k = 14;       ///< neighbours for the jet fit (0: no smoothing)
   /// With directions: a jet is fitted only to neighbours whose direction is within this of the
   /// point's (deg).
-  double jet_max_angle_deg = 90;
+  double jet_max_angle_deg = 60;
+  double jet_feature_factor = 0;
   bool sided_final_projection = false;
   double alpha = 0;  ///< alpha radius, mm; 0: automatic (see `patches`)
   /// Shell, automatic alpha: a tap set of a whole object is patchy (head, back, haunches...
@@ -52,8 +53,8 @@ struct ReconstructOptions {
   /// 0 or >= 180: keep every face.
   double max_face_normal_deg = 0;
   double shell_depth = 0;  ///< Shell: twin depth, mm; 0: the median 6-NN spacing
-  double thin_part_depth = 0;
-  double air_gap_cos = -2;
+  double thin_part_depth = 0.4;
+  double air_gap_cos = -0.3;
   std::size_t taubin_iterations = 10;
   double taubin_lambda = 0.5, taubin_mu = -0.53;
   std::size_t subdivisions = 1;  ///< sqrt(3) steps
@@ -78,6 +79,13 @@ struct ReconstructReport {
   std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 16 edges)
   std::size_t vertices = 0, faces = 0;  ///< of the final mesh
 };
+
+/// True when two sampled points with outward directions `da`, `db` face each other across air:
+/// the directions are opposed (cosine below `max_cos`) and each points toward the other point
+/// (a sheet between a bunny's two ears joins such points). Two sides of a thin part (material
+/// between them) point away from each other; neighbours on one surface, or the two flanks of a
+/// groove (cosine above `max_cos`), are not opposed.
+bool faces_each_other(const Vec3& a, const Vec3& da, const Vec3& b, const Vec3& db, double max_cos);
 
 /// The whole pipeline. `directions` (empty, or one per point) are outward directions known
 /// from the measurement (the contact force direction): only their sign is used, to orient the
