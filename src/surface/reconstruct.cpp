@@ -121,6 +121,44 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   return soup;
 }
 
+/// Drops the faces of `mesh` (vertices at points of `pts`) two of whose points face each other
+/// across air, and the vertices no face uses any more.
+void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
+                           const std::vector<Vec3>& dirs, double max_cos) {
+  if (mesh.positions.empty()) return;
+  const NearestSites ns = nearest_sites(pts, mesh.positions);
+  std::vector<Tri> kept;
+  for (const Tri& t : mesh.triangles) {
+    bool air = false;
+    for (int k = 0; k < 3; ++k) {
+      const auto i = ns.index[static_cast<std::size_t>(t[k])];
+      const auto j = ns.index[static_cast<std::size_t>(t[(k + 1) % 3])];
+      if (i < 0 || j < 0) continue;
+      air = air ||
+            faces_each_other(pts[static_cast<std::size_t>(i)], dirs[static_cast<std::size_t>(i)],
+                             pts[static_cast<std::size_t>(j)], dirs[static_cast<std::size_t>(j)],
+                             max_cos);
+    }
+    if (!air) kept.push_back(t);
+  }
+  if (kept.size() == mesh.triangles.size()) return;
+  TriMesh out;
+  std::vector<std::int32_t> remap(mesh.positions.size(), -1);
+  for (Tri t : kept) {
+    for (auto& v : t) {
+      auto& r = remap[static_cast<std::size_t>(v)];
+      if (r < 0) {
+        r = static_cast<std::int32_t>(out.positions.size());
+        out.positions.push_back(mesh.positions[static_cast<std::size_t>(v)]);
+      }
+      v = r;
+    }
+    out.triangles.push_back(t);
+  }
+  out.compute_normals();
+  mesh = std::move(out);
+}
+
 }  // namespace
 
 bool faces_each_other(const Vec3& a, const Vec3& da, const Vec3& b, const Vec3& db,
@@ -187,7 +225,12 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   rep.components = mr.kept_components;
   // Shell: where a twin showed through the outer side a few faces are missing; close such
   // small holes (the patch's own rim is long and stays open).
-  if (o.mode == SurfaceMode::Shell) rep.holes_filled = fill_small_holes(mesh, 16, 0.1);
+  if (o.mode == SurfaceMode::Shell) {
+    rep.holes_filled = fill_small_holes(mesh, 16, 0.1);
+    // The gap left by the faces across air is a small hole too: what the filling put back
+    // across air goes again.
+    if (!dirs.empty() && o.air_gap_cos >= -1) drop_faces_across_air(mesh, pts, dirs, o.air_gap_cos);
+  }
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
   if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {
