@@ -89,7 +89,7 @@ struct ReconstructReport {
   std::size_t duplicated_vertices = 0;  ///< by the manifold repair
   std::size_t components_dropped = 0;   ///< surface pieces dropped (not the largest / too small)
   std::size_t components = 0;           ///< surface pieces kept
-  std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 16 edges)
+  std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 10 edges)
   std::size_t vertices = 0, faces = 0;  ///< of the final mesh
 };
 
