@@ -47,6 +47,25 @@ void orient_normals(std::vector<Vec3>& normals, std::span<const Vec3> pts,
   }
 }
 
+/// Depth of each point's inner twin: `depth`, but at most `thin_factor` x the distance along its
+/// normal to the nearest of its 24 neighbours whose normal is opposite (floored at 0.2 depth).
+/// A thin part sampled on both sides (an ear): a twin deeper than about half the thickness lands
+/// on or beyond the far side's points, and the outer faces there go missing.
+std::vector<double> twin_depths(const std::vector<Vec3>& pts, const std::vector<Vec3>& normals,
+                                double depth, double thin_factor) {
+  std::vector<double> depths(pts.size(), depth);
+  if (!(thin_factor > 0)) return depths;
+  const KnnTable t = knn_table(pts, 24);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (std::size_t j = 0; j < t.k; ++j) {
+      const auto m = static_cast<std::size_t>(t.index[i * t.k + j]);
+      const double behind = (pts[i] - pts[m]).dot(normals[i]);
+      if (normals[m].dot(normals[i]) < 0 && behind > 0)
+        depths[i] = std::min(depths[i], std::max(0.2 * depth, thin_factor * behind));
+    }
+  return depths;
+}
+
 /// Shell mode: alpha shape of the points and their inner twins, faces on points only.
 TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
                       const ReconstructOptions& o, ReconstructReport& rep) {
@@ -57,20 +76,7 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   rep.shell_depth = depth;
   const std::size_t n = pts.size();
   std::vector<Vec3> both(pts);
-  std::vector<double> depths(n, depth);
-  if (o.thin_part_depth > 0) {
-    // A thin part sampled on both sides (an ear): a twin deeper than about half the thickness
-    // lands on or beyond the far side's points, and the outer faces there go missing.
-    const KnnTable t = knn_table(pts, 24);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = 0; j < t.k; ++j) {
-        const Vec3& q = pts[static_cast<std::size_t>(t.index[i * t.k + j])];
-        const Vec3& nq = normals[static_cast<std::size_t>(t.index[i * t.k + j])];
-        const double behind = (pts[i] - q).dot(normals[i]);
-        if (nq.dot(normals[i]) < 0 && behind > 0)
-          depths[i] = std::min(depths[i], std::max(0.2 * depth, o.thin_part_depth * behind));
-      }
-  }
+  const std::vector<double> depths = twin_depths(pts, normals, depth, o.thin_part_depth);
   for (std::size_t i = 0; i < n; ++i) both.push_back(pts[i] - depths[i] * normals[i]);
   AlphaShapeOptions ao;
   ao.alpha = o.alpha;
@@ -159,6 +165,18 @@ void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
   mesh = std::move(out);
 }
 
+/// Shell: where a twin showed through the outer side a few faces are missing; closes such small
+/// holes (the patch's own rim is long and stays open). At most 10 edges: a loop of 16 edges of
+/// a whole-object sampling (4-5 mm) is a gap of 20 mm across, and filling it invented a face
+/// 5 mm off the bunny's paws (seed 2). The gap left by the faces across air is a small hole
+/// too: what the filling puts back across air goes again. Returns the holes filled.
+std::size_t close_small_holes(TriMesh& mesh, const std::vector<Vec3>& pts,
+                              const std::vector<Vec3>& dirs, const ReconstructOptions& o) {
+  const std::size_t filled = fill_small_holes(mesh, 10, 0.1);
+  if (!dirs.empty() && o.air_gap_cos >= -1) drop_faces_across_air(mesh, pts, dirs, o.air_gap_cos);
+  return filled;
+}
+
 }  // namespace
 
 bool faces_each_other(const Vec3& a, const Vec3& da, const Vec3& b, const Vec3& db,
@@ -223,16 +241,7 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   rep.duplicated_vertices = mr.duplicated_vertices;
   rep.components_dropped = mr.components - mr.kept_components;
   rep.components = mr.kept_components;
-  // Shell: where a twin showed through the outer side a few faces are missing; close such
-  // small holes (the patch's own rim is long and stays open). At most 10 edges: a loop of 16
-  // edges of a whole-object sampling (4-5 mm) is a gap of 20 mm across, and filling it
-  // invented a face 5 mm off the bunny's paws (seed 2).
-  if (o.mode == SurfaceMode::Shell) {
-    rep.holes_filled = fill_small_holes(mesh, 10, 0.1);
-    // The gap left by the faces across air is a small hole too: what the filling put back
-    // across air goes again.
-    if (!dirs.empty() && o.air_gap_cos >= -1) drop_faces_across_air(mesh, pts, dirs, o.air_gap_cos);
-  }
+  if (o.mode == SurfaceMode::Shell) rep.holes_filled = close_small_holes(mesh, pts, dirs, o);
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
   if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {
