@@ -293,7 +293,7 @@ ShapeVariant reconstruct_and_compare(const lab::LabRecording& rec, ContactMethod
   std::vector<Vec3> pts, dirs;
   for (const Contact& c : m.contacts) pts.push_back(c.point), dirs.push_back(c.direction);
   ReconstructReport rep;
-  v.mesh = reconstruct_surface(pts, dirs, {}, &rep);
+  v.mesh = reconstruct_surface(pts, dirs, options.reconstruct, &rep);
   // Common region: the reference near the true contact points of the taps the model was built
   // from (an outlier tap, e.g. a tip that slipped down a wall, is not part of the model).
   std::vector<Vec3> region;

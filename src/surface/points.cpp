@@ -64,13 +64,27 @@ Vec3 project_on_jet_of(const Vec3& q, std::span<const std::int32_t> nb, std::spa
 }  // namespace
 
 std::vector<Vec3> project_onto_jets(std::span<const Vec3> points, std::span<const Vec3> queries,
-                                    std::size_t k, double max_move) {
+                                    std::size_t k, double max_move,
+                                    std::span<const Vec3> directions, double min_cos) {
   std::vector<Vec3> out(queries.begin(), queries.end());
-  const KnnTable t = knn_query(points, queries, k);
+  const bool sided = directions.size() == points.size();
+  const KnnTable t = knn_query(points, queries, sided ? 3 * k : k);
   if (t.k < 6) return out;
+  std::vector<std::int32_t> nb;
   for (std::size_t i = 0; i < queries.size(); ++i) {
-    const Vec3 p = project_on_jet_of(
-        queries[i], std::span<const std::int32_t>(t.index).subspan(i * t.k, t.k), points);
+    std::span<const std::int32_t> all =
+        std::span<const std::int32_t>(t.index).subspan(i * t.k, t.k);
+    if (sided) {
+      // The side of the nearest point: only neighbours whose direction is near its direction.
+      const Vec3& ref = directions[static_cast<std::size_t>(all[0])];
+      nb.clear();
+      for (std::size_t j = 0; j < t.k && nb.size() < k; ++j)
+        if (directions[static_cast<std::size_t>(all[j])].dot(ref) > min_cos) nb.push_back(all[j]);
+      all = nb;
+    } else {
+      all = all.subspan(0, std::min(all.size(), k));
+    }
+    const Vec3 p = project_on_jet_of(queries[i], all, points);
     if ((p - queries[i]).norm() <= max_move) out[i] = p;
   }
   return out;
@@ -114,19 +128,36 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k) {
 }
 
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
-                             std::span<const Vec3> directions) {
+                             std::span<const Vec3> directions, double min_cos,
+                             double feature_factor) {
   if (directions.size() != points.size()) return jet_smooth(points, k);
   std::vector<Vec3> out(points.begin(), points.end());
   const KnnTable t = knn_table(points, 3 * k);
   if (t.k < 5) return out;
-  std::vector<std::int32_t> nb;
+  std::vector<std::vector<std::int32_t>> nbs(points.size());
+  std::vector<double> moves(points.size(), 0.0);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    nb.clear();
+    std::vector<std::int32_t>& nb = nbs[i];
     for (std::size_t j = 0; j < t.k && nb.size() < k; ++j) {
       const auto m = t.index[i * t.k + j];
-      if (directions[static_cast<std::size_t>(m)].dot(directions[i]) > 0) nb.push_back(m);
+      if (directions[static_cast<std::size_t>(m)].dot(directions[i]) > min_cos) nb.push_back(m);
     }
     out[i] = project_on_jet(points[i], nb, points);
+    moves[i] = (out[i] - points[i]).norm();
+  }
+  if (feature_factor > 0) {
+    // A sharp feature (a crest, a corner) inside the neighbourhood: the quadric misfits and
+    // moves the point far more than the typical (noise) move. Refit on the nearer half of the
+    // neighbours and keep the smaller move.
+    const double limit = feature_factor * median(moves, 0.0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (!(moves[i] > limit)) continue;
+      const std::size_t half = std::max<std::size_t>(8, k / 2);
+      if (nbs[i].size() <= half) continue;
+      const Vec3 p =
+          project_on_jet(points[i], std::span<const std::int32_t>(nbs[i]).subspan(0, half), points);
+      if ((p - points[i]).norm() < moves[i]) out[i] = p;
+    }
   }
   return out;
 }

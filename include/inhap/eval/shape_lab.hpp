@@ -16,6 +16,7 @@
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/compare.hpp"
+#include "inhap/surface/reconstruct.hpp"
 
 namespace inhap::eval {
 
@@ -91,6 +92,7 @@ struct ShapeCompareOptions {
   /// reconstruction side instead of `reference` (the thesis crops to the reachable, tapped part:
   /// the base band and the underside near the table are never tapped).
   const TriMesh* reachable_reference = nullptr;
+  ReconstructOptions reconstruct;  ///< the surface pipeline's options (defaults: the study's)
 };
 
 /// The faces of `reference` whose centroid is reachable (lab/reach.hpp, tip probe, approach

@@ -53,7 +53,8 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k);
 /// first k such), so the two sides of a thin part (an ear tapped front and back) are not
 /// averaged into its middle. Empty `directions`: jet_smooth(points, k).
 std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
-                             std::span<const Vec3> directions);
+                             std::span<const Vec3> directions, double min_cos = 0.0,
+                             double feature_factor = 0.0);
 
 /// Moves each query onto the second-order jet (as jet_smooth) fitted to its k nearest
 /// `points` alone, along the jet frame's normal: puts the vertices of a mesh built from the
@@ -61,7 +62,8 @@ std::vector<Vec3> jet_smooth(std::span<const Vec3> points, std::size_t k,
 /// convex parts by about e^2 / (8 R) for edges e on radius R). Queries whose fit is singular,
 /// or that would move farther than `max_move` mm, stay where they are.
 std::vector<Vec3> project_onto_jets(std::span<const Vec3> points, std::span<const Vec3> queries,
-                                    std::size_t k, double max_move);
+                                    std::size_t k, double max_move,
+                                    std::span<const Vec3> directions = {}, double min_cos = 0.0);
 
 /// Unit normals by PCA of each point and its k nearest neighbours (smallest-variance axis),
 /// unoriented (sign arbitrary).

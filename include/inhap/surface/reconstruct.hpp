@@ -31,8 +31,19 @@ struct ReconstructOptions {
   SurfaceMode mode = SurfaceMode::Shell;
   std::size_t outlier_k = 8;    ///< neighbours for the outlier test (0: no outlier removal)
   double outlier_sigmas = 6.0;  ///< robust z-score above which a point is an outlier
-  std::size_t jet_k = 18;       ///< neighbours for the jet fit (0: no smoothing)
-  double alpha = 0;             ///< alpha radius, mm; 0: automatic (see `patches`)
+  std::size_t jet_k = 14;       ///< neighbours for the jet fit (0: no smoothing)
+  /// With directions: a jet is fitted only to neighbours whose direction is within this of the
+  /// point's (deg): the flanks of a sharp crest (80 deg apart on the ridged slab) and the two
+  /// sides of a thin part are not averaged.
+  double jet_max_angle_deg = 60;
+  /// With directions, > 0: where a point's jet moves it more than this x the median move (a
+  /// sharp feature in the neighbourhood), refit on the nearer half and keep the smaller move.
+  /// 0: off (tried on the lab objects, no better; see docs/shape-modeling.md).
+  double jet_feature_factor = 0;
+  /// With directions: the final projection fits each vertex's jet only to neighbours on the side
+  /// of its nearest point (within jet_max_angle_deg). Off by default (no better on the lab).
+  bool sided_final_projection = false;
+  double alpha = 0;  ///< alpha radius, mm; 0: automatic (see `patches`)
   /// Shell, automatic alpha: a tap set of a whole object is patchy (head, back, haunches...
   /// tapped apart from each other). true: alpha is the smallest putting every point on the
   /// shell (set by the sparsest local spacing), the shell may have several components, and
@@ -48,6 +59,15 @@ struct ReconstructOptions {
   /// 0 or >= 180: keep every face.
   double max_face_normal_deg = 0;
   double shell_depth = 0;  ///< Shell: twin depth, mm; 0: the median 6-NN spacing
+  /// Shell: each twin at most this x the distance, along its inward normal, to the nearest of
+  /// its 24 neighbours whose normal is opposite (a thin part sampled on both sides: a deeper
+  /// twin lands near the far side and the outer faces there go missing); floored at 0.2 x the
+  /// depth. 0: every twin at the full depth.
+  double thin_part_depth = 0.4;
+  /// Shell, with directions: drop faces two of whose points face each other across air
+  /// (faces_each_other with this cosine: a sheet between two separately tapped parts).
+  /// Below -1: keep them.
+  double air_gap_cos = -0.3;
   std::size_t taubin_iterations = 10;
   double taubin_lambda = 0.5, taubin_mu = -0.53;
   std::size_t subdivisions = 1;  ///< sqrt(3) steps
@@ -69,9 +89,16 @@ struct ReconstructReport {
   std::size_t duplicated_vertices = 0;  ///< by the manifold repair
   std::size_t components_dropped = 0;   ///< surface pieces dropped (not the largest / too small)
   std::size_t components = 0;           ///< surface pieces kept
-  std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 16 edges)
+  std::size_t holes_filled = 0;         ///< Shell: small holes closed (<= 10 edges)
   std::size_t vertices = 0, faces = 0;  ///< of the final mesh
 };
+
+/// True when two sampled points with outward directions `da`, `db` face each other across air:
+/// the directions are opposed (cosine below `max_cos`) and each points toward the other point
+/// (a sheet between a bunny's two ears joins such points). Two sides of a thin part (material
+/// between them) point away from each other; neighbours on one surface, or the two flanks of a
+/// groove (cosine above `max_cos`), are not opposed.
+bool faces_each_other(const Vec3& a, const Vec3& da, const Vec3& b, const Vec3& db, double max_cos);
 
 /// The whole pipeline. `directions` (empty, or one per point) are outward directions known
 /// from the measurement (the contact force direction): only their sign is used, to orient the
