@@ -2,7 +2,6 @@
 
 #include <civetweb.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <array>
 #include <cstdlib>
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "inhap/core/error.hpp"
+#include "inhap/core/web_dir.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/security.hpp"
 
@@ -81,36 +81,12 @@ bool has_studio(const fs::path& d) {
 }  // namespace
 
 std::string find_studio_web_dir(const std::string& given) {
-  std::vector<fs::path> candidates;
-  if (!given.empty()) {
-    candidates.push_back(given);
-  } else if (const char* env = std::getenv("INHAP_WEB_DIR"); env && *env) {
-    candidates.push_back(env);
-  } else {
-    std::array<char, 4096> buf{};
-    const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
-    if (n > 0) {
-      fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
-      for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
-        candidates.push_back(d / "web");
-        candidates.push_back(d / "share/inhap/web");
-      }
-    }
-    candidates.push_back(fs::current_path() / "web");
-  }
-  for (const auto& c : candidates) {
-    if (!has_studio(c)) continue;
-    for (const auto& [url, file] : routes())
-      if (!fs::exists(c / file.first))
-        throw Error(fmt::format("{}: {} is missing: run ./run setup (it runs npm ci --prefix web)",
-                                c.string(), file.first));
-    return c.string();
-  }
-  throw Error(fmt::format(
-      "cannot find the studio page web/studio/index.html (looked in {}{}): give --web-dir DIR "
-      "or set INHAP_WEB_DIR",
-      candidates.empty() ? std::string("nothing") : candidates.front().string(),
-      candidates.size() > 1 ? fmt::format(" and {} more", candidates.size() - 1) : ""));
+  const std::string dir = find_web_dir(given, has_studio, "the studio page web/studio/index.html");
+  for (const auto& [url, file] : routes())
+    if (!fs::exists(fs::path(dir) / file.first))
+      throw Error(fmt::format("{}: {} is missing: run ./run setup (it runs npm ci --prefix web)",
+                              dir, file.first));
+  return dir;
 }
 
 Server::Server(int port, std::string web_dir, std::string token)

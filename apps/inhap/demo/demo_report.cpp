@@ -3,10 +3,7 @@
 // the figures' data and web/report.js (the glue calling Plotly / three) inlined, so it opens
 // offline. Units of the data: mm, N, s, N/mm.
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include <array>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,6 +11,7 @@
 #include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/web_dir.hpp"
 
 namespace inhap::demo {
 namespace {
@@ -132,38 +130,15 @@ bool has_template(const fs::path& d) {
 }  // namespace
 
 std::string find_web_dir(const std::string& given) {
-  std::vector<fs::path> candidates;
-  if (!given.empty()) {
-    candidates.push_back(given);
-  } else if (const char* env = std::getenv("INHAP_WEB_DIR"); env && *env) {
-    candidates.push_back(env);
-  } else {
-    std::array<char, 4096> buf{};
-    const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
-    if (n > 0) {
-      fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
-      for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
-        candidates.push_back(d / "web");
-        candidates.push_back(d / "share/inhap/web");
-      }
-    }
-    candidates.push_back(fs::current_path() / "web");
-  }
-  for (const auto& c : candidates) {
-    if (!has_template(c)) continue;
-    for (const char* lib : {kPlotly, kThreeModule, kThreeCore, kOrbit})
-      if (!fs::exists(c / lib))
-        throw Error(fmt::format(
-            "{}: the report's JavaScript libraries are missing (expected {}): run ./run setup "
-            "(it runs npm ci --prefix web)",
-            c.string(), lib));
-    return c.string();
-  }
-  throw Error(
-      fmt::format("cannot find the report template web/report_template.html (looked in {}{}): give "
-                  "--web-dir DIR or set INHAP_WEB_DIR, and run ./run setup",
-                  candidates.empty() ? std::string("nothing") : candidates.front().string(),
-                  candidates.size() > 1 ? fmt::format(" and {} more", candidates.size() - 1) : ""));
+  const std::string dir =
+      inhap::find_web_dir(given, has_template, "the report template web/report_template.html");
+  for (const char* lib : {kPlotly, kThreeModule, kThreeCore, kOrbit})
+    if (!fs::exists(fs::path(dir) / lib))
+      throw Error(fmt::format(
+          "{}: the report's JavaScript libraries are missing (expected {}): run ./run setup "
+          "(it runs npm ci --prefix web)",
+          dir, lib));
+  return dir;
 }
 
 void write_report(const Options& o, const std::string& web_dir,
