@@ -252,8 +252,8 @@ void add_reconstruct(CLI::App& shape_cmd) {
       ->check(CLI::ExistingFile);
   rec->add_option("--out,-o", r->out, "output mesh (.ply or .obj)")->required();
   rec->add_option("--alpha", r->alpha,
-                  "auto (smallest alpha with one solid component and a closed manifold\n"
-                  "boundary) or a radius in mm");
+                  "auto (from the point spacing: the smallest alpha whose boundary is a closed\n"
+                  "manifold of one or more components, docs/shape-modeling.md) or a radius in mm");
   rec->add_option("--mode", r->mode,
                   "shell (points + inner twins: for partial samplings, default) | solid (the\n"
                   "thesis' alpha solid)")

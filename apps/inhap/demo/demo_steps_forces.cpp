@@ -187,7 +187,8 @@ void write_series(const std::string& path, const eval::ForceLabResult& d) {
 
 // Where the training recording went (issue 18): the (x, y) projection of the coverage map,
 // colour = training samples per column of cells (log scale), the largest unvisited gaps marked.
-Figure coverage_figure(const std::vector<eval::ForceLabResult>& all) {
+Figure coverage_figure(const std::vector<eval::ForceLabResult>& all,
+                       const std::vector<eval::ForceCoverage>& coverages) {
   Figure f{"coverage",
            "Training coverage: where the exploration went, and where to explore more",
            "Proxy positions of the training recording binned into cells (seen from above; "
@@ -200,7 +201,7 @@ Figure coverage_figure(const std::vector<eval::ForceLabResult>& all) {
   f.spec["data"] = nlohmann::json::array();
   nlohmann::json layout = {{"height", 420}, {"grid", {{"rows", 1}, {"columns", all.size()}}}};
   for (std::size_t s = 0; s < all.size(); ++s) {
-    const eval::ForceCoverage cov = eval::training_coverage(all[s]);
+    const eval::ForceCoverage& cov = coverages[s];
     std::map<std::pair<int, int>, double> column;
     for (const dd::CoverageCell& cell : cov.map.cells())
       column[{cell.index[0], cell.index[1]}] += static_cast<double>(cell.samples);
@@ -258,6 +259,7 @@ StepResult step_force_model(const Context& c) {
   targets.push_back({"dome", "0.51 / 0.33 / 0.50", "0.260 / 0.211"});
   const bool baselines = true;
   std::vector<eval::ForceLabResult> all;
+  std::vector<eval::ForceCoverage> coverages;  // per scene, for its table row and the map
   nlohmann::json summary = nlohmann::json::array();
   for (std::size_t s = 0; s < targets.size(); ++s) {
     const SceneTarget& t = targets[s];
@@ -299,7 +301,7 @@ StepResult step_force_model(const Context& c) {
           {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
            fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
            "with < without (fig. 4.14)"});
-    const eval::ForceCoverage cov = eval::training_coverage(d);
+    const eval::ForceCoverage& cov = coverages.emplace_back(eval::training_coverage(d));
     std::string where;
     for (std::size_t g = 0; g < std::min<std::size_t>(2, cov.gaps.size()); ++g)
       where += fmt::format("{}({:.0f}, {:.0f})", g ? ", " : "; explore more at x, y mm ",
@@ -326,7 +328,7 @@ StepResult step_force_model(const Context& c) {
     r.figures.push_back(time_figure(d, d.name == "dome" ? "fig4_12" : "fig4_11"));
   r.figures.push_back(magnitude_figure(all, baselines));
   r.figures.push_back(box_figure(all, baselines));
-  r.figures.push_back(coverage_figure(all));
+  r.figures.push_back(coverage_figure(all, coverages));
   r.note = fmt::format("proxy: {}", all.back().test_track.proxy_source);
   return r;
 }
