@@ -335,10 +335,13 @@ void fit_points(SysModel& m, const FitOptions& opt) {
   if (opt.force_frame != ForceFrame::kAuto) return fit_all(opt.force_frame);
   fit_all(ForceFrame::kAnchor);
   const double anchor = level_dependence(m);
+  std::vector<SysPoint> anchored = m.points;  // kept rather than fitted a third time
   fit_all(ForceFrame::kProbe);
   const double probe = level_dependence(m);
-  if (std::isfinite(anchor) && (!std::isfinite(probe) || anchor < probe))
-    fit_all(ForceFrame::kAnchor);
+  if (std::isfinite(anchor) && (!std::isfinite(probe) || anchor < probe)) {
+    m.points = std::move(anchored);
+    m.force_frame = ForceFrame::kAnchor;
+  }
 }
 
 // The slip viscosity is a property of the material, and one point's estimate rests on the
