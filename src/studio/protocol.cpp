@@ -11,7 +11,7 @@ const std::vector<std::string>& message_types() {
   static const std::vector<std::string> types = {
       "hello",  "mode",         "probe",        "delete",    "undo",      "reconstruct",
       "export", "save_session", "open_session", "open_mesh", "algorithm", "experiment",
-      "answer", "next_trial",   "stats",        "summary"};
+      "answer", "next_trial",   "stats",        "summary",   "palpate",   "save_sys"};
   return types;
 }
 

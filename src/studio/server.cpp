@@ -27,6 +27,7 @@ const std::map<std::string, std::pair<std::string, std::string>>& routes() {
       {"/index.html", {"studio/index.html", "text/html; charset=utf-8"}},
       {"/studio.js", {"studio/studio.js", "text/javascript; charset=utf-8"}},
       {"/studio.css", {"studio/studio.css", "text/css; charset=utf-8"}},
+      {"/plots.js", {"studio/plots.js", "text/javascript; charset=utf-8"}},
       {"/lib/three.module.js", {"node_modules/three/build/three.module.js", "text/javascript"}},
       {"/lib/three.core.js", {"node_modules/three/build/three.core.js", "text/javascript"}},
       {"/lib/OrbitControls.js",

@@ -4,8 +4,9 @@
 // Checks: a request without the token -> 403; a sampling session on the lab with the simulated
 // tapping operator (>= 50 taps) -> two samples deleted by clicking -> reconstruct -> export: the
 // exported points number taps - 2 and the mesh has faces; in the explore view a mouse drag makes
-// contact and a non-zero force; three experiment answers land in the participant's CSV; no
-// console error. Measures (reports, does not assert) the mouse-to-probe latency in frames and
+// contact and a non-zero force; three experiment answers land in the participant's CSV; a
+// palpation of one clicked reference point finishes, and sys.json lands in the workspace and
+// reads back; no console error. Measures (reports, does not assert) the mouse-to-probe latency in frames and
 // the page's frame rate. Screenshots of each view go to OUT_DIR/*.png. Exit 77: skipped.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -30,7 +31,7 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 // --- the server ----------------------------------------------------------------------------
 const server = spawn(bin, ['studio', '--device', 'lab:dome', '--workspace', workspace, '--port', '0',
-  '--speed', '4', '--seed', '3', '--web-dir', web, '--seconds', '170'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--speed', '4', '--seed', '3', '--web-dir', web, '--seconds', '400'], { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 server.stderr.on('data', (d) => { stderr += d; });
 const url = await new Promise((resolve, reject) => {
@@ -168,8 +169,38 @@ try {
   const summary = await page.evaluate(() => window.studio.summary);
   check(summary && summary.trials === 1 && summary.conditions.length === 1,
     `experimenter view scores the saved answers (${summary ? summary.trials : 0} trial)`);
+  // Palpation: one reference point clicked at the top of the dome, the library's quick protocol
+  // (f_N 1 and 3 N, 4 directions) at 20 simulated seconds per second, sys.json saved and read back.
   await page.click('button[data-view=palpation]');
+  await page.waitForFunction(() => window.studio.palpMesh > 0, { timeout: 20000 });
+  await sleep(500);
+  const top = await page.evaluate(() => window.studio.palpTopScreenPos());
+  await page.mouse.click(top.x, top.y);
+  await page.waitForFunction(() => window.studio.palpPoints.length === 1, { timeout: 5000 })
+    .catch(() => check(false, 'a click on the shape adds a reference point'));
+  await page.$eval('#palpspeed', (e) => { e.value = '20'; });
+  const tp0 = Date.now();
+  await page.click('#palprun');
+  await page.waitForFunction(() => window.studio.cycles.length > 0 || window.studio.palpError, { timeout: 60000, polling: 100 });
+  await sleep(1500);
+  await page.screenshot({ path: path.join(out, 'studio-palpation-live.png') });
+  await page.waitForFunction(() => window.studio.yield || window.studio.palpError, { timeout: 150000, polling: 250 });
+  const palp = await page.evaluate(() => ({ y: window.studio.yield, err: window.studio.palpError, cycles: window.studio.cycles.length }));
+  log(`palpation: ${palp.cycles} cycles streamed, ${((Date.now() - tp0) / 1000).toFixed(1)} s wall${palp.err ? ', error ' + palp.err : ''}`);
+  check(!palp.err && palp.y && palp.y.points.length === 1, `palpation of one point finished and fitted (${palp.err || 'ok'})`);
+  check(palp.cycles > 0 && palp.y && palp.cycles === palp.y.cycles, `every cycle streamed live (${palp.cycles} of ${palp.y ? palp.y.cycles : '?'})`);
+  await sleep(300);
   await page.screenshot({ path: path.join(out, 'studio-palpation.png') });
+  await page.click('#savesys');
+  await page.waitForFunction(() => window.studio.sysSaved || (window.studio.lastReply && window.studio.lastReply.request === 'save_sys'), { timeout: 20000 });
+  const saved = await page.evaluate(() => window.studio.sysSaved);
+  check(saved && saved.points === 1, `save_sys: the server read sys.json back (${saved ? saved.points : 0} point)`);
+  const sysPath = path.join(workspace, 'sys.json');
+  let sys = null;
+  try { sys = JSON.parse(fs.readFileSync(sysPath, 'utf8')); } catch { /* checked below */ }
+  check(sys && sys.format === 'inhap-sys' && Array.isArray(sys.points) && sys.points.length === 1,
+    `sys.json in the workspace: format ${sys ? sys.format : '-'}, ${sys && sys.points ? sys.points.length : 0} point`);
+  check(fs.existsSync(path.join(workspace, 'sys.cycles.csv')), 'sys.cycles.csv beside it');
   check(consoleErrors.length === 0, `no console errors (${consoleErrors.length}${consoleErrors.length ? ': ' + consoleErrors.slice(0, 3).join(' | ') : ''})`);
   exitCode = failures.length ? 1 : 0;
 } catch (e) {

@@ -3,6 +3,7 @@
 // Units: mm, N, s. window.studio exposes counters for the browser test.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { drawFig47, drawFig48, drawLine } from '/plots.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const $ = (id) => document.getElementById(id);
@@ -26,12 +27,16 @@ ws.onmessage = (ev) => {
     case 'samples': setSamples(m); break;
     case 'mesh': onMesh(m); break;
     case 'trial': onTrial(m); break;
-    case 'hello': S.ready = true; S.hello = m; break;
+    case 'hello': S.ready = true; S.hello = m; $('palpspeed').value = m.speed; $('palpspeedl').classList.toggle('hidden', !m.lab); break;
     case 'summary': onSummary(m); break;
+    case 'cycle': onCycle(m); break;
+    case 'yield': onYield(m); break;
+    case 'palpation': onPalpation(m); break;
     case 'error': S.errors.push(m); S.lastReply = m; $('status').textContent = 'error: ' + m.message; break;
+    case 'ok': onOk(m); break;
     default: S.lastReply = m;
   }
-  if (m.type !== 'state' && m.type !== 'tap') S.lastReply = m;
+  if (m.type !== 'state' && m.type !== 'tap' && m.type !== 'cycle') S.lastReply = m;
 };
 
 // --- three.js stage ------------------------------------------------------------------------
@@ -58,7 +63,7 @@ scene.add(sampleGroup, thresholdGroup);
 S.scene = scene; S.renderer = renderer;
 const sampleGeo = new THREE.SphereGeometry(1.0, 10, 8), thrGeo = new THREE.SphereGeometry(0.5, 6, 4);
 const sampleMat = new THREE.MeshLambertMaterial({ color: 0xc02828 }), outlierMat = new THREE.MeshLambertMaterial({ color: 0xff9900 }), thrMat = new THREE.MeshBasicMaterial({ color: 0x999999 });
-let objectMesh = null, reconMesh = null, exploreMesh = null;
+let objectMesh = null, reconMesh = null, exploreMesh = null, palpMesh = null;
 
 function fitCamera(box) {
   const c = box.getCenter(new THREE.Vector3()), s = box.getSize(new THREE.Vector3()).length() || 100;
@@ -104,6 +109,7 @@ function onMesh(m) {
     $('recinfo').textContent = `${S.mesh.faces} faces, alpha ${m.report.alpha.toFixed(2)} mm, ${m.report.outliers} outliers (orange), distance ${r.lo.toFixed(2)}-${r.hi.toFixed(2)} mm`;
   }
   if (m.role === 'explore') { if (exploreMesh) scene.remove(exploreMesh); exploreMesh = mesh; S.exploreMesh = m.faces.length / 3; }
+  if (m.role === 'palpation') { if (palpMesh) scene.remove(palpMesh); palpMesh = mesh; S.palpMesh = m.faces.length / 3; }
   scene.add(mesh);
   showFor(S.view);
   if (m.role !== 'reconstruction') { mesh.geometry.computeBoundingBox(); fitCamera(mesh.geometry.boundingBox); }
@@ -114,6 +120,8 @@ function showFor(view) {
   if (objectMesh) objectMesh.visible = samp;
   if (reconMesh) reconMesh.visible = samp;
   if (exploreMesh) exploreMesh.visible = view === 'explore';
+  if (palpMesh) palpMesh.visible = view === 'palpation';
+  palpGroup.visible = view === 'palpation';
   ihip.visible = cihip.visible = arrow.visible = view === 'explore';
 }
 
@@ -163,6 +171,10 @@ renderer.domElement.addEventListener('pointerdown', (ev) => {
     const hit = pick(ev, sampleGroup.children);
     if (hit.length) send({ type: 'delete', ids: [hit[0].object.userData.id] });
   } else if (S.view === 'explore') { pressing = true; dragFrom = [ev.clientX, ev.clientY]; exploreMove(ev); }
+  else if (S.view === 'palpation' && palpMesh && !S.palpRunning) {
+    const hit = pick(ev, [palpMesh]);
+    if (hit.length) addPalpPoint(hit[0].point);
+  }
 });
 window.addEventListener('pointermove', (ev) => {
   if (boxStart && boxDiv) {
@@ -254,6 +266,10 @@ function drawState() {
   // mouse-to-probe latency: frames from sending a target to drawing a state the servo applied it in
   while (pending.length && pending[0][0] <= m.seq) { S.latencies.push(S.frames - pending[0][1]); pending.shift(); }
   if (S.view === 'experiment') drawHip(m);
+  if (S.view === 'palpation') {
+    if (S.palpRunning && m.palp_progress !== undefined) $('palpinfo').textContent = `running: point ${m.palp_point}, ${(100 * m.palp_progress).toFixed(0)} %, ${S.cycles.length} cycles, t = ${m.t.toFixed(1)} s`;
+    if (palpDirty) drawPalpation();
+  }
 }
 
 // --- experiment (fig. 5.9b) ---------------------------------------------------------------
@@ -329,18 +345,82 @@ function onSummary(m) {
   draw();
 }
 
+// --- palpation (thesis 4.3, figs 4.7-4.8) --------------------------------------------------
+const palpGroup = new THREE.Group(), palpMarkers = new THREE.Group(), yieldLines = new THREE.Group();
+palpGroup.add(palpMarkers, yieldLines);
+scene.add(palpGroup);
+const markerGeo = new THREE.SphereGeometry(1.6, 12, 8), markerMat = new THREE.MeshLambertMaterial({ color: 0xf0c000 });
+Object.assign(S, { palpPoints: [], cycles: [], yield: null, palpRunning: false, palpError: null, sysSaved: null });
+let palpDirty = false, palpPlateaus = [0.1, 0.6];
+function addPalpPoint(p) {
+  S.palpPoints.push([p.x, p.y, p.z]);
+  const m = new THREE.Mesh(markerGeo, markerMat); m.position.copy(p); palpMarkers.add(m);
+  $('palpn').textContent = S.palpPoints.length;
+}
+function clearYield() { for (const c of [...yieldLines.children]) { yieldLines.remove(c); c.geometry.dispose(); } }
+$('palpclear').onclick = () => { if (S.palpRunning) return; S.palpPoints = []; palpMarkers.clear(); clearYield(); $('palpn').textContent = 0; };
+$('palprun').onclick = () => {
+  if (!S.palpPoints.length) { $('palpinfo').textContent = 'click the surface to add a point first'; return; }
+  send({ type: 'palpate', points: S.palpPoints, quick: $('palpquick').checked, speed: +$('palpspeed').value });
+};
+$('palpstop').onclick = () => { S.palpRunning = false; send({ type: 'mode', mode: 'palpation' }); $('palpinfo').textContent = 'stopped'; };
+$('savesys').onclick = () => send({ type: 'save_sys', path: $('sysname').value });
+function onPalpation(m) {
+  if (m.status === 'running') {
+    Object.assign(S, { palpRunning: true, cycles: [], yield: null, palpError: null, sysSaved: null });
+    palpPlateaus = m.plateaus; clearYield(); palpDirty = true;
+    // the points as the server projected them onto the shape
+    m.points.forEach((r, i) => palpMarkers.children[i] && palpMarkers.children[i].position.set(...r.position));
+    $('palpinfo').textContent = `running: ${m.points.length} point(s), f_N ${m.levels.join(', ')} N, ${m.directions} directions`;
+  } else if (m.status === 'failed') {
+    S.palpRunning = false; S.palpError = m.message; $('palpinfo').textContent = m.message;
+  }
+}
+function onCycle(m) { S.cycles.push(m); palpDirty = true; }
+function drawPalpation() {
+  palpDirty = false;
+  const last = S.cycles[S.cycles.length - 1];
+  const sel = last ? S.cycles.filter((c) => c.point === last.point && c.fn === last.fn) : [];
+  drawFig47($('palpplot'), sel, palpPlateaus, last ? `point ${last.point}, f_N ${last.fn} N, ${S.cycles.length} cycles` : 'no cycles yet');
+}
+function onYield(m) {
+  S.yield = m; S.palpRunning = false; clearYield();
+  const p0 = m.points[0];
+  drawFig48($('yieldplot'), m.levels, m.angles, p0.limits, `point ${p0.id}: creep ${p0.creep_viscosity.toFixed(3)} N s/mm`);
+  // on the surface: the tangential elastic displacement limit per direction (x5), one loop per f_N
+  for (const p of m.points) {
+    const c = new THREE.Vector3(...p.position);
+    m.levels.forEach((_, j) => {
+      const pts = p.tdirs.map((t, k) => c.clone().addScaledVector(new THREE.Vector3(...t), 5 * (p.limits[j][k].r || 0)));
+      const line = new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(pts), new THREE.LineBasicMaterial({ color: j ? 0x2020c0 : 0x8080ff }));
+      yieldLines.add(line);
+    });
+  }
+  $('palpinfo').textContent = `done: ${m.cycles} cycles, ${m.points.length} point(s) fitted`;
+}
+function onOk(m) {
+  if (m.request === 'save_sys') { S.sysSaved = m; $('sysinfo').textContent = `wrote ${m.path} (read back: ${m.points} point(s), ${m.levels} f_N levels × ${m.directions} directions) and its ${m.cycles} cycles (.cycles.csv)`; }
+}
+S.palpTopScreenPos = () => {  // the highest vertex of the shape on the screen (the browser test)
+  if (!palpMesh) return null;
+  const a = palpMesh.geometry.attributes.position; let best = 0;
+  for (let i = 1; i < a.count; ++i) if (a.getZ(i) > a.getZ(best)) best = i;
+  const v = new THREE.Vector3(a.getX(best), a.getY(best), a.getZ(best)).project(camera), r = renderer.domElement.getBoundingClientRect();
+  return { x: r.left + (v.x + 1) / 2 * r.width, y: r.top + (1 - v.y) / 2 * r.height };
+};
+
 // --- views ---------------------------------------------------------------------------------
 function setView(v) {
   S.view = v;
   document.querySelectorAll('.tab').forEach((b) => b.classList.toggle('active', b.dataset.view === v));
   for (const s of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + s).classList.toggle('hidden', s !== v);
-  host.classList.toggle('hidden', v === 'experiment' || v === 'palpation');
+  host.classList.toggle('hidden', v === 'experiment');
   svg.classList.toggle('hidden', v !== 'experiment');
-  $('palp').classList.toggle('hidden', v !== 'palpation');
   showFor(v);
   if (v === 'sampling') send({ type: 'mode', mode: tapping ? 'sampling' : 'idle' });
   if (v === 'explore') { loadPlotly(); send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
   if (v === 'experiment' && S.trial) send({ type: 'mode', mode: 'experiment' });
+  if (v === 'palpation' && !S.palpRunning) send({ type: 'mode', mode: 'palpation' });
   resize();
 }
 document.querySelectorAll('.tab').forEach((b) => (b.onclick = () => setView(b.dataset.view)));
@@ -358,7 +438,7 @@ function frame() {
     S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState();
-  if (S.view === 'sampling' || S.view === 'explore') renderer.render(scene, camera);
+  if (S.view !== 'experiment') renderer.render(scene, camera);
   requestAnimationFrame(frame);
 }
 resize();

@@ -31,6 +31,7 @@
 #include "inhap/lab/scene.hpp"
 #include "inhap/rendering/experiment.hpp"
 #include "inhap/studio/hand_device.hpp"
+#include "inhap/studio/palpation.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/security.hpp"
 
@@ -136,6 +137,12 @@ class Session {
   std::string do_next_trial();
   std::string trial_json() const;
   void write_answers() const;
+  // palpation (session_palpation.cpp)
+  void ensure_palpation_shape();
+  std::string do_palpate(const Message& m);
+  std::string do_save_sys(const Message& m);
+  void stream_palpation(PalpationRenderer& r, bool& fitted);
+  void fit_palpation_now(PalpationRenderer& r);
 
   StudioOptions options_;
   const Workspace& workspace_;
@@ -180,6 +187,16 @@ class Session {
   std::array<int, render::kNumModels> trial_answers_{};
   haptics::LoopSample latest_;
   bool have_latest_ = false;
+  // palpation: the probe-centre shape (lab: the scene's height field, as `sys palpate`; a real
+  // device: the sampling view's reconstruction), the points of the run, its cycles and fit
+  std::unique_ptr<TriMesh> palp_mesh_;
+  std::unique_ptr<friction::MeshSurface> palp_shape_;
+  friction::PalpationConfig palp_config_;
+  std::vector<Vec3> palp_points_, palp_normals_;
+  double palp_speed_ = 1.0;
+  std::vector<friction::CycleRecord> palp_cycles_;  // data_mu_
+  std::optional<friction::SysModel> sys_;           // data_mu_
+  std::string palp_error_;                          // data_mu_
 };
 
 }  // namespace inhap::studio
