@@ -82,7 +82,7 @@ TEST(StudioSession, MalformedMessagesChangeNothing) {
       R"({"type":"open_mesh","source":"elsewhere"})",
       R"({"type":"reconstruct","alpha":-1})",
       R"({"type":"answer","value":1})",  // no experiment
-      R"({"type":"mode","mode":"palpation"})",
+      R"({"type":"mode","mode":"palpating"})",  // internal: only palpate starts it
       R"({"type":"probe","x":1,"y":2,"z":"3","seq":1})",
   };
   for (const auto& text : bad) {
