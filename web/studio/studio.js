@@ -18,7 +18,9 @@ const ws = new WebSocket(`ws://${location.host}/ws?token=${encodeURIComponent(to
 const send = (m) => { if (ws.readyState === 1) ws.send(JSON.stringify(m)); };
 ws.onopen = () => { $('status').textContent = 'connected'; send({ type: 'hello' }); };
 ws.onclose = () => { $('status').textContent = 'disconnected'; };
+let needRender = true;  // the scene changes only through messages, the camera and the mouse
 ws.onmessage = (ev) => {
+  needRender = true;
   const m = JSON.parse(ev.data);
   S.messages++;
   switch (m.type) {
@@ -78,8 +80,11 @@ function resize() {
   renderer.domElement.style.height = h + 'px';
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
+  needRender = true;
 }
 window.addEventListener('resize', resize);
+controls.addEventListener('change', () => { needRender = true; });
+for (const e of ['pointerdown', 'pointerup', 'keydown']) window.addEventListener(e, () => { needRender = true; });
 
 function colorMap(values) {
   let lo = Infinity, hi = -Infinity;
@@ -226,7 +231,6 @@ $('openmesh').onclick = () => {
 };
 $('algo').onchange = () => send({ type: 'algorithm', name: $('algo').value });
 const fT = [], fY = [];
-let plotReady = false;
 // plotly.js (3.5 MB) is loaded when the explore view first opens, not with the page.
 let plotlyLoading = false;
 function loadPlotly() {
@@ -236,13 +240,9 @@ function loadPlotly() {
   s.src = '/lib/plotly.min.js';
   document.head.appendChild(s);
 }
-function plotForce() {
-  if (S.view !== 'explore' || typeof Plotly === 'undefined') return;
-  const data = [{ x: fT.slice(), y: fY.slice(), mode: 'lines', line: { color: '#e07000' } }];
-  const layout = { margin: { l: 40, r: 10, t: 10, b: 30 }, xaxis: { title: { text: 't (s)' } }, yaxis: { title: { text: '|f| (N)' }, rangemode: 'tozero' } };
-  if (!plotReady) { Plotly.newPlot('fplot', data, layout, { staticPlot: true }); plotReady = true; } else Plotly.react('fplot', data, layout);
-}
-setInterval(plotForce, 200);
+// The scrolling |f| plot: a plain canvas redrawn in the frame after new states arrived (a plotly
+// relayout every 200 ms cost whole frames under software rendering).
+let forceDirty = false;
 
 // --- state ---------------------------------------------------------------------------------
 function onState(m) {
@@ -251,8 +251,11 @@ function onState(m) {
   while (arrived.length && arrived[0][0] <= m.seq) { S.latencyMs.push(performance.now() - arrived[0][1]); arrived.shift(); }
   const f = Math.hypot(...m.f);
   if (m.contact) S.contactSeen = true;
-  if (S.view === 'explore') { S.maxForce = Math.max(S.maxForce, f); fT.push(m.t); fY.push(f); if (fT.length > 600) { fT.shift(); fY.shift(); } }
+  if (S.view === 'explore') { S.maxForce = Math.max(S.maxForce, f); fT.push(m.t); fY.push(f); if (fT.length > 600) { fT.shift(); fY.shift(); } forceDirty = true; }
 }
+// DOM text only when it changed (a write per frame restyles the sidebar every frame).
+const shown = new Map();
+function setText(id, t) { if (shown.get(id) !== t) { shown.set(id, t); $(id).textContent = t; } }
 function drawState() {
   const m = S.state; if (!m) return;
   probe.position.set(...m.hip);
@@ -261,13 +264,12 @@ function drawState() {
   const f = new THREE.Vector3(...m.f), fl = f.length();
   arrow.visible = S.view === 'explore' && fl > 0.01;
   if (arrow.visible) { arrow.position.copy(ihip.position); arrow.setDirection(f.clone().normalize()); arrow.setLength(4 * fl + 2, 3, 2); }
-  $('fmag').textContent = fl.toFixed(2);
-  $('contact').textContent = m.contact ? 'yes' : 'no';
+  if (S.view === 'explore') { setText('fmag', fl.toFixed(2)); setText('contact', m.contact ? 'yes' : 'no'); }
   // mouse-to-probe latency: frames from sending a target to drawing a state the servo applied it in
   while (pending.length && pending[0][0] <= m.seq) { S.latencies.push(S.frames - pending[0][1]); pending.shift(); }
   if (S.view === 'experiment') drawHip(m);
   if (S.view === 'palpation') {
-    if (S.palpRunning && m.palp_progress !== undefined) $('palpinfo').textContent = `running: point ${m.palp_point}, ${(100 * m.palp_progress).toFixed(0)} %, ${S.cycles.length} cycles, t = ${m.t.toFixed(1)} s`;
+    if (S.palpRunning && m.palp_progress !== undefined) setText('palpinfo', `running: point ${m.palp_point}, ${(100 * m.palp_progress).toFixed(0)} %, ${S.cycles.length} cycles, t = ${m.t.toFixed(1)} s`);
     if (palpDirty) drawPalpation();
   }
 }
@@ -418,7 +420,7 @@ function setView(v) {
   svg.classList.toggle('hidden', v !== 'experiment');
   showFor(v);
   if (v === 'sampling') send({ type: 'mode', mode: tapping ? 'sampling' : 'idle' });
-  if (v === 'explore') { loadPlotly(); send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
+  if (v === 'explore') { send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
   if (v === 'experiment' && S.trial) send({ type: 'mode', mode: 'experiment' });
   if (v === 'palpation' && !S.palpRunning) send({ type: 'mode', mode: 'palpation' });
   resize();
@@ -427,6 +429,10 @@ document.querySelectorAll('.tab').forEach((b) => (b.onclick = () => setView(b.da
 
 // --- frame loop ----------------------------------------------------------------------------
 let fpsT = performance.now(), fpsN = 0;
+const forceCanvas = $('fplot');
+// Timings for the browser test: JS time of the render call and of the whole frame callback, ms.
+S.perf = { renderMs: [], frameMs: [] }; S.renders = 0;
+function perfPush(a, v) { a.push(v); if (a.length > 2000) a.shift(); }
 function frame() {
   S.frames++; fpsN++;
   const now = performance.now();
@@ -438,7 +444,14 @@ function frame() {
     S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState();
-  if (S.view !== 'experiment') renderer.render(scene, camera);
+  if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
+  if (S.view !== 'experiment' && needRender) {
+    needRender = false; S.renders++;
+    const r0 = performance.now();
+    renderer.render(scene, camera);
+    perfPush(S.perf.renderMs, performance.now() - r0);
+  }
+  perfPush(S.perf.frameMs, performance.now() - now);
   requestAnimationFrame(frame);
 }
 resize();
