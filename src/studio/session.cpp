@@ -127,10 +127,10 @@ void Session::start_rig(const std::string& mode) {
     std::unique_ptr<lab::HandOperator> op;
     if (palp) {
       const Box3 b = palp_mesh_->bbox();
-      const Vec3 start = mode == "palpating"
-                             ? Vec3(palp_points_.front() +
-                                    (palp_config_.hover + 3.0) * palp_normals_.front())
-                             : Vec3(b.center().x(), b.center().y(), b.max.z() + 10);
+      const Vec3 start =
+          mode == "palpating"
+              ? Vec3(palp_points_.front() + (palp_config_.hover + 3.0) * palp_normals_.front())
+              : Vec3(b.center().x(), b.center().y(), b.max.z() + 10);
       op = std::make_unique<DetachedOperator>(start);
     } else if (mouse) {
       const Box3 b = explore_mesh_.bbox();
@@ -292,6 +292,7 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "experiment") return do_experiment(m);
   if (m.type == "answer") return do_answer(m);
   if (m.type == "next_trial") return do_next_trial();
+  if (m.type == "progress") return progress_json();
   if (m.type == "palpate") return do_palpate(m);
   if (m.type == "save_sys") return do_save_sys(m);
   if (m.type == "summary") return summarize_answers(workspace_.root()).dump();

@@ -364,6 +364,7 @@ std::string Session::do_experiment(const Message& m) {
   stop_rig();
   start_rig("experiment");
   write_answers();
+  broadcast_trial();
   return trial_json();
 }
 
@@ -393,6 +394,7 @@ std::string Session::do_answer(const Message& m) {
   answers_.push_back(a);
   trial_answers_[static_cast<std::size_t>(cell)] = value;
   write_answers();
+  broadcast_trial();
   return trial_json();
 }
 
@@ -404,7 +406,32 @@ std::string Session::do_next_trial() {
   surface_.emplace(render::DatasetParams{}, render::shuffled_layout(schedule_[trial_].layout_seed));
   stop_rig();
   start_rig("experiment");
+  broadcast_trial();
   return trial_json();
+}
+
+// Every page gets the trial (the participant screen may be another window than the one that
+// sent the command) and the progress (only the experimenter window shows it).
+void Session::broadcast_trial() const {
+  broadcast_(trial_json());
+  broadcast_(progress_json());
+}
+
+std::string Session::progress_json() const {
+  nlohmann::json j{{"type", "progress"}, {"running", surface_.has_value()}};
+  if (!surface_) return j.dump();
+  const render::TrialSpec& spec = schedule_[trial_];
+  j.update({{"participant", participant_},
+            {"index", trial_},
+            {"trials", schedule_.size()},
+            {"session", spec.session},
+            {"trial", spec.trial},
+            {"task", render::to_string(spec.task)},
+            {"algorithm", render::to_string(spec.algorithm)},
+            {"answered", std::count_if(trial_answers_.begin(), trial_answers_.end(),
+                                       [](int a) { return a >= 0; })},
+            {"answers", answers_.size()}});
+  return j.dump();
 }
 
 void Session::write_answers() const {

@@ -162,6 +162,14 @@ try {
   await page.$eval('#participant', (e) => { e.value = '7'; });
   await page.click('#expstart');
   await page.waitForFunction(() => window.studio.trial && window.studio.trial.participant === 7, { timeout: 20000 });
+  // The experimenter's own window (?view=experimenter): progress and scores, live.
+  const xpage = await browser.newPage();
+  await xpage.setViewport({ width: 900, height: 700 });
+  xpage.on('console', (m) => { if (m.type() === 'error') consoleErrors.push('experimenter: ' + m.text()); });
+  xpage.on('pageerror', (e) => consoleErrors.push('experimenter page error: ' + e.message));
+  await xpage.goto(url + '&view=experimenter', { waitUntil: 'load' });
+  await xpage.waitForFunction(() => window.studio && window.studio.progress && window.studio.progress.running, { timeout: 20000 });
+  await page.bringToFront();
   for (const cell of [0, 12, 24]) {
     const p = await page.evaluate((c) => window.studio.cellScreenPos(c), cell);
     await page.mouse.move(p.x - 30, p.y - 30);
@@ -179,11 +187,16 @@ try {
   check(rows.length === 3, `three answers in participant-007.csv (${rows.length})`);
   check(rows.map((r) => r.split(',')[6]).join(' ') === '0 12 24', `answers at cells 0, 12, 24 (${rows.map((r) => r.split(',')[6]).join(' ')})`);
 
-  await page.click('#summary');
-  await page.waitForFunction(() => window.studio.summary, { timeout: 10000 }).catch(() => {});
-  const summary = await page.evaluate(() => window.studio.summary);
-  check(summary && summary.trials === 1 && summary.conditions.length === 1,
-    `experimenter view scores the saved answers (${summary ? summary.trials : 0} trial)`);
+  await xpage.waitForFunction(() => window.studio.progress.answers === 3 && window.studio.summary && window.studio.summary.trials === 1, { timeout: 15000, polling: 100 }).catch(() => {});
+  const xs = await xpage.evaluate(() => ({ p: window.studio.progress, s: window.studio.summary, text: document.getElementById('progress').textContent }));
+  check(xs.p.answers === 3 && /3 answers/.test(xs.text), `experimenter window: progress live (${xs.text})`);
+  check(xs.s && xs.s.trials === 1 && xs.s.conditions.length === 1,
+    `experimenter window scores the saved answers (${xs.s ? xs.s.trials : 0} trial)`);
+  const cue = await page.evaluate(() => !document.getElementById('side-experimenter').classList.contains('hidden') || /answers in all/.test(document.body.innerText));
+  check(!cue, 'the participant page shows no progress or scores');
+  await xpage.waitForFunction(() => document.querySelector('#ratioplot .main-svg'), { timeout: 20000 }).catch(() => {});
+  await xpage.screenshot({ path: path.join(out, 'studio-experimenter.png') });
+  await xpage.close();
   // Palpation: one reference point clicked at the top of the dome, the library's quick protocol
   // (f_N 1 and 3 N, 4 directions) at 20 simulated seconds per second, sys.json saved and read back.
   await page.click('button[data-view=palpation]');

@@ -31,6 +31,7 @@ ws.onmessage = (ev) => {
     case 'trial': onTrial(m); break;
     case 'hello': S.ready = true; S.hello = m; $('palpspeed').value = m.speed; $('palpspeedl').classList.toggle('hidden', !m.lab); break;
     case 'summary': onSummary(m); break;
+    case 'progress': onProgress(m); break;
     case 'cycle': onCycle(m); break;
     case 'yield': onYield(m); break;
     case 'palpation': onPalpation(m); break;
@@ -38,7 +39,7 @@ ws.onmessage = (ev) => {
     case 'ok': onOk(m); break;
     default: S.lastReply = m;
   }
-  if (m.type !== 'state' && m.type !== 'tap' && m.type !== 'cycle') S.lastReply = m;
+  if (!['state', 'tap', 'cycle', 'progress'].includes(m.type)) S.lastReply = m;
 };
 
 // --- three.js stage ------------------------------------------------------------------------
@@ -332,19 +333,43 @@ window.addEventListener('keydown', (ev) => {
 });
 $('expstart').onclick = () => send({ type: 'experiment', participant: +$('participant').value });
 $('nexttrial').onclick = () => send({ type: 'next_trial' });
-// Experimenter: fig. 5.10 (mean correct of 25 per condition) and fig. 5.11 (per-model ratio),
-// scored by the library from the participant CSVs in the workspace.
-$('summary').onclick = () => { loadPlotly(); send({ type: 'summary' }); };
+// Experimenter window (?view=experimenter): the controls, the progress and fig. 5.10 (mean
+// correct of 25 per condition) and fig. 5.11 (per-model ratio), scored by the library from the
+// participant CSVs in the workspace after every answer. The participant screen shows none of it.
+const experimenter = new URLSearchParams(location.search).get('view') === 'experimenter';
+$('openexp').onclick = () => window.open(`/?token=${encodeURIComponent(token)}&view=experimenter`, 'inhap-experimenter', 'width=900,height=760');
+$('xstart').onclick = () => send({ type: 'experiment', participant: +$('xparticipant').value });
+$('xnext').onclick = () => send({ type: 'next_trial' });
+function onProgress(m) {
+  S.progress = m;
+  if (!experimenter) return;  // no cue on the participant screen
+  $('progress').textContent = m.running
+    ? `participant ${m.participant} · ${m.task} task, ${m.algorithm} · session ${m.session + 1}, trial ${m.trial + 1} (${m.index + 1}/${m.trials}) · this trial ${m.answered}/25 answered · ${m.answers} answers in all`
+    : 'no experiment running';
+  send({ type: 'summary' });
+}
 function onSummary(m) {
   S.summary = m;
   const rows = m.conditions.map((c) => `${c.algorithm} ${c.task}: ${c.mean.toFixed(1)} ± ${c.sd_trials.toFixed(1)} of 25 (${c.trials} trials); below 0.5: ${c.below_half.length ? 'M' + c.below_half.join(', M') : 'none'}`);
   $('summaryinfo').innerHTML = `${m.files.length} participant file(s), ${m.trials} trial(s)<br>` + rows.join('<br>');
   const draw = () => {
     if (typeof Plotly === 'undefined') return setTimeout(draw, 200);
-    const traces = m.conditions.map((c) => ({ type: 'bar', name: `${c.algorithm} ${c.task}`, x: c.model_ratio.map((_, i) => 'M' + (i + 1)), y: c.model_ratio }));
-    Plotly.newPlot('ratioplot', traces, { margin: { l: 35, r: 5, t: 5, b: 30 }, height: 220, width: 300, yaxis: { range: [0, 1] }, showlegend: true, legend: { orientation: 'h' } }, { staticPlot: true });
+    const name = (c) => `${c.algorithm} ${c.task}`;
+    Plotly.react('fig510', [{ type: 'bar', x: m.conditions.map(name), y: m.conditions.map((c) => c.mean),
+      error_y: { type: 'data', array: m.conditions.map((c) => c.sd_trials), visible: true } }],
+    { title: { text: 'fig. 5.10: correct of 25', font: { size: 12 } }, margin: { l: 35, r: 5, t: 30, b: 40 }, height: 260, width: 300, yaxis: { range: [0, 25] } }, { staticPlot: true });
+    const traces = m.conditions.map((c) => ({ type: 'bar', name: name(c), x: c.model_ratio.map((_, i) => 'M' + (i + 1)), y: c.model_ratio }));
+    Plotly.react('ratioplot', traces, { title: { text: 'fig. 5.11: correct ratio per model', font: { size: 12 } }, margin: { l: 35, r: 5, t: 30, b: 30 }, height: 260, width: 520, yaxis: { range: [0, 1] }, showlegend: true, legend: { orientation: 'h' } }, { staticPlot: true });
   };
   draw();
+}
+if (experimenter) {
+  document.body.classList.add('experimenter');
+  S.view = 'experimenter';
+  loadPlotly();
+  for (const x of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + x).classList.add('hidden');
+  $('side-experimenter').classList.remove('hidden');
+  ws.addEventListener('open', () => { send({ type: 'progress' }); send({ type: 'summary' }); });
 }
 
 // --- palpation (thesis 4.3, figs 4.7-4.8) --------------------------------------------------
@@ -445,7 +470,7 @@ function frame() {
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState();
   if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
-  if (S.view !== 'experiment' && needRender) {
+  if (['sampling', 'explore', 'palpation'].includes(S.view) && needRender) {
     needRender = false; S.renders++;
     const r0 = performance.now();
     renderer.render(scene, camera);

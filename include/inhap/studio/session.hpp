@@ -136,6 +136,8 @@ class Session {
   std::string do_answer(const Message& m);
   std::string do_next_trial();
   std::string trial_json() const;
+  std::string progress_json() const;
+  void broadcast_trial() const;
   void write_answers() const;
   // palpation (session_palpation.cpp)
   void ensure_palpation_shape();
