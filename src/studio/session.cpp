@@ -284,6 +284,8 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "delete") return do_delete(m);
   if (m.type == "undo") return do_undo();
   if (m.type == "reconstruct") return do_reconstruct(m);
+  if (m.type == "preview") return do_preview();
+  if (m.type == "apply_preview") return do_apply_preview();
   if (m.type == "export") return do_export(m);
   if (m.type == "save_session") return do_save_session(m);
   if (m.type == "open_session") return do_open_session(m);

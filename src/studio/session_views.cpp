@@ -102,7 +102,7 @@ std::string Session::do_delete(const Message& m) {
       hit.push_back(&*it);
     }
     for (Sample* s : hit) s->deleted = true;
-    undo_.push_back(ids);
+    undo_.push_back({ids, {}});
   }
   return samples_json();
 }
@@ -111,9 +111,12 @@ std::string Session::do_undo() {
   {
     std::lock_guard lock(data_mu_);
     if (undo_.empty()) throw ProtocolError("undo: nothing to undo");
-    for (long id : undo_.back())
+    for (long id : undo_.back().deleted)
       for (Sample& s : samples_)
         if (s.id == id) s.deleted = false;
+    for (const auto& [id, point] : undo_.back().moved)
+      for (Sample& s : samples_)
+        if (s.id == id) s.point = point;
     undo_.pop_back();
   }
   return samples_json();

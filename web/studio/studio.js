@@ -26,7 +26,8 @@ ws.onmessage = (ev) => {
   switch (m.type) {
     case 'state': onState(m); break;
     case 'tap': addSample(m); S.taps = m.taps; updateCounts(); break;
-    case 'samples': setSamples(m); break;
+    case 'samples': setSamples(m); clearPreview(); break;
+    case 'preview': onPreview(m); break;
     case 'mesh': onMesh(m); break;
     case 'trial': onTrial(m); break;
     case 'hello': S.ready = true; S.hello = m; $('palpspeed').value = m.speed; $('palpspeedl').classList.toggle('hidden', !m.lab); break;
@@ -122,7 +123,7 @@ function onMesh(m) {
 }
 function showFor(view) {
   const samp = view === 'sampling';
-  sampleGroup.visible = thresholdGroup.visible = samp;
+  sampleGroup.visible = thresholdGroup.visible = previewGroup.visible = samp;
   if (objectMesh) objectMesh.visible = samp;
   if (reconMesh) reconMesh.visible = samp;
   if (exploreMesh) exploreMesh.visible = view === 'explore';
@@ -147,7 +148,7 @@ function addSample(s) {
 function setSamples(msg) {
   const live = new Set(msg.samples.map((s) => s.id));
   for (const [id, e] of S.samples) if (!live.has(id)) { sampleGroup.remove(e.m); thresholdGroup.remove(e.t); S.samples.delete(id); }
-  for (const s of msg.samples) addSample(s);
+  for (const s of msg.samples) { const e = S.samples.get(s.id); if (e) e.m.position.set(...s.point); else addSample(s); }
   S.deleted = msg.deleted;
   S.taps = msg.taps;
   updateCounts();
@@ -205,6 +206,26 @@ $('pause').onclick = () => { tapping = !tapping; send({ type: 'mode', mode: tapp
 $('undo').onclick = () => send({ type: 'undo' });
 $('alpha').oninput = () => { const a = +$('alpha').value; $('alphav').textContent = a ? a + ' mm' : 'auto'; };
 $('reconstruct').onclick = () => { $('recinfo').textContent = 'reconstructing…'; send({ type: 'reconstruct', alpha: +$('alpha').value, taubin: $('taubin').checked, sqrt3: $('sqrt3').checked }); };
+// Outlier filter and jet (quadric) projection, previewed: orange = would be removed, purple
+// segment = where the sample would move (x1). Apply deletes / moves them (one undo step).
+const previewGroup = new THREE.Group();
+scene.add(previewGroup);
+function clearPreview() {
+  for (const c of [...previewGroup.children]) { previewGroup.remove(c); c.geometry.dispose(); }
+  if (S.preview) for (const [, e] of S.samples) e.m.material = sampleMat;
+  S.preview = null; $('previnfo').textContent = '';
+}
+function onPreview(m) {
+  clearPreview();
+  S.preview = m;
+  for (const id of m.outliers) { const e = S.samples.get(id); if (e) e.m.material = outlierMat; }
+  const seg = [];
+  for (const mv of m.moves) { const e = S.samples.get(mv.id); if (e) seg.push(e.m.position.clone(), new THREE.Vector3(...mv.to)); }
+  if (seg.length) previewGroup.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(seg), new THREE.LineBasicMaterial({ color: 0x8a2be2 })));
+  $('previnfo').textContent = `${m.outliers.length} outlier(s) would be removed (orange); the projection would move ${m.moves.length} samples by ${m.median_move.toFixed(3)} mm median, ${m.max_move.toFixed(3)} mm at most (purple). Apply, then Undo reverts it.`;
+}
+$('preview').onclick = () => send({ type: 'preview' });
+$('applyprev').onclick = () => send({ type: 'apply_preview' });
 $('export').onclick = () => send({ type: 'export', points: $('ptsname').value, mesh: $('meshname').value });
 $('savesess').onclick = () => send({ type: 'save_session', path: $('sessname').value });
 $('opensess').onclick = () => send({ type: 'open_session', path: $('sessname').value });

@@ -122,6 +122,14 @@ class Session {
   std::string do_delete(const Message& m);
   std::string do_undo();
   std::string do_reconstruct(const Message& m);
+  // outlier filter and jet (quadric) projection previewed, then applied (session_preview.cpp)
+  struct Preview {
+    std::vector<long> outliers;                // ids the filter would remove
+    std::vector<std::pair<long, Vec3>> moves;  // id -> where the jet projection puts it, mm
+  };
+  Preview compute_preview() const;
+  std::string do_preview();
+  std::string do_apply_preview();
   std::string do_export(const Message& m);
   std::string do_save_session(const Message& m);
   std::string do_open_session(const Message& m);
@@ -162,7 +170,11 @@ class Session {
 
   // sampling
   std::vector<Sample> samples_;
-  std::vector<std::vector<long>> undo_;
+  struct UndoStep {
+    std::vector<long> deleted;                 ///< ids deleted by the step
+    std::vector<std::pair<long, Vec3>> moved;  ///< ids moved by the step, with the old point
+  };
+  std::vector<UndoStep> undo_;
   long next_id_ = 0;
   std::optional<TriMesh> reconstruction_;
   // explore
