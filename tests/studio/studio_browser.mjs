@@ -128,6 +128,12 @@ try {
   check(exported === taps - 2, `exported points = taps - 2 (${exported} = ${taps} - 2)`);
   check(faces > 0, `exported mesh is non-empty (${faces} faces)`);
   await page.screenshot({ path: path.join(out, 'studio-reconstruction.png') });
+  // The outlier filter and the jet projection, previewed (not applied: the export above stands).
+  await page.click('#preview');
+  await page.waitForFunction(() => window.studio.preview || (window.studio.lastReply && window.studio.lastReply.type === 'error'), { timeout: 20000 });
+  const pv = await page.evaluate(() => window.studio.preview && { o: window.studio.preview.outliers.length, m: window.studio.preview.moves.length, med: window.studio.preview.median_move, live: window.studio.samples.size });
+  check(pv && pv.o + pv.m === pv.live, `preview: ${pv ? pv.o : '?'} outlier(s) + ${pv ? pv.m : '?'} projected = ${pv ? pv.live : '?'} live samples (median move ${pv ? pv.med.toFixed(3) : '?'} mm)`);
+  await page.screenshot({ path: path.join(out, 'studio-preview.png') });
 
   // Explore: the 25-model surface; a mouse drag presses the lab probe onto it.
   await page.click('button[data-view=explore]');
