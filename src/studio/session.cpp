@@ -322,8 +322,12 @@ std::string Session::hello() const {
 std::string Session::set_mode(const std::string& mode) {
   if (mode == "experiment" && !surface_)
     throw ProtocolError("mode: start an experiment first ({\"type\":\"experiment\",...})");
+  if (mode == "palpation" && !lab_ && !reconstruction_)
+    throw ProtocolError(
+        "mode: palpation needs a shape: reconstruct one in the sampling view first (a real "
+        "device has no lab scene)");
+  stop_rig();  // before the shape changes: a running palpation reads it
   if (mode == "palpation") ensure_palpation_shape();
-  stop_rig();
   if (mode == "idle") {  // sampling with the operator paused: no loop, the samples stay
     std::lock_guard lock(data_mu_);
     mode_ = mode;

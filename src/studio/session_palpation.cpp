@@ -17,8 +17,10 @@
 
 namespace inhap::studio {
 
+// Called with the rig stopped. The lab's shape is built once; a real device's is the latest
+// reconstruction.
 void Session::ensure_palpation_shape() {
-  if (!palp_mesh_) {
+  if (!palp_mesh_ || !lab_) {
     if (lab_) {
       // The probe-centre height field of the scene (1 mm grid), as `sys palpate` builds it.
       const double radius = lab::DeviceParams{}.probe.radius_mm;
