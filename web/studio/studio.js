@@ -1,5 +1,7 @@
-// inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling and
-// explore views, an SVG participant screen (thesis fig. 5.9b), plotly.js for the force plot.
+// inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling,
+// palpation and explore views, an SVG participant screen (thesis fig. 5.9b), canvas plots
+// (plots.js) for the force and figs 4.7-4.8, plotly.js for figs 5.10-5.11 in the experimenter
+// window (?view=experimenter).
 // Units: mm, N, s. window.studio exposes counters for the browser test.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';

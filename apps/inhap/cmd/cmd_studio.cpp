@@ -1,5 +1,6 @@
 // `inhap studio`: the servo loop plus a local web page (docs/studio.md): sampling by tapping,
-// exploring a model, the thesis 5.4 participant screen. Units: mm, N, N/mm, s.
+// palpation, exploring a model, the thesis 5.4 participant screen and experimenter window.
+// Units: mm, N, N/mm, s.
 #include <fmt/format.h>
 
 #include <atomic>
@@ -74,9 +75,10 @@ void register_studio(CLI::App& app) {
   auto* c = app.add_subcommand(
       "studio",
       "The servo loop plus a local web page (docs/studio.md): sample an object by tapping and\n"
-      "reconstruct it, explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4\n"
-      "participant screen. Listens on 127.0.0.1 only and prints the URL with its access token.\n"
-      "Units: mm, N, N/mm, s.");
+      "reconstruct it, palpate reference points and fit the sliding yield surfaces (sys.json),\n"
+      "explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4 participant\n"
+      "screen with an experimenter window. Listens on 127.0.0.1 only and prints the URL with its\n"
+      "access token. Units: mm, N, N/mm, s.");
   c->add_option("--device", a->session.device,
                 "lab:SCENE (the virtual lab: a simulated operator taps for sampling, the mouse "
                 "moves the probe through a simulated hand elsewhere) or udp / udp:PORT (a device "
