@@ -3,6 +3,7 @@
 #include <civetweb.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
@@ -27,6 +28,7 @@ const std::map<std::string, std::pair<std::string, std::string>>& routes() {
       {"/index.html", {"studio/index.html", "text/html; charset=utf-8"}},
       {"/studio.js", {"studio/studio.js", "text/javascript; charset=utf-8"}},
       {"/studio.css", {"studio/studio.css", "text/css; charset=utf-8"}},
+      {"/plots.js", {"studio/plots.js", "text/javascript; charset=utf-8"}},
       {"/lib/three.module.js", {"node_modules/three/build/three.module.js", "text/javascript"}},
       {"/lib/three.core.js", {"node_modules/three/build/three.core.js", "text/javascript"}},
       {"/lib/OrbitControls.js",
@@ -110,7 +112,10 @@ Server::Server(int port, std::string web_dir, std::string token)
                            nullptr};
   mg_callbacks callbacks{};
   ctx_ = mg_start(&callbacks, this, options);
-  if (!ctx_) throw Error(fmt::format("cannot listen on {} (in use?)", ports));
+  if (!ctx_) {
+    mg_exit_library();
+    throw Error(fmt::format("cannot listen on {} (in use?)", ports));
+  }
   std::array<mg_server_port, 4> sp{};
   if (mg_get_server_ports(ctx_, int(sp.size()), sp.data()) < 1) {
     mg_stop(ctx_);
@@ -126,6 +131,19 @@ Server::~Server() {
   stop_handling();
   if (ctx_) mg_stop(ctx_);
   mg_exit_library();
+}
+
+std::unique_ptr<Server> listen_on(int port, bool next_if_busy, const std::string& web_dir,
+                                  const std::string& token, int tries) {
+  if (port == 0 || !next_if_busy) return std::make_unique<Server>(port, web_dir, token);
+  for (int p = port; p <= std::min(port + tries, 65535); ++p) {
+    try {
+      return std::make_unique<Server>(p, web_dir, token);
+    } catch (const Error&) {  // in use: the next one
+    }
+  }
+  throw Error(fmt::format("cannot listen on 127.0.0.1 ports {}-{} (all in use?); try --port 0",
+                          port, std::min(port + tries, 65535)));
 }
 
 std::string Server::url() const {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "inhap/core/error.hpp"
 #include "inhap/rendering/datasets.hpp"
@@ -21,6 +22,7 @@ struct Session::Rig {
   Device* device = nullptr;
   TargetMailbox mailbox;
   MouseOperator* mouse = nullptr;
+  PalpationRenderer* palp = nullptr;  ///< the palpation protocol, while it runs
   std::unique_ptr<rendering::Model> model;
   std::unique_ptr<haptics::Renderer> renderer;
   haptics::ObserverRing ring;
@@ -115,13 +117,22 @@ std::string Session::mode() const {
 
 void Session::start_rig(const std::string& mode) {
   auto rig = std::make_unique<Rig>();
-  const bool mouse = mode != "sampling";
+  const bool palp = mode == "palpation" || mode == "palpating";
+  const bool mouse = mode != "sampling" && !palp;
   if (lab_) {
     lab::DeviceParams dp;
     dp.seed = options_.seed;
-    dp.probe = lab::ProbeSpec::tip();
+    // The palpation keeps the lab's default ball probe, as `sys palpate` does.
+    if (!palp) dp.probe = lab::ProbeSpec::tip();
     std::unique_ptr<lab::HandOperator> op;
-    if (mouse) {
+    if (palp) {
+      const Box3 b = palp_mesh_->bbox();
+      const Vec3 start =
+          mode == "palpating"
+              ? Vec3(palp_points_.front() + (palp_config_.hover + 3.0) * palp_normals_.front())
+              : Vec3(b.center().x(), b.center().y(), b.max.z() + 10);
+      op = std::make_unique<DetachedOperator>(start);
+    } else if (mouse) {
       const Box3 b = explore_mesh_.bbox();
       const Vec3 start = mode == "experiment" && surface_
                              ? Vec3(surface_->cell_centre(12).x(), surface_->cell_centre(12).y(), 6)
@@ -133,15 +144,22 @@ void Session::start_rig(const std::string& mode) {
       op = lab::make_tap_operator(scene_, options_.seed + 1);
     }
     rig->lab_device = std::make_unique<LabHandDevice>(
-        mouse ? out_of_the_way_object() : scene_.object, dp, std::move(op), options_.speed);
+        mouse ? out_of_the_way_object() : scene_.object, dp, std::move(op),
+        mode == "palpating" ? palp_speed_ : options_.speed);
     rig->device = rig->lab_device.get();
     rig->comp = CompensatorConfig::from(rig->lab_device->device_info());
   } else {
     rig->device = bridge_.get();
     rig->comp = CompensatorConfig::from(bridge_->info());
   }
-  if (mode == "sampling") {
+  if (mode == "sampling" || mode == "palpation") {
     rig->renderer = std::make_unique<haptics::NullRenderer>();
+  } else if (mode == "palpating") {
+    auto r = std::make_unique<PalpationRenderer>(
+        palp_config_, lab_ ? rig->lab_device->device_info() : bridge_->info(), palp_points_,
+        palp_normals_, *palp_shape_);
+    rig->palp = r.get();
+    rig->renderer = std::move(r);
   } else {
     const TriMesh& mesh = mode == "experiment" && surface_ ? surface_->mesh() : explore_mesh_;
     rig->model = std::make_unique<rendering::Model>(mesh, rendering::Params{});
@@ -154,6 +172,9 @@ void Session::start_rig(const std::string& mode) {
   }
   haptics::LoopOptions lo;
   lo.realtime = options_.realtime;
+  // The lab's time is simulated: a wall-clock deadline missed under load changes nothing it
+  // computes, and a watchdog zero force would spoil a palpation cycle.
+  if (lab_ && palp) lo.watchdog_misses = std::numeric_limits<int>::max();
   rig->loop = std::make_unique<haptics::ServoLoop>(*rig->device, *rig->renderer, lo);
   rig->loop->add_observer(rig->ring);
   {
@@ -185,7 +206,7 @@ void Session::stream_loop() {
   auto next = clock::now(), last_sent = next;
   std::uint64_t sent_seq = 0;
   const bool sampling = mode() == "sampling";
-  bool have = false;
+  bool have = false, fitted = false;
   haptics::LoopSample last;
   while (!stop_stream_) {
     next += poll;
@@ -200,6 +221,7 @@ void Session::stream_loop() {
       if (auto c = rig_->taps.add(s.t_s, s.p_mm, f)) found.push_back(*c);
     }
     for (const Contact& c : found) on_contact(c);
+    if (rig_->palp) stream_palpation(*rig_->palp, fitted);
     const std::uint64_t seq = rig_->mouse ? rig_->mouse->applied_seq() : 0;
     const auto now = clock::now();
     if (!have || (now - last_sent < period && seq == sent_seq)) continue;
@@ -231,6 +253,10 @@ std::string Session::state_json(const haptics::LoopSample& s) const {
                    {"contact", s.out.contact},
                    {"watchdog", s.watchdog},
                    {"seq", rig_ && rig_->mouse ? rig_->mouse->applied_seq() : 0}};
+  if (rig_ && rig_->palp) {
+    j["palp_progress"] = rig_->palp->progress();
+    j["palp_point"] = rig_->palp->point();
+  }
   return j.dump();
 }
 
@@ -252,11 +278,14 @@ std::string Session::dispatch(const Message& m) {
     return hello();
   }
   if (m.type == "mode")
-    return set_mode(get_choice(m, "mode", {"sampling", "idle", "explore", "experiment"}));
+    return set_mode(
+        get_choice(m, "mode", {"sampling", "idle", "explore", "experiment", "palpation"}));
   if (m.type == "probe") return do_probe(m);
   if (m.type == "delete") return do_delete(m);
   if (m.type == "undo") return do_undo();
   if (m.type == "reconstruct") return do_reconstruct(m);
+  if (m.type == "preview") return do_preview();
+  if (m.type == "apply_preview") return do_apply_preview();
   if (m.type == "export") return do_export(m);
   if (m.type == "save_session") return do_save_session(m);
   if (m.type == "open_session") return do_open_session(m);
@@ -265,6 +294,9 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "experiment") return do_experiment(m);
   if (m.type == "answer") return do_answer(m);
   if (m.type == "next_trial") return do_next_trial();
+  if (m.type == "progress") return progress_json();
+  if (m.type == "palpate") return do_palpate(m);
+  if (m.type == "save_sys") return do_save_sys(m);
   if (m.type == "summary") return summarize_answers(workspace_.root()).dump();
   if (m.type == "stats") {
     fmt::print(stderr, "page: {}\n", m.body.dump());
@@ -290,7 +322,12 @@ std::string Session::hello() const {
 std::string Session::set_mode(const std::string& mode) {
   if (mode == "experiment" && !surface_)
     throw ProtocolError("mode: start an experiment first ({\"type\":\"experiment\",...})");
-  stop_rig();
+  if (mode == "palpation" && !lab_ && !reconstruction_)
+    throw ProtocolError(
+        "mode: palpation needs a shape: reconstruct one in the sampling view first (a real "
+        "device has no lab scene)");
+  stop_rig();  // before the shape changes: a running palpation reads it
+  if (mode == "palpation") ensure_palpation_shape();
   if (mode == "idle") {  // sampling with the operator paused: no loop, the samples stay
     std::lock_guard lock(data_mu_);
     mode_ = mode;

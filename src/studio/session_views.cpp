@@ -102,7 +102,7 @@ std::string Session::do_delete(const Message& m) {
       hit.push_back(&*it);
     }
     for (Sample* s : hit) s->deleted = true;
-    undo_.push_back(ids);
+    undo_.push_back({ids, {}});
   }
   return samples_json();
 }
@@ -111,9 +111,12 @@ std::string Session::do_undo() {
   {
     std::lock_guard lock(data_mu_);
     if (undo_.empty()) throw ProtocolError("undo: nothing to undo");
-    for (long id : undo_.back())
+    for (long id : undo_.back().deleted)
       for (Sample& s : samples_)
         if (s.id == id) s.deleted = false;
+    for (const auto& [id, point] : undo_.back().moved)
+      for (Sample& s : samples_)
+        if (s.id == id) s.point = point;
     undo_.pop_back();
   }
   return samples_json();
@@ -364,6 +367,7 @@ std::string Session::do_experiment(const Message& m) {
   stop_rig();
   start_rig("experiment");
   write_answers();
+  broadcast_trial();
   return trial_json();
 }
 
@@ -393,6 +397,7 @@ std::string Session::do_answer(const Message& m) {
   answers_.push_back(a);
   trial_answers_[static_cast<std::size_t>(cell)] = value;
   write_answers();
+  broadcast_trial();
   return trial_json();
 }
 
@@ -404,7 +409,32 @@ std::string Session::do_next_trial() {
   surface_.emplace(rendering::DatasetParams{}, rendering::shuffled_layout(schedule_[trial_].layout_seed));
   stop_rig();
   start_rig("experiment");
+  broadcast_trial();
   return trial_json();
+}
+
+// Every page gets the trial (the participant screen may be another window than the one that
+// sent the command) and the progress (only the experimenter window shows it).
+void Session::broadcast_trial() const {
+  broadcast_(trial_json());
+  broadcast_(progress_json());
+}
+
+std::string Session::progress_json() const {
+  nlohmann::json j{{"type", "progress"}, {"running", surface_.has_value()}};
+  if (!surface_) return j.dump();
+  const rendering::TrialSpec& spec = schedule_[trial_];
+  j.update({{"participant", participant_},
+            {"index", trial_},
+            {"trials", schedule_.size()},
+            {"session", spec.session},
+            {"trial", spec.trial},
+            {"task", rendering::to_string(spec.task)},
+            {"algorithm", rendering::to_string(spec.algorithm)},
+            {"answered", std::count_if(trial_answers_.begin(), trial_answers_.end(),
+                                       [](int a) { return a >= 0; })},
+            {"answers", answers_.size()}});
+  return j.dump();
 }
 
 void Session::write_answers() const {

@@ -4,8 +4,9 @@
 // Checks: a request without the token -> 403; a sampling session on the lab with the simulated
 // tapping operator (>= 50 taps) -> two samples deleted by clicking -> reconstruct -> export: the
 // exported points number taps - 2 and the mesh has faces; in the explore view a mouse drag makes
-// contact and a non-zero force; three experiment answers land in the participant's CSV; no
-// console error. Measures (reports, does not assert) the mouse-to-probe latency in frames and
+// contact and a non-zero force; three experiment answers land in the participant's CSV; a
+// palpation of one clicked reference point finishes, and sys.json lands in the workspace and
+// reads back; no console error. Measures (reports, does not assert) the mouse-to-probe latency in frames and
 // the page's frame rate. Screenshots of each view go to OUT_DIR/*.png. Exit 77: skipped.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -27,10 +28,21 @@ const log = (...a) => console.log(`[${((Date.now() - t0) / 1000).toFixed(1)} s]`
 const failures = [];
 const check = (ok, what) => { log((ok ? 'ok   ' : 'FAIL ') + what); if (!ok) failures.push(what); };
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+// The page's JS time per frame (the render call and the whole rAF callback), median / p90 in ms,
+// since the last call; with the machine's load average (the timings depend on it).
+async function framePerf(page, what) {
+  const p = await page.evaluate(() => {
+    const q = (a, f) => { const v = a.slice().sort((x, y) => x - y); return v.length ? v[Math.min(v.length - 1, Math.floor(f * v.length))] : NaN; };
+    const S = window.studio, r = { r50: q(S.perf.renderMs, 0.5), r90: q(S.perf.renderMs, 0.9), f50: q(S.perf.frameMs, 0.5), f90: q(S.perf.frameMs, 0.9), pr: S.pixelRatio };
+    S.perf.renderMs.length = 0; S.perf.frameMs.length = 0;
+    return r;
+  });
+  log(`MEASURED ${what}: render call ${p.r50.toFixed(2)} / ${p.r90.toFixed(2)} ms, frame callback ${p.f50.toFixed(2)} / ${p.f90.toFixed(2)} ms (median / p90), pixel ratio ${p.pr}, load average ${os.loadavg()[0].toFixed(1)}`);
+}
 
 // --- the server ----------------------------------------------------------------------------
 const server = spawn(bin, ['studio', '--device', 'lab:dome', '--workspace', workspace, '--port', '0',
-  '--speed', '4', '--seed', '3', '--web-dir', web, '--seconds', '170'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--speed', '4', '--seed', '3', '--web-dir', web, '--seconds', '400'], { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 server.stderr.on('data', (d) => { stderr += d; });
 const url = await new Promise((resolve, reject) => {
@@ -76,10 +88,12 @@ try {
   // Sampling: wait for >= 50 taps, pause the operator, delete two samples by clicking.
   const wantTaps = 50;
   await page.waitForFunction((n) => window.studio.taps >= n, { timeout: 90000, polling: 250 }, wantTaps);
+  await framePerf(page, 'warm-up');
   const f0 = await page.evaluate(() => window.studio.frames), ts0 = Date.now();
   await sleep(2000);
   const fpsSampling = (await page.evaluate(() => window.studio.frames) - f0) / ((Date.now() - ts0) / 1000);
   log(`MEASURED page frame rate in the sampling view (operator tapping): ${fpsSampling.toFixed(1)} fps`);
+  await framePerf(page, 'sampling view');
   await page.click('#pause');
   await page.waitForFunction(() => window.studio.lastReply && window.studio.lastReply.mode === 'idle', { timeout: 10000 });
   await sleep(300);
@@ -114,6 +128,12 @@ try {
   check(exported === taps - 2, `exported points = taps - 2 (${exported} = ${taps} - 2)`);
   check(faces > 0, `exported mesh is non-empty (${faces} faces)`);
   await page.screenshot({ path: path.join(out, 'studio-reconstruction.png') });
+  // The outlier filter and the jet projection, previewed (not applied: the export above stands).
+  await page.click('#preview');
+  await page.waitForFunction(() => window.studio.preview || (window.studio.lastReply && window.studio.lastReply.type === 'error'), { timeout: 20000 });
+  const pv = await page.evaluate(() => window.studio.preview && { o: window.studio.preview.outliers.length, m: window.studio.preview.moves.length, med: window.studio.preview.median_move, live: window.studio.samples.size });
+  check(pv && pv.o + pv.m === pv.live, `preview: ${pv ? pv.o : '?'} outlier(s) + ${pv ? pv.m : '?'} projected = ${pv ? pv.live : '?'} live samples (median move ${pv ? pv.med.toFixed(3) : '?'} mm)`);
+  await page.screenshot({ path: path.join(out, 'studio-preview.png') });
 
   // Explore: the 25-model surface; a mouse drag presses the lab probe onto it.
   await page.click('button[data-view=explore]');
@@ -123,6 +143,7 @@ try {
   const cx = box.x + box.width * 0.5, cy = box.y + box.height * 0.5;
   await page.mouse.move(cx, cy);
   for (let i = 0; i < 20; ++i) { await page.mouse.move(cx + i, cy); await sleep(30); }
+  await framePerf(page, 'explore, mouse moving');
   const fps0 = await page.evaluate(() => window.studio.frames);
   const tf0 = Date.now();
   await page.evaluate(() => { window.studio.latencies.length = 0; window.studio.latencyMs.length = 0; window.studio.contactSeen = false; window.studio.maxForce = 0; });
@@ -131,6 +152,7 @@ try {
   await sleep(300);
   const ex = await page.evaluate(() => ({ contact: window.studio.contactSeen, f: window.studio.maxForce, lat: window.studio.latencies.slice(), ms: window.studio.latencyMs.slice(), fps: window.studio.fps }));
   const fpsMeasured = (await page.evaluate(() => window.studio.frames) - fps0) / ((Date.now() - tf0) / 1000);
+  await framePerf(page, 'explore view while dragging');
   await page.screenshot({ path: path.join(out, 'studio-explore.png') });
   await page.mouse.up();
   check(ex.contact, 'explore: the drag made contact');
@@ -146,6 +168,14 @@ try {
   await page.$eval('#participant', (e) => { e.value = '7'; });
   await page.click('#expstart');
   await page.waitForFunction(() => window.studio.trial && window.studio.trial.participant === 7, { timeout: 20000 });
+  // The experimenter's own window (?view=experimenter): progress and scores, live.
+  const xpage = await browser.newPage();
+  await xpage.setViewport({ width: 900, height: 700 });
+  xpage.on('console', (m) => { if (m.type() === 'error') consoleErrors.push('experimenter: ' + m.text()); });
+  xpage.on('pageerror', (e) => consoleErrors.push('experimenter page error: ' + e.message));
+  await xpage.goto(url + '&view=experimenter', { waitUntil: 'load' });
+  await xpage.waitForFunction(() => window.studio && window.studio.progress && window.studio.progress.running, { timeout: 20000 });
+  await page.bringToFront();
   for (const cell of [0, 12, 24]) {
     const p = await page.evaluate((c) => window.studio.cellScreenPos(c), cell);
     await page.mouse.move(p.x - 30, p.y - 30);
@@ -163,13 +193,49 @@ try {
   check(rows.length === 3, `three answers in participant-007.csv (${rows.length})`);
   check(rows.map((r) => r.split(',')[6]).join(' ') === '0 12 24', `answers at cells 0, 12, 24 (${rows.map((r) => r.split(',')[6]).join(' ')})`);
 
-  await page.click('#summary');
-  await page.waitForFunction(() => window.studio.summary, { timeout: 10000 }).catch(() => {});
-  const summary = await page.evaluate(() => window.studio.summary);
-  check(summary && summary.trials === 1 && summary.conditions.length === 1,
-    `experimenter view scores the saved answers (${summary ? summary.trials : 0} trial)`);
+  await xpage.waitForFunction(() => window.studio.progress.answers === 3 && window.studio.summary && window.studio.summary.trials === 1, { timeout: 15000, polling: 100 }).catch(() => {});
+  const xs = await xpage.evaluate(() => ({ p: window.studio.progress, s: window.studio.summary, text: document.getElementById('progress').textContent }));
+  check(xs.p.answers === 3 && /3 answers/.test(xs.text), `experimenter window: progress live (${xs.text})`);
+  check(xs.s && xs.s.trials === 1 && xs.s.conditions.length === 1,
+    `experimenter window scores the saved answers (${xs.s ? xs.s.trials : 0} trial)`);
+  const cue = await page.evaluate(() => !document.getElementById('side-experimenter').classList.contains('hidden') || /answers in all/.test(document.body.innerText));
+  check(!cue, 'the participant page shows no progress or scores');
+  await xpage.waitForFunction(() => document.querySelector('#ratioplot .main-svg'), { timeout: 20000 }).catch(() => {});
+  await xpage.screenshot({ path: path.join(out, 'studio-experimenter.png') });
+  await xpage.close();
+  // Palpation: one reference point clicked at the top of the dome, the library's quick protocol
+  // (f_N 1 and 3 N, 4 directions) at 20 simulated seconds per second, sys.json saved and read back.
   await page.click('button[data-view=palpation]');
+  await page.waitForFunction(() => window.studio.palpMesh > 0, { timeout: 20000 });
+  await sleep(500);
+  const top = await page.evaluate(() => window.studio.palpTopScreenPos());
+  await page.mouse.click(top.x, top.y);
+  await page.waitForFunction(() => window.studio.palpPoints.length > 0, { timeout: 15000, polling: 100 }).catch(() => {});
+  const nPoints = await page.evaluate(() => window.studio.palpPoints.length);
+  check(nPoints === 1, `a click on the shape adds one reference point (${nPoints})`);
+  await page.$eval('#palpspeed', (e) => { e.value = '20'; });
+  const tp0 = Date.now();
+  await page.click('#palprun');
+  await page.waitForFunction(() => window.studio.cycles.length > 0 || window.studio.palpError, { timeout: 60000, polling: 100 });
+  await sleep(1500);
+  await page.screenshot({ path: path.join(out, 'studio-palpation-live.png') });
+  await page.waitForFunction(() => window.studio.yield || window.studio.palpError, { timeout: 150000, polling: 250 });
+  const palp = await page.evaluate(() => ({ y: window.studio.yield, err: window.studio.palpError, cycles: window.studio.cycles.length }));
+  log(`palpation: ${palp.cycles} cycles streamed, ${((Date.now() - tp0) / 1000).toFixed(1)} s wall${palp.err ? ', error ' + palp.err : ''}`);
+  check(!palp.err && palp.y && palp.y.points.length === 1, `palpation of one point finished and fitted (${palp.err || 'ok'})`);
+  check(palp.cycles > 0 && palp.y && palp.cycles === palp.y.cycles, `every cycle streamed live (${palp.cycles} of ${palp.y ? palp.y.cycles : '?'})`);
+  await sleep(300);
   await page.screenshot({ path: path.join(out, 'studio-palpation.png') });
+  await page.click('#savesys');
+  await page.waitForFunction(() => window.studio.sysSaved || (window.studio.lastReply && window.studio.lastReply.request === 'save_sys'), { timeout: 20000 });
+  const saved = await page.evaluate(() => window.studio.sysSaved);
+  check(saved && saved.points === 1, `save_sys: the server read sys.json back (${saved ? saved.points : 0} point)`);
+  const sysPath = path.join(workspace, 'sys.json');
+  let sys = null;
+  try { sys = JSON.parse(fs.readFileSync(sysPath, 'utf8')); } catch { /* checked below */ }
+  check(sys && sys.format === 'inhap-sys' && Array.isArray(sys.points) && sys.points.length === 1,
+    `sys.json in the workspace: format ${sys ? sys.format : '-'}, ${sys && sys.points ? sys.points.length : 0} point`);
+  check(fs.existsSync(path.join(workspace, 'sys.cycles.csv')), 'sys.cycles.csv beside it');
   check(consoleErrors.length === 0, `no console errors (${consoleErrors.length}${consoleErrors.length ? ': ' + consoleErrors.slice(0, 3).join(' | ') : ''})`);
   exitCode = failures.length ? 1 : 0;
 } catch (e) {

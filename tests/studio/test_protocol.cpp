@@ -2,6 +2,7 @@
 // (include/inhap/studio/protocol.hpp, session.hpp).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
@@ -81,8 +82,8 @@ TEST(StudioSession, MalformedMessagesChangeNothing) {
       R"({"type":"open_session","path":"../s.json"})",
       R"({"type":"open_mesh","source":"elsewhere"})",
       R"({"type":"reconstruct","alpha":-1})",
-      R"({"type":"answer","value":1})",  // no experiment
-      R"({"type":"mode","mode":"palpation"})",
+      R"({"type":"answer","value":1})",         // no experiment
+      R"({"type":"mode","mode":"palpating"})",  // internal: only palpate starts it
       R"({"type":"probe","x":1,"y":2,"z":"3","seq":1})",
   };
   for (const auto& text : bad) {
@@ -172,4 +173,57 @@ TEST(StudioSession, OpensADataDrivenModelOrNothing) {
   EXPECT_EQ(reply(s, R"({"type":"algorithm","name":"cba"})")["type"], "error");
   // back to a stiffness mesh
   EXPECT_EQ(reply(s, R"({"type":"open_mesh","source":"study25"})")["algorithm"], "tca");
+}
+
+TEST(StudioSession, PreviewShowsTheOutlierAndTheProjectionApplyAndUndo) {
+  // 60 samples scattered on the plane z = 10 with a +-0.2 mm zig-zag, and one 30 mm above it
+  // (id 60).
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  json pts = json::array();
+  for (int i = 0; i < 60; ++i)
+    pts.push_back({{"id", i},
+                   {"point",
+                    {(i % 10) * 3.0 + 1.2 * std::sin(i * 1.7),
+                     (i / 10) * 3.0 + 1.2 * std::cos(i * 2.3), 10.0 + ((i % 2) ? 0.2 : -0.2)}},
+                   {"threshold", {0, 0, 0}},
+                   {"direction", {0, 0, 1}}});
+  pts.push_back({{"id", 60},
+                 {"point", {9.0, 9.0, 40.0}},
+                 {"threshold", {0, 0, 0}},
+                 {"direction", {0, 0, 1}}});
+  inhap::write_file_atomic(
+      (ws.root() / "p.json").string(),
+      json{{"format", "inhap-studio-session"}, {"version", 1}, {"samples", pts}}.dump());
+  StudioOptions o;
+  Session s(o, ws, [](const std::string&) {});
+  ASSERT_EQ(reply(s, R"({"type":"open_session","path":"p.json"})")["type"], "samples");
+  const json p = reply(s, R"({"type":"preview"})");
+  ASSERT_EQ(p["type"], "preview") << p.dump();
+  EXPECT_EQ(p["outliers"], json::array({60}));
+  ASSERT_EQ(p["moves"].size(), 60u);
+  // The jet through a zig-zag about z = 10 puts the samples nearer to the plane.
+  double before = 0, after = 0;
+  for (const auto& m : p["moves"]) {
+    const long id = m["id"];
+    before += 0.2;
+    after += std::abs(m["to"][2].get<double>() - 10.0);
+    EXPECT_LT(id, 60);
+  }
+  EXPECT_LT(after, 0.5 * before);
+  EXPECT_EQ(s.live_samples(), 61u);  // a preview changes nothing
+
+  const json a = reply(s, R"({"type":"apply_preview"})");
+  ASSERT_EQ(a["type"], "samples");
+  EXPECT_EQ(s.live_samples(), 60u);
+  double z0 = 0;
+  for (const auto& q : a["samples"])
+    if (q["id"] == 0) z0 = q["point"][2];
+  EXPECT_NEAR(z0, p["moves"][0]["to"][2].get<double>(), 1e-12);
+  const json u = reply(s, R"({"type":"undo"})");
+  EXPECT_EQ(s.live_samples(), 61u);
+  double z0_back = 0;
+  for (const auto& q : u["samples"])
+    if (q["id"] == 0) z0_back = q["point"][2];
+  EXPECT_DOUBLE_EQ(z0_back, 9.8);  // undo puts it back
 }

@@ -1,8 +1,11 @@
-// inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling and
-// explore views, an SVG participant screen (thesis fig. 5.9b), plotly.js for the force plot.
+// inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling,
+// palpation and explore views, an SVG participant screen (thesis fig. 5.9b), canvas plots
+// (plots.js) for the force and figs 4.7-4.8, plotly.js for figs 5.10-5.11 in the experimenter
+// window (?view=experimenter).
 // Units: mm, N, s. window.studio exposes counters for the browser test.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { drawFig47, drawFig48, drawLine } from '/plots.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const $ = (id) => document.getElementById(id);
@@ -17,21 +20,29 @@ const ws = new WebSocket(`ws://${location.host}/ws?token=${encodeURIComponent(to
 const send = (m) => { if (ws.readyState === 1) ws.send(JSON.stringify(m)); };
 ws.onopen = () => { $('status').textContent = 'connected'; send({ type: 'hello' }); };
 ws.onclose = () => { $('status').textContent = 'disconnected'; };
+let needRender = true;  // the scene changes only through messages, the camera and the mouse
 ws.onmessage = (ev) => {
+  needRender = true;
   const m = JSON.parse(ev.data);
   S.messages++;
   switch (m.type) {
     case 'state': onState(m); break;
     case 'tap': addSample(m); S.taps = m.taps; updateCounts(); break;
-    case 'samples': setSamples(m); break;
+    case 'samples': setSamples(m); clearPreview(); break;
+    case 'preview': onPreview(m); break;
     case 'mesh': onMesh(m); break;
     case 'trial': onTrial(m); break;
-    case 'hello': S.ready = true; S.hello = m; break;
+    case 'hello': S.ready = true; S.hello = m; $('palpspeed').value = m.speed; $('palpspeedl').classList.toggle('hidden', !m.lab); break;
     case 'summary': onSummary(m); break;
+    case 'progress': onProgress(m); break;
+    case 'cycle': onCycle(m); break;
+    case 'yield': onYield(m); break;
+    case 'palpation': onPalpation(m); break;
     case 'error': S.errors.push(m); S.lastReply = m; $('status').textContent = 'error: ' + m.message; break;
+    case 'ok': onOk(m); break;
     default: S.lastReply = m;
   }
-  if (m.type !== 'state' && m.type !== 'tap') S.lastReply = m;
+  if (!['state', 'tap', 'cycle', 'progress'].includes(m.type)) S.lastReply = m;
 };
 
 // --- three.js stage ------------------------------------------------------------------------
@@ -58,7 +69,7 @@ scene.add(sampleGroup, thresholdGroup);
 S.scene = scene; S.renderer = renderer;
 const sampleGeo = new THREE.SphereGeometry(1.0, 10, 8), thrGeo = new THREE.SphereGeometry(0.5, 6, 4);
 const sampleMat = new THREE.MeshLambertMaterial({ color: 0xc02828 }), outlierMat = new THREE.MeshLambertMaterial({ color: 0xff9900 }), thrMat = new THREE.MeshBasicMaterial({ color: 0x999999 });
-let objectMesh = null, reconMesh = null, exploreMesh = null;
+let objectMesh = null, reconMesh = null, exploreMesh = null, palpMesh = null;
 
 function fitCamera(box) {
   const c = box.getCenter(new THREE.Vector3()), s = box.getSize(new THREE.Vector3()).length() || 100;
@@ -73,8 +84,11 @@ function resize() {
   renderer.domElement.style.height = h + 'px';
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
+  needRender = true;
 }
 window.addEventListener('resize', resize);
+controls.addEventListener('change', () => { needRender = true; });
+for (const e of ['pointerdown', 'pointerup', 'keydown']) window.addEventListener(e, () => { needRender = true; });
 
 function colorMap(values) {
   let lo = Infinity, hi = -Infinity;
@@ -104,16 +118,19 @@ function onMesh(m) {
     $('recinfo').textContent = `${S.mesh.faces} faces, alpha ${m.report.alpha.toFixed(2)} mm, ${m.report.outliers} outliers (orange), distance ${r.lo.toFixed(2)}-${r.hi.toFixed(2)} mm`;
   }
   if (m.role === 'explore') { if (exploreMesh) scene.remove(exploreMesh); exploreMesh = mesh; S.exploreMesh = m.faces.length / 3; }
+  if (m.role === 'palpation') { if (palpMesh) scene.remove(palpMesh); palpMesh = mesh; S.palpMesh = m.faces.length / 3; }
   scene.add(mesh);
   showFor(S.view);
   if (m.role !== 'reconstruction') { mesh.geometry.computeBoundingBox(); fitCamera(mesh.geometry.boundingBox); }
 }
 function showFor(view) {
   const samp = view === 'sampling';
-  sampleGroup.visible = thresholdGroup.visible = samp;
+  sampleGroup.visible = thresholdGroup.visible = previewGroup.visible = samp;
   if (objectMesh) objectMesh.visible = samp;
   if (reconMesh) reconMesh.visible = samp;
   if (exploreMesh) exploreMesh.visible = view === 'explore';
+  if (palpMesh) palpMesh.visible = view === 'palpation';
+  palpGroup.visible = view === 'palpation';
   ihip.visible = cihip.visible = arrow.visible = view === 'explore';
 }
 
@@ -133,7 +150,7 @@ function addSample(s) {
 function setSamples(msg) {
   const live = new Set(msg.samples.map((s) => s.id));
   for (const [id, e] of S.samples) if (!live.has(id)) { sampleGroup.remove(e.m); thresholdGroup.remove(e.t); S.samples.delete(id); }
-  for (const s of msg.samples) addSample(s);
+  for (const s of msg.samples) { const e = S.samples.get(s.id); if (e) e.m.position.set(...s.point); else addSample(s); }
   S.deleted = msg.deleted;
   S.taps = msg.taps;
   updateCounts();
@@ -163,6 +180,10 @@ renderer.domElement.addEventListener('pointerdown', (ev) => {
     const hit = pick(ev, sampleGroup.children);
     if (hit.length) send({ type: 'delete', ids: [hit[0].object.userData.id] });
   } else if (S.view === 'explore') { pressing = true; dragFrom = [ev.clientX, ev.clientY]; exploreMove(ev); }
+  else if (S.view === 'palpation' && palpMesh && !S.palpRunning) {
+    const hit = pick(ev, [palpMesh]);
+    if (hit.length) addPalpPoint(hit[0].point);
+  }
 });
 window.addEventListener('pointermove', (ev) => {
   if (boxStart && boxDiv) {
@@ -187,6 +208,26 @@ $('pause').onclick = () => { tapping = !tapping; send({ type: 'mode', mode: tapp
 $('undo').onclick = () => send({ type: 'undo' });
 $('alpha').oninput = () => { const a = +$('alpha').value; $('alphav').textContent = a ? a + ' mm' : 'auto'; };
 $('reconstruct').onclick = () => { $('recinfo').textContent = 'reconstructing…'; send({ type: 'reconstruct', alpha: +$('alpha').value, taubin: $('taubin').checked, sqrt3: $('sqrt3').checked }); };
+// Outlier filter and jet (quadric) projection, previewed: orange = would be removed, purple
+// segment = where the sample would move (x1). Apply deletes / moves them (one undo step).
+const previewGroup = new THREE.Group();
+scene.add(previewGroup);
+function clearPreview() {
+  for (const c of [...previewGroup.children]) { previewGroup.remove(c); c.geometry.dispose(); }
+  if (S.preview) for (const [, e] of S.samples) e.m.material = sampleMat;
+  S.preview = null; $('previnfo').textContent = '';
+}
+function onPreview(m) {
+  clearPreview();
+  S.preview = m;
+  for (const id of m.outliers) { const e = S.samples.get(id); if (e) e.m.material = outlierMat; }
+  const seg = [];
+  for (const mv of m.moves) { const e = S.samples.get(mv.id); if (e) seg.push(e.m.position.clone(), new THREE.Vector3(...mv.to)); }
+  if (seg.length) previewGroup.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(seg), new THREE.LineBasicMaterial({ color: 0x8a2be2 })));
+  $('previnfo').textContent = `${m.outliers.length} outlier(s) would be removed (orange); the projection would move ${m.moves.length} samples by ${m.median_move.toFixed(3)} mm median, ${m.max_move.toFixed(3)} mm at most (purple). Apply, then Undo reverts it.`;
+}
+$('preview').onclick = () => send({ type: 'preview' });
+$('applyprev').onclick = () => send({ type: 'apply_preview' });
 $('export').onclick = () => send({ type: 'export', points: $('ptsname').value, mesh: $('meshname').value });
 $('savesess').onclick = () => send({ type: 'save_session', path: $('sessname').value });
 $('opensess').onclick = () => send({ type: 'open_session', path: $('sessname').value });
@@ -214,7 +255,6 @@ $('openmesh').onclick = () => {
 };
 $('algo').onchange = () => send({ type: 'algorithm', name: $('algo').value });
 const fT = [], fY = [];
-let plotReady = false;
 // plotly.js (3.5 MB) is loaded when the explore view first opens, not with the page.
 let plotlyLoading = false;
 function loadPlotly() {
@@ -224,13 +264,9 @@ function loadPlotly() {
   s.src = '/lib/plotly.min.js';
   document.head.appendChild(s);
 }
-function plotForce() {
-  if (S.view !== 'explore' || typeof Plotly === 'undefined') return;
-  const data = [{ x: fT.slice(), y: fY.slice(), mode: 'lines', line: { color: '#e07000' } }];
-  const layout = { margin: { l: 40, r: 10, t: 10, b: 30 }, xaxis: { title: { text: 't (s)' } }, yaxis: { title: { text: '|f| (N)' }, rangemode: 'tozero' } };
-  if (!plotReady) { Plotly.newPlot('fplot', data, layout, { staticPlot: true }); plotReady = true; } else Plotly.react('fplot', data, layout);
-}
-setInterval(plotForce, 200);
+// The scrolling |f| plot: a plain canvas redrawn in the frame after new states arrived (a plotly
+// relayout every 200 ms cost whole frames under software rendering).
+let forceDirty = false;
 
 // --- state ---------------------------------------------------------------------------------
 function onState(m) {
@@ -239,8 +275,11 @@ function onState(m) {
   while (arrived.length && arrived[0][0] <= m.seq) { S.latencyMs.push(performance.now() - arrived[0][1]); arrived.shift(); }
   const f = Math.hypot(...m.f);
   if (m.contact) S.contactSeen = true;
-  if (S.view === 'explore') { S.maxForce = Math.max(S.maxForce, f); fT.push(m.t); fY.push(f); if (fT.length > 600) { fT.shift(); fY.shift(); } }
+  if (S.view === 'explore') { S.maxForce = Math.max(S.maxForce, f); fT.push(m.t); fY.push(f); if (fT.length > 600) { fT.shift(); fY.shift(); } forceDirty = true; }
 }
+// DOM text only when it changed (a write per frame restyles the sidebar every frame).
+const shown = new Map();
+function setText(id, t) { if (shown.get(id) !== t) { shown.set(id, t); $(id).textContent = t; } }
 function drawState() {
   const m = S.state; if (!m) return;
   probe.position.set(...m.hip);
@@ -249,11 +288,14 @@ function drawState() {
   const f = new THREE.Vector3(...m.f), fl = f.length();
   arrow.visible = S.view === 'explore' && fl > 0.01;
   if (arrow.visible) { arrow.position.copy(ihip.position); arrow.setDirection(f.clone().normalize()); arrow.setLength(4 * fl + 2, 3, 2); }
-  $('fmag').textContent = fl.toFixed(2);
-  $('contact').textContent = m.contact ? 'yes' : 'no';
+  if (S.view === 'explore') { setText('fmag', fl.toFixed(2)); setText('contact', m.contact ? 'yes' : 'no'); }
   // mouse-to-probe latency: frames from sending a target to drawing a state the servo applied it in
   while (pending.length && pending[0][0] <= m.seq) { S.latencies.push(S.frames - pending[0][1]); pending.shift(); }
   if (S.view === 'experiment') drawHip(m);
+  if (S.view === 'palpation') {
+    if (S.palpRunning && m.palp_progress !== undefined) setText('palpinfo', `running: point ${m.palp_point}, ${(100 * m.palp_progress).toFixed(0)} %, ${S.cycles.length} cycles, t = ${m.t.toFixed(1)} s`);
+    if (palpDirty) drawPalpation();
+  }
 }
 
 // --- experiment (fig. 5.9b) ---------------------------------------------------------------
@@ -314,39 +356,131 @@ window.addEventListener('keydown', (ev) => {
 });
 $('expstart').onclick = () => send({ type: 'experiment', participant: +$('participant').value });
 $('nexttrial').onclick = () => send({ type: 'next_trial' });
-// Experimenter: fig. 5.10 (mean correct of 25 per condition) and fig. 5.11 (per-model ratio),
-// scored by the library from the participant CSVs in the workspace.
-$('summary').onclick = () => { loadPlotly(); send({ type: 'summary' }); };
+// Experimenter window (?view=experimenter): the controls, the progress and fig. 5.10 (mean
+// correct of 25 per condition) and fig. 5.11 (per-model ratio), scored by the library from the
+// participant CSVs in the workspace after every answer. The participant screen shows none of it.
+const experimenter = new URLSearchParams(location.search).get('view') === 'experimenter';
+$('openexp').onclick = () => window.open(`/?token=${encodeURIComponent(token)}&view=experimenter`, 'inhap-experimenter', 'width=900,height=760');
+$('xstart').onclick = () => send({ type: 'experiment', participant: +$('xparticipant').value });
+$('xnext').onclick = () => send({ type: 'next_trial' });
+function onProgress(m) {
+  S.progress = m;
+  if (!experimenter) return;  // no cue on the participant screen
+  $('progress').textContent = m.running
+    ? `participant ${m.participant} · ${m.task} task, ${m.algorithm} · session ${m.session + 1}, trial ${m.trial + 1} (${m.index + 1}/${m.trials}) · this trial ${m.answered}/25 answered · ${m.answers} answers in all`
+    : 'no experiment running';
+  send({ type: 'summary' });
+}
 function onSummary(m) {
   S.summary = m;
   const rows = m.conditions.map((c) => `${c.algorithm} ${c.task}: ${c.mean.toFixed(1)} ± ${c.sd_trials.toFixed(1)} of 25 (${c.trials} trials); below 0.5: ${c.below_half.length ? 'M' + c.below_half.join(', M') : 'none'}`);
   $('summaryinfo').innerHTML = `${m.files.length} participant file(s), ${m.trials} trial(s)<br>` + rows.join('<br>');
   const draw = () => {
     if (typeof Plotly === 'undefined') return setTimeout(draw, 200);
-    const traces = m.conditions.map((c) => ({ type: 'bar', name: `${c.algorithm} ${c.task}`, x: c.model_ratio.map((_, i) => 'M' + (i + 1)), y: c.model_ratio }));
-    Plotly.newPlot('ratioplot', traces, { margin: { l: 35, r: 5, t: 5, b: 30 }, height: 220, width: 300, yaxis: { range: [0, 1] }, showlegend: true, legend: { orientation: 'h' } }, { staticPlot: true });
+    const name = (c) => `${c.algorithm} ${c.task}`;
+    Plotly.react('fig510', [{ type: 'bar', x: m.conditions.map(name), y: m.conditions.map((c) => c.mean),
+      error_y: { type: 'data', array: m.conditions.map((c) => c.sd_trials), visible: true } }],
+    { title: { text: 'fig. 5.10: correct of 25', font: { size: 12 } }, margin: { l: 35, r: 5, t: 30, b: 40 }, height: 260, width: 300, yaxis: { range: [0, 25] } }, { staticPlot: true });
+    const traces = m.conditions.map((c) => ({ type: 'bar', name: name(c), x: c.model_ratio.map((_, i) => 'M' + (i + 1)), y: c.model_ratio }));
+    Plotly.react('ratioplot', traces, { title: { text: 'fig. 5.11: correct ratio per model', font: { size: 12 } }, margin: { l: 35, r: 5, t: 30, b: 30 }, height: 260, width: 520, yaxis: { range: [0, 1] }, showlegend: true, legend: { orientation: 'h' } }, { staticPlot: true });
   };
   draw();
 }
+if (experimenter) {
+  document.body.classList.add('experimenter');
+  S.view = 'experimenter';
+  loadPlotly();
+  for (const x of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + x).classList.add('hidden');
+  $('side-experimenter').classList.remove('hidden');
+  ws.addEventListener('open', () => { send({ type: 'progress' }); send({ type: 'summary' }); });
+}
+
+// --- palpation (thesis 4.3, figs 4.7-4.8) --------------------------------------------------
+const palpGroup = new THREE.Group(), palpMarkers = new THREE.Group(), yieldLines = new THREE.Group();
+palpGroup.add(palpMarkers, yieldLines);
+scene.add(palpGroup);
+const markerGeo = new THREE.SphereGeometry(1.6, 12, 8), markerMat = new THREE.MeshLambertMaterial({ color: 0xf0c000 });
+Object.assign(S, { palpPoints: [], cycles: [], yield: null, palpRunning: false, palpError: null, sysSaved: null });
+let palpDirty = false, palpPlateaus = [0.1, 0.6];
+function addPalpPoint(p) {
+  S.palpPoints.push([p.x, p.y, p.z]);
+  const m = new THREE.Mesh(markerGeo, markerMat); m.position.copy(p); palpMarkers.add(m);
+  $('palpn').textContent = S.palpPoints.length;
+}
+function clearYield() { for (const c of [...yieldLines.children]) { yieldLines.remove(c); c.geometry.dispose(); } }
+$('palpclear').onclick = () => { if (S.palpRunning) return; S.palpPoints = []; palpMarkers.clear(); clearYield(); $('palpn').textContent = 0; };
+$('palprun').onclick = () => {
+  if (!S.palpPoints.length) { $('palpinfo').textContent = 'click the surface to add a point first'; return; }
+  send({ type: 'palpate', points: S.palpPoints, quick: $('palpquick').checked, speed: +$('palpspeed').value });
+};
+$('palpstop').onclick = () => { S.palpRunning = false; send({ type: 'mode', mode: 'palpation' }); $('palpinfo').textContent = 'stopped'; };
+$('savesys').onclick = () => send({ type: 'save_sys', path: $('sysname').value });
+function onPalpation(m) {
+  if (m.status === 'running') {
+    Object.assign(S, { palpRunning: true, cycles: [], yield: null, palpError: null, sysSaved: null });
+    palpPlateaus = m.plateaus; clearYield(); palpDirty = true;
+    // the points as the server projected them onto the shape
+    m.points.forEach((r, i) => palpMarkers.children[i] && palpMarkers.children[i].position.set(...r.position));
+    $('palpinfo').textContent = `running: ${m.points.length} point(s), f_N ${m.levels.join(', ')} N, ${m.directions} directions`;
+  } else if (m.status === 'failed') {
+    S.palpRunning = false; S.palpError = m.message; $('palpinfo').textContent = m.message;
+  }
+}
+function onCycle(m) { S.cycles.push(m); palpDirty = true; }
+function drawPalpation() {
+  palpDirty = false;
+  const last = S.cycles[S.cycles.length - 1];
+  const sel = last ? S.cycles.filter((c) => c.point === last.point && c.fn === last.fn) : [];
+  drawFig47($('palpplot'), sel, palpPlateaus, last ? `point ${last.point}, f_N ${last.fn} N, ${S.cycles.length} cycles` : 'no cycles yet');
+}
+function onYield(m) {
+  S.yield = m; S.palpRunning = false; clearYield();
+  const p0 = m.points[0];
+  drawFig48($('yieldplot'), m.levels, m.angles, p0.limits, `point ${p0.id}: creep ${p0.creep_viscosity.toFixed(3)} N s/mm`);
+  // on the surface: the tangential elastic displacement limit per direction (x5), one loop per f_N
+  for (const p of m.points) {
+    const c = new THREE.Vector3(...p.position);
+    m.levels.forEach((_, j) => {
+      const pts = p.tdirs.map((t, k) => c.clone().addScaledVector(new THREE.Vector3(...t), 5 * (p.limits[j][k].r || 0)));
+      const line = new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(pts), new THREE.LineBasicMaterial({ color: j ? 0x2020c0 : 0x8080ff }));
+      yieldLines.add(line);
+    });
+  }
+  $('palpinfo').textContent = `done: ${m.cycles} cycles, ${m.points.length} point(s) fitted`;
+}
+function onOk(m) {
+  if (m.request === 'save_sys') { S.sysSaved = m; $('sysinfo').textContent = `wrote ${m.path} (read back: ${m.points} point(s), ${m.levels} f_N levels × ${m.directions} directions) and its ${m.cycles} cycles (.cycles.csv)`; }
+}
+S.palpTopScreenPos = () => {  // the highest vertex of the shape on the screen (the browser test)
+  if (!palpMesh) return null;
+  const a = palpMesh.geometry.attributes.position; let best = 0;
+  for (let i = 1; i < a.count; ++i) if (a.getZ(i) > a.getZ(best)) best = i;
+  const v = new THREE.Vector3(a.getX(best), a.getY(best), a.getZ(best)).project(camera), r = renderer.domElement.getBoundingClientRect();
+  return { x: r.left + (v.x + 1) / 2 * r.width, y: r.top + (1 - v.y) / 2 * r.height };
+};
 
 // --- views ---------------------------------------------------------------------------------
 function setView(v) {
   S.view = v;
   document.querySelectorAll('.tab').forEach((b) => b.classList.toggle('active', b.dataset.view === v));
   for (const s of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + s).classList.toggle('hidden', s !== v);
-  host.classList.toggle('hidden', v === 'experiment' || v === 'palpation');
+  host.classList.toggle('hidden', v === 'experiment');
   svg.classList.toggle('hidden', v !== 'experiment');
-  $('palp').classList.toggle('hidden', v !== 'palpation');
   showFor(v);
   if (v === 'sampling') send({ type: 'mode', mode: tapping ? 'sampling' : 'idle' });
-  if (v === 'explore') { loadPlotly(); send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
+  if (v === 'explore') { send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
   if (v === 'experiment' && S.trial) send({ type: 'mode', mode: 'experiment' });
+  if (v === 'palpation' && !S.palpRunning) send({ type: 'mode', mode: 'palpation' });
   resize();
 }
 document.querySelectorAll('.tab').forEach((b) => (b.onclick = () => setView(b.dataset.view)));
 
 // --- frame loop ----------------------------------------------------------------------------
 let fpsT = performance.now(), fpsN = 0;
+const forceCanvas = $('fplot');
+// Timings for the browser test: JS time of the render call and of the whole frame callback, ms.
+S.perf = { renderMs: [], frameMs: [] }; S.renders = 0;
+function perfPush(a, v) { a.push(v); if (a.length > 2000) a.shift(); }
 function frame() {
   S.frames++; fpsN++;
   const now = performance.now();
@@ -358,7 +492,14 @@ function frame() {
     S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState();
-  if (S.view === 'sampling' || S.view === 'explore') renderer.render(scene, camera);
+  if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
+  if (['sampling', 'explore', 'palpation'].includes(S.view) && needRender) {
+    needRender = false; S.renders++;
+    const r0 = performance.now();
+    renderer.render(scene, camera);
+    perfPush(S.perf.renderMs, performance.now() - r0);
+  }
+  perfPush(S.perf.frameMs, performance.now() - now);
   requestAnimationFrame(frame);
 }
 resize();

@@ -1,5 +1,6 @@
 // `inhap studio`: the servo loop plus a local web page (docs/studio.md): sampling by tapping,
-// exploring a model, the thesis 5.4 participant screen. Units: mm, N, N/mm, s.
+// palpation, exploring a model, the thesis 5.4 participant screen and experimenter window.
+// Units: mm, N, N/mm, s.
 #include <fmt/format.h>
 
 #include <atomic>
@@ -28,14 +29,24 @@ struct StudioArgs {
   std::string workspace = "studio-workspace", web_dir;
   int port = 8765;
   double seconds = 0, connect = 60;
+  bool port_given = false;
 };
 
 void run_studio(const StudioArgs& a) {
   const studio::Workspace workspace(a.workspace);
   const std::string web = studio::find_studio_web_dir(a.web_dir);
-  studio::Server server(a.port, web, studio::make_token());
-  studio::Session session(a.session, workspace,
-                          [&server](const std::string& text) { server.broadcast(text); });
+  // The session first: a bad --device or --speed fails before anything listens.
+  std::atomic<studio::Server*> listening{nullptr};
+  studio::Session session(a.session, workspace, [&listening](const std::string& text) {
+    if (studio::Server* s = listening.load()) s->broadcast(text);
+  });
+  // The default port, when taken, moves on to the next free one; a port asked for does not.
+  const std::unique_ptr<studio::Server> owned =
+      studio::listen_on(a.port, !a.port_given, web, studio::make_token());
+  studio::Server& server = *owned;
+  listening = owned.get();
+  if (!a.port_given && server.port() != a.port)
+    fmt::print(stderr, "inhap studio: port {} is in use; listening on {}\n", a.port, server.port());
   std::signal(SIGINT, on_studio_signal);
   std::signal(SIGTERM, on_studio_signal);
   session.start(a.connect);
@@ -64,9 +75,10 @@ void register_studio(CLI::App& app) {
   auto* c = app.add_subcommand(
       "studio",
       "The servo loop plus a local web page (docs/studio.md): sample an object by tapping and\n"
-      "reconstruct it, explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4\n"
-      "participant screen. Listens on 127.0.0.1 only and prints the URL with its access token.\n"
-      "Units: mm, N, N/mm, s.");
+      "reconstruct it, palpate reference points and fit the sliding yield surfaces (sys.json),\n"
+      "explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4 participant\n"
+      "screen with an experimenter window. Listens on 127.0.0.1 only and prints the URL with its\n"
+      "access token. Units: mm, N, N/mm, s.");
   c->add_option("--device", a->session.device,
                 "lab:SCENE (the virtual lab: a simulated operator taps for sampling, the mouse "
                 "moves the probe through a simulated hand elsewhere) or udp / udp:PORT (a device "
@@ -75,9 +87,11 @@ void register_studio(CLI::App& app) {
   c->add_option("--workspace", a->workspace,
                 "folder the page may read and write in (exports, sessions, answers; created)")
       ->capture_default_str();
-  c->add_option("--port", a->port, "TCP port on 127.0.0.1 (0: any free port)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 65535));
+  auto* port = c->add_option("--port", a->port,
+                             "TCP port on 127.0.0.1 (0: any free port; the default moves on to "
+                             "the next free port when taken)")
+                   ->capture_default_str()
+                   ->check(CLI::Range(0, 65535));
   c->add_option("--speed", a->session.speed,
                 "lab:SCENE: simulated seconds per wall-clock second (0.1-20)")
       ->capture_default_str();
@@ -91,7 +105,10 @@ void register_studio(CLI::App& app) {
   c->add_option("--connect-timeout", a->connect, "udp: give up if no device joins within this, s")
       ->capture_default_str();
   c->add_flag("--realtime", a->session.realtime, "ask for SCHED_FIFO and mlockall for the loop");
-  c->callback([a] { run_studio(*a); });
+  c->callback([a, port] {
+    a->port_given = port->count() > 0;
+    run_studio(*a);
+  });
 }
 
 INHAP_COMMAND(75, "studio", register_studio);

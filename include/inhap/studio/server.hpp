@@ -71,4 +71,9 @@ class Server {
   std::thread worker_;
 };
 
+/// The server on `port`, or, when `next_if_busy` and that port is taken, on the first free one of
+/// the `tries` ports after it (port 0: any free port). Throws Error naming the ports tried.
+std::unique_ptr<Server> listen_on(int port, bool next_if_busy, const std::string& web_dir,
+                                  const std::string& token, int tries = 20);
+
 }  // namespace inhap::studio

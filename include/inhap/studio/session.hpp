@@ -31,6 +31,7 @@
 #include "inhap/lab/scene.hpp"
 #include "inhap/rendering/experiment.hpp"
 #include "inhap/studio/hand_device.hpp"
+#include "inhap/studio/palpation.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/security.hpp"
 
@@ -121,6 +122,14 @@ class Session {
   std::string do_delete(const Message& m);
   std::string do_undo();
   std::string do_reconstruct(const Message& m);
+  // outlier filter and jet (quadric) projection previewed, then applied (session_preview.cpp)
+  struct Preview {
+    std::vector<long> outliers;                // ids the filter would remove
+    std::vector<std::pair<long, Vec3>> moves;  // id -> where the jet projection puts it, mm
+  };
+  Preview compute_preview() const;
+  std::string do_preview();
+  std::string do_apply_preview();
   std::string do_export(const Message& m);
   std::string do_save_session(const Message& m);
   std::string do_open_session(const Message& m);
@@ -135,7 +144,15 @@ class Session {
   std::string do_answer(const Message& m);
   std::string do_next_trial();
   std::string trial_json() const;
+  std::string progress_json() const;
+  void broadcast_trial() const;
   void write_answers() const;
+  // palpation (session_palpation.cpp)
+  void ensure_palpation_shape();
+  std::string do_palpate(const Message& m);
+  std::string do_save_sys(const Message& m);
+  void stream_palpation(PalpationRenderer& r, bool& fitted);
+  void fit_palpation_now(PalpationRenderer& r);
 
   StudioOptions options_;
   const Workspace& workspace_;
@@ -153,7 +170,11 @@ class Session {
 
   // sampling
   std::vector<Sample> samples_;
-  std::vector<std::vector<long>> undo_;
+  struct UndoStep {
+    std::vector<long> deleted;                 ///< ids deleted by the step
+    std::vector<std::pair<long, Vec3>> moved;  ///< ids moved by the step, with the old point
+  };
+  std::vector<UndoStep> undo_;
   long next_id_ = 0;
   std::optional<TriMesh> reconstruction_;
   // explore
@@ -180,6 +201,16 @@ class Session {
   std::array<int, rendering::kNumModels> trial_answers_{};
   haptics::LoopSample latest_;
   bool have_latest_ = false;
+  // palpation: the probe-centre shape (lab: the scene's height field, as `sys palpate`; a real
+  // device: the sampling view's reconstruction), the points of the run, its cycles and fit
+  std::unique_ptr<TriMesh> palp_mesh_;
+  std::unique_ptr<friction::MeshSurface> palp_shape_;
+  friction::PalpationConfig palp_config_;
+  std::vector<Vec3> palp_points_, palp_normals_;
+  double palp_speed_ = 1.0;
+  std::vector<friction::CycleRecord> palp_cycles_;  // data_mu_
+  std::optional<friction::SysModel> sys_;           // data_mu_
+  std::string palp_error_;                          // data_mu_
 };
 
 }  // namespace inhap::studio
