@@ -10,6 +10,7 @@
 
 #include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/spatial_order.hpp"
 #include "surface_walk.hpp"
 
 namespace inhap::rendering {
@@ -46,6 +47,7 @@ TriMesh checked(TriMesh mesh, const Params& params) {
     throw Error(
         fmt::format("rendering params: expected max_jump_mm > 0 mm, got {}", params.max_jump_mm));
   if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+  if (params.spatial_order) sort_spatially(mesh);
   return mesh;
 }
 
@@ -124,8 +126,8 @@ bool find_entry(const MeshIndex& index, Vec3 a, const Vec3& b, SurfacePoint& hit
 // pull the proxy through a thin wall to the far side).
 detail::WalkResult find_ihip(Tick& tk, std::int32_t start, const Vec3& pl) {
   const Model& m = tk.model;
-  detail::WalkResult w =
-      detail::local_closest(m.mesh(), m.adjacency(), start, pl, m.params().max_walk_steps);
+  detail::WalkResult w = detail::local_closest(
+      m.mesh(), m.adjacency(), start, pl, m.params().max_walk_steps, m.vertex_stiffness().data());
   tk.st.walk_steps = w.steps;
   if (w.converged) return w;
   const ClosestPoint g = m.index().closest_point(pl, std::sqrt(w.distance2));

@@ -2,6 +2,7 @@
 #include "surface_walk.hpp"
 
 #include <cmath>
+#include <span>
 
 namespace inhap::rendering::detail {
 
@@ -141,17 +142,38 @@ inline void consider(const TriMesh& mesh, std::int32_t g, std::int32_t current, 
   }
 }
 
+inline void prefetch(const void* address) {
+  __builtin_prefetch(address);
+}
+
+// The fan's triangles, then their corners, are requested before any is evaluated, so that their
+// cache misses overlap instead of following one another.
 inline void consider_vertex_fan(const TriMesh& mesh, const MeshAdjacency& adj, std::int32_t v,
                                 std::int32_t current, const Vec3& p, Candidate& best) {
-  for (std::int32_t g : adj.faces_of_vertex(v)) consider(mesh, g, current, p, best);
+  const std::span<const std::int32_t> fan = adj.faces_of_vertex(v);
+  for (std::int32_t g : fan) prefetch(&mesh.triangles[static_cast<std::size_t>(g)]);
+  for (std::int32_t g : fan)
+    for (std::int32_t corner : mesh.triangles[static_cast<std::size_t>(g)])
+      prefetch(&mesh.positions[static_cast<std::size_t>(corner)]);
+  for (std::int32_t g : fan) consider(mesh, g, current, p, best);
+}
+
+// What the caller reads at the answer's corners (normals, a per-vertex scalar).
+inline void prefetch_corner_data(const TriMesh& mesh, std::int32_t f, const double* scalar) {
+  for (std::int32_t corner : mesh.triangles[static_cast<std::size_t>(f)]) {
+    const auto c = static_cast<std::size_t>(corner);
+    if (c < mesh.normals.size()) prefetch(&mesh.normals[c]);
+    if (scalar) prefetch(scalar + c);
+  }
 }
 
 }  // namespace
 
 WalkResult local_closest(const TriMesh& mesh, const MeshAdjacency& adj, std::int32_t start,
-                         const Vec3& p, std::uint32_t max_steps) {
+                         const Vec3& p, std::uint32_t max_steps, const double* vertex_scalar) {
   Candidate cur;
   cur.face = start;
+  prefetch_corner_data(mesh, start, vertex_scalar);
   cur.tp = closest_on_face(mesh, start, p);
   cur.d2 = (cur.tp.point - p).squaredNorm();
   WalkResult out;
@@ -181,6 +203,7 @@ WalkResult local_closest(const TriMesh& mesh, const MeshAdjacency& adj, std::int
       break;
     }
     cur = best;
+    prefetch_corner_data(mesh, cur.face, vertex_scalar);
     ++out.steps;
   }
   out.q.triangle = cur.face;

@@ -35,7 +35,13 @@ struct WalkResult {
 /// edge, or around the vertex, on which the current closest point lies) that is strictly closer
 /// to p, until no neighbour improves. Distances decrease strictly, so it cannot cycle; at most
 /// `max_steps` moves. Returns the local minimum of |q - p| over the surface.
+/// The walk is bound by memory latency on large meshes (each tick reaches triangles not seen for
+/// a while): it prefetches a vertex fan's triangles and corners before evaluating them, and the
+/// per-vertex data the caller reads at the answer (`mesh.normals` and, when given,
+/// `vertex_scalar`, e.g. the stiffness) of every triangle it moves to. Hints only: the answer
+/// does not depend on them.
 WalkResult local_closest(const TriMesh& mesh, const MeshAdjacency& adj, std::int32_t start,
-                         const Vec3& p, std::uint32_t max_steps);
+                         const Vec3& p, std::uint32_t max_steps,
+                         const double* vertex_scalar = nullptr);
 
 }  // namespace inhap::rendering::detail

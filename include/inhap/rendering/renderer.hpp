@@ -35,17 +35,25 @@ struct Params {
   /// bounded by the walk's distance), so the seed grid, which only speeds up unrelated
   /// closest-point queries and costs build time per model, is off by default.
   MeshIndexOptions index{.seed_shell = 0};
+  /// Reorder the model's vertices and faces along a Morton curve (sort_spatially) so that the
+  /// local search touches few cache lines per tick on large meshes. The surface is the same;
+  /// only the numbering changes: Model::mesh() and the triangle ids in State are the reordered
+  /// ones. Off: the mesh keeps the caller's numbering.
+  bool spatial_order = true;
 };
 
 /// Immutable rendering model: mesh with per-vertex stiffness and normals, adjacency, index.
 class Model {
  public:
-  /// Takes the mesh (needs triangles; computes normals if missing). Throws Error on bad input.
+  /// Takes the mesh (needs triangles; computes normals if missing; reorders it when
+  /// Params::spatial_order). Throws Error on bad input.
   Model(TriMesh mesh, Params params = {});
   const TriMesh& mesh() const { return mesh_; }
   const MeshIndex& index() const { return index_; }
   const MeshAdjacency& adjacency() const { return adjacency_; }
   const Params& params() const { return params_; }
+  /// Per-vertex stiffness of mesh(), N/mm (the `stiffness` property or default_stiffness).
+  const std::vector<double>& vertex_stiffness() const { return stiffness_; }
   /// Barycentric interpolation of the vertex stiffness, N/mm (floored at min_stiffness).
   double stiffness(const SurfacePoint& q) const;
   /// Force-shaded unit normal at q (interpolated vertex normals), or the face normal when
