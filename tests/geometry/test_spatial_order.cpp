@@ -35,13 +35,13 @@ TriMesh row_major_grid(int n) {
   return m;
 }
 
-// Mean |index difference| over the two-corner pairs of every triangle: how far apart in memory
-// the data of one triangle lie.
-double mean_index_gap(const TriMesh& m) {
-  double sum = 0;
+// Share of a triangle's corner pairs at most `within` entries apart in the vertex arrays: how
+// often one triangle's data share a few cache lines.
+double share_near(const TriMesh& m, int within) {
+  std::size_t near = 0;
   for (const Tri& t : m.triangles)
-    for (int k = 0; k < 3; ++k) sum += std::abs(t[k] - t[(k + 1) % 3]);
-  return sum / (3.0 * double(m.triangles.size()));
+    for (int k = 0; k < 3; ++k) near += std::abs(t[k] - t[(k + 1) % 3]) <= within;
+  return double(near) / (3.0 * double(m.triangles.size()));
 }
 
 }  // namespace
@@ -77,10 +77,10 @@ TEST(SpatialOrder, PutsATrianglesCornersNearerInMemoryThanRowMajor) {
   const TriMesh before = row_major_grid(128);
   TriMesh after = before;
   sort_spatially(after);
-  // Row-major: a triangle spans two rows, so its corners lie ~n/2 apart on average. Morton
-  // order keeps most of them within a few entries.
-  EXPECT_GT(mean_index_gap(before), 40.0);
-  EXPECT_LT(mean_index_gap(after), 0.5 * mean_index_gap(before));
+  // Row-major: a triangle spans two rows, so two of its three corner pairs lie a row (128
+  // entries) apart. Morton order keeps most pairs within a few entries.
+  EXPECT_NEAR(share_near(before, 16), 1.0 / 3.0, 1e-9);
+  EXPECT_GT(share_near(after, 16), 0.6);
   // Faces too: consecutive faces are near each other on the surface.
   double step = 0;
   for (std::size_t f = 1; f < after.num_triangles(); ++f)

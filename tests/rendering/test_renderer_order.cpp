@@ -3,6 +3,7 @@
 // Units: mm, N, N/mm, s.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "inhap/rendering/renderer.hpp"
@@ -40,7 +41,9 @@ TEST(RendererOrder, SpatialOrderChangesNumberingNotForces) {
     for (int i = 0; i < 6000; ++i) {
       const double t = i * 1e-3;  // a fast circle over the bump, pressing 0.5-2 mm deep
       const double x = 10 * std::sin(4 * t), y = 10 * std::sin(5.5 * t + 0.5);
-      const Vec3 p(x, y, height(x, y) - 1.25 - 0.75 * std::sin(3 * t));
+      // From 2 mm above (contact needs an entering crossing), then 0.5-2 mm deep.
+      const double depth = std::min(-2.0 + 10.0 * t, 1.25 + 0.75 * std::sin(3 * t));
+      const Vec3 p(x, y, height(x, y) - depth);
       const Vec3 fa = rendering::step(a, sa, p, alg), fb = rendering::step(b, sb, p, alg);
       ASSERT_NEAR((fa - fb).norm(), 0.0, 1e-9) << "tick " << i;
       ASSERT_NEAR((sa.ihip.point - sb.ihip.point).norm(), 0.0, 1e-9) << "tick " << i;
