@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "command.hpp"
-#include "demo/demo_strokes.hpp"
+#include "inhap/report/strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/strokes.hpp"
@@ -27,7 +27,7 @@ struct EvalStrokesOptions {
 };
 
 void run_eval_strokes(EvalStrokesOptions o) {
-  const std::string dir = demo::find_data_dir(o.data);
+  const std::string dir = report::find_data_dir(o.data);
   if (dir.empty())
     throw Error(
         "eval strokes: no data/ folder found; give --data DIR (with afm-topography/, "

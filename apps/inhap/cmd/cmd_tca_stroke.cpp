@@ -10,6 +10,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/rendering/stroke.hpp"
+#include "inhap/rendering/stroke_csv.hpp"
 
 namespace inhap::cli {
 
@@ -57,30 +58,13 @@ void run_stroke(const StrokeArgs& a) {
   const render::Model model(read_mesh(a.mesh), params);
   const auto samples = render::simulate_stroke(model, alg, o);
 
-  const std::vector<std::string> comments = {
+  render::write_stroke_csv(
+      a.out, samples,
       fmt::format(
           "inhap tca stroke --mesh {} --algorithm {} --from {} --to {} --force {} --speed {} "
           "--seed {}",
-          a.mesh, a.algorithm, a.from, a.to, a.force, a.speed, a.seed),
-      "units: t s; px,py,pz HIP mm; qx,qy,qz IHIP mm; cx,cy,cz CIHIP mm; fx,fy,fz force on the "
-      "probe N; k N/mm; s mm; tx,ty,tz mesh compensation t mm; contact 0/1"};
-  CsvWriter csv(a.out,
-                {"t", "px", "py", "pz", "qx", "qy", "qz", "cx", "cy", "cz", "fx", "fy", "fz", "k",
-                 "s", "tx", "ty", "tz", "contact"},
-                comments);
-  std::size_t contact = 0;
-  double fsum = 0;
-  for (const auto& e : samples) {
-    csv.row({e.time, e.hip.x(), e.hip.y(), e.hip.z(), e.ihip.x(), e.ihip.y(), e.ihip.z(),
-             e.cihip.x(), e.cihip.y(), e.cihip.z(), e.force.x(), e.force.y(), e.force.z(), e.k, e.s,
-             e.t.x(), e.t.y(), e.t.z(), e.contact ? 1.0 : 0.0});
-    contact += e.contact;
-    fsum += e.contact ? e.force.norm() : 0.0;
-  }
-  csv.commit();
-  fmt::print("{}: {} ticks ({:.3f} s), {} in contact, mean contact force {:.3f} N\n", a.out,
-             samples.size(), samples.empty() ? 0.0 : samples.back().time, contact,
-             contact ? fsum / double(contact) : 0.0);
+          a.mesh, a.algorithm, a.from, a.to, a.force, a.speed, a.seed));
+  fmt::print("{}: {}\n", a.out, render::stroke_summary(samples));
 }
 
 CLI::App* tca_group(CLI::App& app) {

@@ -8,13 +8,12 @@
 #include <cmath>
 #include <map>
 
-#include "command.hpp"
-#include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/eval/forces_lab.hpp"
+#include "inhap/report/report.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 struct SceneTarget {
@@ -275,7 +274,6 @@ StepResult step_force_model(const Context& c) {
     // same on the lab: RE median 0.129 vs 0.131 on the dome).
     if (quick) fo.params.centers = 100;
     fo.progress_label = t.name;
-    fo.progress = cli::progress;
     const double share = 1.0 / static_cast<double>(targets.size());
     {
       ForwardProgress fw(c,
@@ -285,6 +283,7 @@ StepResult step_force_model(const Context& c) {
                           {"train (no proxy)", 0.27},
                           {"train (onset proxy)", 0.27}},
                          share * static_cast<double>(s), share * static_cast<double>(s + 1));
+      fo.progress = fw.callback();
       all.push_back(eval::evaluate_forces_on_lab(fo));
     }
     const eval::ForceLabResult& d = all.back();
@@ -333,4 +332,4 @@ StepResult step_force_model(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

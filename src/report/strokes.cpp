@@ -1,5 +1,5 @@
 // inhap demo: TCA-MESH vs CBA stroke pairs and their figures. Units: mm, N, s, N/mm.
-#include "demo_strokes.hpp"
+#include "inhap/report/strokes.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 
 #include "inhap/core/csv.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 // Distance along the stroke, mm.
@@ -192,4 +192,4 @@ Figure mesh_figure(const TriMesh& mesh, const std::string& property,
   return f;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

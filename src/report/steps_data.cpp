@@ -11,15 +11,15 @@
 #include <filesystem>
 #include <limits>
 
-#include "demo.hpp"
-#include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/strokes.hpp"
 #include "inhap/rendering/real_data.hpp"
+#include "inhap/report/report.hpp"
+#include "inhap/report/strokes.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 
 namespace fs = std::filesystem;
 
@@ -249,4 +249,4 @@ StepResult step_data_strokes(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report
