@@ -3,7 +3,6 @@
 // DIR), loaded as the thesis did (real_data.hpp), stroked through the regions the thesis marks
 // with TCA-MESH and CBA (eval/strokes.hpp). Units: mm, N, N/mm, s.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/web_dir.hpp"
 #include "inhap/eval/strokes.hpp"
 #include "inhap/rendering/real_data.hpp"
 #include "inhap/report/report.hpp"
@@ -43,16 +43,7 @@ std::string find_data_dir(const std::string& given) {
   }
   std::vector<fs::path> candidates;
   if (const char* env = std::getenv("INHAP_DATA"); env && *env) candidates.push_back(env);
-  std::array<char, 4096> buf{};
-  const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
-  if (n > 0) {
-    fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
-    for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
-      candidates.push_back(d / "data");
-      candidates.push_back(d / "share/inhap/data");
-    }
-  }
-  candidates.push_back(fs::current_path() / "data");
+  for (const fs::path& c : beside_program("data")) candidates.push_back(c);
   for (const auto& c : candidates)
     if (has_data(c)) return c.string();
   return {};

@@ -67,35 +67,33 @@ void run_stroke(const StrokeArgs& a) {
   fmt::print("{}: {}\n", a.out, render::stroke_summary(samples));
 }
 
-CLI::App* tca_group(CLI::App& app) {
-  // Another command file may register further `tca` subcommands: share the group.
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "tca"; });
-  if (!found.empty()) return found.front();
-  auto* tca = app.add_subcommand(
-      "tca", "TCA-MESH and CBA haptic rendering of meshes with stiffness (thesis ch. 5)");
-  tca->require_subcommand(1);
-  return tca;
-}
-
 void register_stroke(CLI::App& app) {
   auto args = std::make_shared<StrokeArgs>();
-  auto* cmd = tca_group(app)->add_subcommand(
-      "stroke",
-      "Simulate a constant-force stroke across the top of a mesh and write the trajectory.\n"
-      "A force-tracking hand starts above (X,Y) at the mesh top + 5 mm, descends at 20 mm/s until\n"
-      "it touches, settles at the force N, strokes in a straight line to the end point at\n"
-      "--speed while holding the force (force-constancy model), then lifts off. 1 kHz servo.\n"
-      "Units: positions mm, forces N, stiffness N/mm (vertex property `stiffness`), time s.\n"
-      "Output CSV columns (one row per 1 ms tick, after a '# units' comment line):\n"
-      "  t            time, s\n"
-      "  px,py,pz     HIP p(n): the probe, mm\n"
-      "  qx,qy,qz     IHIP q(n): the god-object on the (translated) mesh, mm (= HIP when free)\n"
-      "  cx,cy,cz     CIHIP q'(n) = q(n) + s(n) n(n), mm (= IHIP for CBA)\n"
-      "  fx,fy,fz     rendered force on the probe, N\n"
-      "  k            stiffness k(n) at the IHIP, N/mm (0 when free)\n"
-      "  s            point compensation s(n), mm (TCA only)\n"
-      "  tx,ty,tz     mesh compensation t, mm (TCA only)\n"
-      "  contact      1 in contact, 0 free");
+  auto* cmd =
+      subcommand_group(app, "tca",
+                       "TCA-MESH and CBA haptic rendering of meshes with stiffness (thesis ch. 5)")
+          ->add_subcommand(
+              "stroke",
+              "Simulate a constant-force stroke across the top of a mesh and write the "
+              "trajectory.\n"
+              "A force-tracking hand starts above (X,Y) at the mesh top + 5 mm, descends at 20 "
+              "mm/s until\n"
+              "it touches, settles at the force N, strokes in a straight line to the end point at\n"
+              "--speed while holding the force (force-constancy model), then lifts off. 1 kHz "
+              "servo.\n"
+              "Units: positions mm, forces N, stiffness N/mm (vertex property `stiffness`), time "
+              "s.\n"
+              "Output CSV columns (one row per 1 ms tick, after a '# units' comment line):\n"
+              "  t            time, s\n"
+              "  px,py,pz     HIP p(n): the probe, mm\n"
+              "  qx,qy,qz     IHIP q(n): the god-object on the (translated) mesh, mm (= HIP when "
+              "free)\n"
+              "  cx,cy,cz     CIHIP q'(n) = q(n) + s(n) n(n), mm (= IHIP for CBA)\n"
+              "  fx,fy,fz     rendered force on the probe, N\n"
+              "  k            stiffness k(n) at the IHIP, N/mm (0 when free)\n"
+              "  s            point compensation s(n), mm (TCA only)\n"
+              "  tx,ty,tz     mesh compensation t, mm (TCA only)\n"
+              "  contact      1 in contact, 0 free");
   cmd->add_option("--mesh", args->mesh,
                   "mesh file (.ply/.obj, mm; optional vertex property stiffness in N/mm)")
       ->required();
