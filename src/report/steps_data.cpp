@@ -100,18 +100,7 @@ Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
   auto add = [&](const std::vector<render::StrokeSample>& s, int which, const std::string& name,
                  const std::string& colour, const std::string& dash) {
     std::vector<double> x, z;
-    std::size_t m = 0;
-    for (const auto& e : s) m += e.contact;
-    const std::size_t stride = std::max<std::size_t>(1, m / 600);
-    std::size_t i = 0;
-    for (const auto& e : s) {
-      if (!e.contact || i++ % stride) continue;
-      const double a = (Vec2(e.hip.x(), e.hip.y()) - line.from).dot(dir);
-      if (a < 0.2 || a > len - 0.2) continue;
-      const Vec3& p = which == 0 ? e.hip : which == 1 ? e.ihip : e.cihip;
-      x.push_back(a);
-      z.push_back(p.z());
-    }
+    sliding_heights(s, line.from, dir, len, which, x, z);
     data.push_back(line_trace(series(x), series(z), name, colour, 1.8, dash));
   };
   add(run.samples_tca, 0, "TCA-MESH HIP p", "#1f77b4", "solid");

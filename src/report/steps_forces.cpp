@@ -248,6 +248,23 @@ Figure coverage_figure(const std::vector<eval::ForceLabResult>& all,
   f.spec["layout"] = layout;
   return f;
 }
+// The summary rows of one object: RMSE per axis, RE mean / median, and (with the baselines) the
+// sliding-only RE median with and without the proxy, beside the thesis' figures.
+void add_error_rows(StepResult& r, const SceneTarget& t, const eval::ForceLabResult& d,
+                    bool baselines) {
+  const dd::ForceErrors& e = d.proxy.all;
+  r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),
+                    fmt::format("{:.2f} / {:.2f} / {:.2f}", e.rmse[0], e.rmse[1], e.rmse[2]),
+                    t.thesis_rmse + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
+  r.rows.push_back({fmt::format("{}: relative error RE mean / median", t.name),
+                    fmt::format("{:.3f} / {:.3f} ({} samples)", e.re_mean, e.re_median, e.n),
+                    t.thesis_re + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
+  if (baselines)
+    r.rows.push_back(
+        {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
+         fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
+         "with < without (fig. 4.14)"});
+}
 }  // namespace
 
 StepResult step_force_model(const Context& c) {
@@ -287,19 +304,9 @@ StepResult step_force_model(const Context& c) {
       all.push_back(eval::evaluate_forces_on_lab(fo));
     }
     const eval::ForceLabResult& d = all.back();
-    const dd::ForceErrors& e = d.proxy.all;
     write_series(c.file(r, fmt::format("forces_{}_test.csv", t.name)), d);
-    r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),
-                      fmt::format("{:.2f} / {:.2f} / {:.2f}", e.rmse[0], e.rmse[1], e.rmse[2]),
-                      t.thesis_rmse + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
-    r.rows.push_back({fmt::format("{}: relative error RE mean / median", t.name),
-                      fmt::format("{:.3f} / {:.3f} ({} samples)", e.re_mean, e.re_median, e.n),
-                      t.thesis_re + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
-    if (baselines)
-      r.rows.push_back(
-          {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
-           fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
-           "with < without (fig. 4.14)"});
+    add_error_rows(r, t, d, baselines);
+    const dd::ForceErrors& e = d.proxy.all;
     const eval::ForceCoverage& cov = coverages.emplace_back(eval::training_coverage(d));
     std::string where;
     for (std::size_t g = 0; g < std::min<std::size_t>(2, cov.gaps.size()); ++g)

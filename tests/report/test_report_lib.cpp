@@ -75,6 +75,24 @@ TEST(ReportMesh, ColoursRunFromBlueAtLowToRedAtHigh) {
   EXPECT_NEAR(c[6], c[3], 1e-12);
 }
 
+TEST(ReportStrokes, SlidingHeightsKeepTheMiddleOfTheStroke) {
+  // 81 samples 0.125 mm apart along x, in contact, HIP at height x / 10, IHIP 1 mm below it.
+  std::vector<render::StrokeSample> s(81);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double x = 0.125 * double(i);
+    s[i].hip = Vec3(x, 5, 0.1 * x);
+    s[i].ihip = Vec3(x, 5, 0.1 * x - 1);
+    s[i].contact = i != 40;  // one sample out of contact
+  }
+  std::vector<double> u, z;
+  sliding_heights(s, Vec2(0, 5), Vec2(1, 0), 10.0, 1, u, z);
+  // Kept: 0.2 <= x <= 9.8, i.e. x = 0.25 ... 9.75 (77 samples), minus the one out of contact.
+  ASSERT_EQ(u.size(), 76u);
+  EXPECT_DOUBLE_EQ(u.front(), 0.25);
+  EXPECT_DOUBLE_EQ(u.back(), 9.75);
+  EXPECT_NEAR(z.front(), 0.025 - 1, 1e-12);
+}
+
 TEST(ReportSteps, ListsTheNineStepsInTheThesisOrder) {
   std::vector<std::string> names;
   for (const Step& s : all_steps()) names.push_back(s.name);
