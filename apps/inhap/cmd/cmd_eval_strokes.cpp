@@ -9,11 +9,11 @@
 #include <memory>
 
 #include "command.hpp"
-#include "inhap/report/strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/strokes.hpp"
 #include "inhap/rendering/real_data.hpp"
+#include "inhap/report/strokes.hpp"
 
 namespace inhap::cli {
 namespace {
