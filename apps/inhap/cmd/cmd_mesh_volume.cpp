@@ -41,16 +41,8 @@ void run_from_volume(const FromVolumeOptions& o) {
   ho.k_max = o.k_range[1];
   ho.far_quantile = o.far_quantile;
   HeadModel head = head_from_volume(vol, ho);
-  TriMesh& m = head.mesh;
-  const Box3 b = m.bbox();
-  const double side = b.size().maxCoeff();
-  const double scale = o.fit_mm > 0 && side > 0 ? o.fit_mm / side : 1.0;
-  m.transform(scale, o.fit_mm > 0 ? b.min : Vec3::Zero());
-  {
-    auto d = m.property("bone_distance");
-    for (double& v : d) v *= scale;  // distances in the units of the written mesh
-    m.set_property("bone_distance", std::move(d));
-  }
+  const double scale = fit_head(head, o.fit_mm);
+  const TriMesh& m = head.mesh;
   const auto& k = m.property("stiffness");
   const auto [klo, khi] = std::minmax_element(k.begin(), k.end());
   fmt::print("skin        iso {}: {} components, kept the largest: {} triangles, {} vertices\n",
