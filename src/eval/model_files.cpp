@@ -16,7 +16,7 @@
 
 namespace inhap::eval {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 namespace {
 constexpr double kFewContactSeconds = 30.0;  // less contact than this gets a warning
@@ -163,11 +163,11 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
   if (!note.empty()) say(note);
   if (params.features == FeatureSet::kLocalFrame) add_normals(track, rec, o.recording, o.mesh);
   FoawParams foaw = o.foaw;
-  foaw.dt = median_dt(rec);
+  foaw.dt_s = median_dt(rec);
   r.set = make_training_set(rec, track, foaw);
   say(fmt::format("{} samples, {} in contact ({}), proxy from {}", rec.size(), r.set.size(),
                   track.contact_source, track.proxy_source));
-  const double contact_s = static_cast<double>(r.set.size()) * foaw.dt;
+  const double contact_s = static_cast<double>(r.set.size()) * foaw.dt_s;
   if (contact_s < kFewContactSeconds)
     say(fmt::format(
         "warning: only {:.1f} s of contact to train on; a model needs about {:.0f} s or more of "
@@ -182,7 +182,7 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
     };
   r.model = train_force_model(r.set, params, foaw);
   ForceModel& m = r.model;
-  m.force_limit = o.force_limit_n;
+  m.force_limit_n = o.force_limit_n;
   m.proxy_source = track.proxy_source;
   if (!o.sys.empty()) {
     m.sys_path = o.sys;
@@ -306,9 +306,9 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
   j["units"] = {{"force", "N"}};
   // Measured forces above the model's render clamp: the rendered force is capped there (the
   // device limit), so the errors on those samples include the clamp. Said, not hidden.
-  e.above_force_limit = count_above(measured, m.force_limit);
-  e.force_limit_n = m.force_limit;
-  j["force_limit_n"] = m.force_limit;
+  e.above_force_limit = count_above(measured, m.force_limit_n);
+  e.force_limit_n = m.force_limit_n;
+  j["force_limit_n"] = m.force_limit_n;
   j["measured_above_force_limit"] = e.above_force_limit;
   if (e.support.known)
     j["coverage"] = {{"file", e.support.file},

@@ -13,7 +13,7 @@ std::string contacts_summary(const TappingResult& res) {
   std::size_t estimated = 0;
   for (const auto& c : res.contacts) estimated += c.estimated;
   const std::string force =
-      res.source == ForceSource::Raw
+      res.source == ForceSource::kRaw
           ? fmt::format("raw sensor compensated offline (tool mass {:.4f} kg, offset {:.3f} N)",
                         res.compensation.mass_kg, res.compensation.offset.norm())
           : std::string("recorded contact force");
@@ -27,7 +27,7 @@ std::string reconstruct_summary(const ReconstructReport& rep, const ReconstructO
       "{} points ({} outliers removed), {} mode{}, alpha {:.3f} mm{}\n"
       "mesh: {} vertices, {} faces{}",
       rep.points_in, rep.outliers, mode,
-      o.mode == SurfaceMode::Shell
+      o.mode == SurfaceMode::kShell
           ? fmt::format(" (shell depth {:.3f} mm, normals oriented by {})", rep.shell_depth,
                         use_dirs ? "contact directions" : "the alpha solid")
           : std::string(),

@@ -11,17 +11,17 @@
 
 namespace inhap::eval {
 
-using render::Algorithm;
-using render::Task;
+using rendering::Algorithm;
+using rendering::Task;
 
 TcaEvalReport run_tca_eval(const TcaStudyOptions& options, const std::string& afm) {
   TcaEvalReport r;
   r.options = options;
   r.study = run_tca_study(options);
-  r.study_triangles = render::StudySurface(render::DatasetParams{}, render::identity_layout())
+  r.study_triangles = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout())
                           .mesh()
                           .num_triangles();
-  const render::Model timing_model(tca_timing_surface(options.seed, afm));
+  const rendering::Model timing_model(tca_timing_surface(options.seed, afm));
   r.timing_triangles = timing_model.mesh().num_triangles();
   r.cba_t = time_servo_steps(timing_model, Algorithm::kCBA);
   r.tca_t = time_servo_steps(timing_model, Algorithm::kTCA);
@@ -30,7 +30,7 @@ TcaEvalReport run_tca_eval(const TcaStudyOptions& options, const std::string& af
 
 namespace {
 
-nlohmann::json condition_json(const render::ConditionSummary& c) {
+nlohmann::json condition_json(const rendering::ConditionSummary& c) {
   nlohmann::json j;
   j["trials"] = c.trials;
   j["mean"] = c.mean;
@@ -79,7 +79,7 @@ std::string tca_eval_text(const TcaEvalReport& r) {
       fmt::format("TCA confused models:               {}\n",
                   tca_confused.empty() ? "none" : fmt::format("{}", fmt::join(tca_confused, " ")));
   out += fmt::format("per-model shape ratio (TCA / CBA) for the 12 predicted models:\n");
-  for (int m : render::thesis_cba_confusions())
+  for (int m : rendering::thesis_cba_confusions())
     out += fmt::format("  M{:<2} {:.2f} / {:.2f}\n", m, ts.model_ratio[m], cs.model_ratio[m]);
   out += fmt::format(
       "servo step on {} triangles ({} steps, {:.0f} % in contact): CBA p50 {:.2f} us p99 {:.2f} "
@@ -109,7 +109,7 @@ nlohmann::json tca_eval_json(const TcaEvalReport& r) {
   j["stiffness_correct_sd"] = {{"tca", tk.sd_participants}, {"cba", ck.sd_participants}};
   j["cba_confused_models"] = s.misjudged_models(Algorithm::kCBA, Task::kShape);
   j["tca_confused_models"] = s.misjudged_models(Algorithm::kTCA, Task::kShape);
-  j["thesis_cba_confusions"] = render::thesis_cba_confusions();
+  j["thesis_cba_confusions"] = rendering::thesis_cba_confusions();
   j["distortion_rms_mm"] = {{"tca", ts.distortion_rms_mm}, {"cba", cs.distortion_rms_mm}};
   j["step_us"] = {{"p50", std::max(r.cba_t.p50, r.tca_t.p50)},
                   {"p99", std::max(r.cba_t.p99, r.tca_t.p99)},

@@ -5,7 +5,7 @@
 
 #include "inhap/core/csv.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 void write_stroke_csv(const std::string& path, const std::vector<StrokeSample>& samples,
                       const std::string& command) {
@@ -36,4 +36,4 @@ std::string stroke_summary(const std::vector<StrokeSample>& samples) {
                      contact ? fsum / double(contact) : 0.0);
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

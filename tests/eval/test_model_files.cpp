@@ -15,12 +15,12 @@ namespace {
 TEST(ModelFiles, WithoutNormalsTheLocalPresetFallsBackToWorld) {
   TrainRequest r;
   std::string note;
-  const dd::TrainParams p = resolve_train_params(r, false, &note);
-  EXPECT_EQ(p.features, dd::preset_params("world").features);
+  const datadriven::TrainParams p = resolve_train_params(r, false, &note);
+  EXPECT_EQ(p.features, datadriven::preset_params("world").features);
   EXPECT_NE(note.find("preset 'world'"), std::string::npos);
   std::string none;
-  const dd::TrainParams q = resolve_train_params(r, true, &none);
-  EXPECT_EQ(q.features, dd::FeatureSet::kLocalFrame);
+  const datadriven::TrainParams q = resolve_train_params(r, true, &none);
+  EXPECT_EQ(q.features, datadriven::FeatureSet::kLocalFrame);
   EXPECT_TRUE(none.empty());
 }
 
@@ -30,10 +30,10 @@ TEST(ModelFiles, GivenOptionsOverrideThePreset) {
   r.params.centers = 11;  // not given: the preset's value stays
   r.given = {"--bins", "--features"};
   r.features = "ue_q_v";
-  const dd::TrainParams p = resolve_train_params(r, true, nullptr);
+  const datadriven::TrainParams p = resolve_train_params(r, true, nullptr);
   EXPECT_EQ(p.bins, 7);
-  EXPECT_EQ(p.centers, dd::preset_params("best").centers);
-  EXPECT_EQ(p.features, dd::FeatureSet::kDisplacementProxyVelocity);
+  EXPECT_EQ(p.centers, datadriven::preset_params("best").centers);
+  EXPECT_EQ(p.features, datadriven::FeatureSet::kDisplacementProxyVelocity);
   // World-frame features turn the local-only settings off unless given.
   EXPECT_FALSE(p.tangent_mirror);
   EXPECT_FALSE(p.stiffness_prior);
@@ -76,9 +76,9 @@ TEST(ModelFiles, AModelScoredOnItsOwnRenderingHasNoError) {
   EXPECT_EQ(r.set.size(), 4000u);
   EXPECT_NE(r.notes.front().find("4000 samples, 4000 in contact"), std::string::npos);
   EXPECT_NE(r.notes.back().find("only 4.0 s of contact"), std::string::npos);
-  dd::save_force_model(dir.path("model.json"), r.model);
+  datadriven::save_force_model(dir.path("model.json"), r.model);
 
-  const dd::ForceModel m = dd::load_force_model(dir.path("model.json"));
+  const datadriven::ForceModel m = datadriven::load_force_model(dir.path("model.json"));
   ReplayedFile rendered = replay_file(dir.path("model.json"), m, o.recording, {}, "");
   ASSERT_EQ(rendered.forces.size(), 4000u);
   Recording own = rendered.rec;

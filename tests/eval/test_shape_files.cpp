@@ -28,7 +28,7 @@ TEST(ShapeFiles, ReconstructSummarySaysWhatWasGiven) {
   rep.vertices = 50;
   rep.faces = 96;
   ReconstructOptions o;
-  o.mode = SurfaceMode::Solid;
+  o.mode = SurfaceMode::kSolid;
   o.alpha = 3.25;
   EXPECT_EQ(reconstruct_summary(rep, o, "solid", false),
             "100 points (2 outliers removed), solid mode, alpha 3.250 mm (given)\n"

@@ -6,7 +6,7 @@
 #include "inhap/rendering/stroke_csv.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 namespace {
 
 std::vector<StrokeSample> samples() {
@@ -40,4 +40,4 @@ TEST(StrokeCsv, WrittenColumnsReadBack) {
 }
 
 }  // namespace
-}  // namespace inhap::render
+}  // namespace inhap::rendering

@@ -77,7 +77,7 @@ TEST(ReportMesh, ColoursRunFromBlueAtLowToRedAtHigh) {
 
 TEST(ReportStrokes, SlidingHeightsKeepTheMiddleOfTheStroke) {
   // 81 samples 0.125 mm apart along x, in contact, HIP at height x / 10, IHIP 1 mm below it.
-  std::vector<render::StrokeSample> s(81);
+  std::vector<rendering::StrokeSample> s(81);
   for (std::size_t i = 0; i < s.size(); ++i) {
     const double x = 0.125 * double(i);
     s[i].hip = Vec3(x, 5, 0.1 * x);

@@ -38,12 +38,12 @@ void run_eval_strokes(EvalStrokesOptions o) {
   cfg.seed = o.seed;
   for (double v : cfg.speeds_mm_s)
     if (!(v > 0)) throw Error(fmt::format("--speeds: expected speeds > 0 mm/s, got {}", v));
-  const std::vector<render::RealDataset> sets = render::load_real_datasets(dir);
+  const std::vector<rendering::RealDataset> sets = rendering::load_real_datasets(dir);
   std::vector<eval::DatasetResult> results;
   fmt::print("{}", eval::strokes_table_header());
   for (const auto& ds : sets) {
     progress("eval strokes: " + ds.name, double(results.size()) / double(sets.size()), 0);
-    const render::Model model(ds.mesh, cfg.params);
+    const rendering::Model model(ds.mesh, cfg.params);
     results.push_back(eval::run_dataset(model, ds, cfg));
     fmt::print("{}", eval::strokes_table_row(results.back()));
   }

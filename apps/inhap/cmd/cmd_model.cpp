@@ -16,7 +16,7 @@
 namespace inhap::cli {
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 void add_proxy_options(CLI::App* c, eval::ProxyColumnsSpec& o) {
   c->add_option("--proxy-prefix", o.prefix,
@@ -173,7 +173,7 @@ void register_model(CLI::App& app) {
   ct->add_option("--foaw-window", f.foaw.max_window, "FOAW window cap, samples")
       ->capture_default_str()
       ->check(CLI::Range(1, kFoawMaxWindow - 1));
-  ct->add_option("--foaw-noise", f.foaw.noise_bound, "FOAW noise bound d, mm")
+  ct->add_option("--foaw-noise", f.foaw.noise_bound_mm, "FOAW noise bound d, mm")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   ct->add_option("--force-limit", f.force_limit_n,

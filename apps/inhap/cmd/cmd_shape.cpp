@@ -32,15 +32,15 @@ struct ContactsArgs {
 
 void run_contacts(const ContactsArgs& a) {
   ContactOptions o;
-  o.method = a.method == "threshold" ? ContactMethod::Threshold : ContactMethod::Estimate;
+  o.method = a.method == "threshold" ? ContactMethod::kThreshold : ContactMethod::kEstimate;
   o.eps_f = a.eps;
   o.window = a.window;
   o.post = a.post;
   o.min_contact = a.min_contact;
   o.refine = !a.no_refine;
-  const ForceSource source = a.force == "raw"        ? ForceSource::Raw
-                             : a.force == "recorded" ? ForceSource::Recorded
-                                                     : ForceSource::Auto;
+  const ForceSource source = a.force == "raw"        ? ForceSource::kRaw
+                             : a.force == "recorded" ? ForceSource::kRecorded
+                                                     : ForceSource::kAuto;
   check_output_path(a.out);
   if (!a.csv.empty()) check_output_path(a.csv);
   const Recording rec = read_recording(a.rec);
@@ -69,7 +69,7 @@ void run_reconstruct(const ReconstructArgs& a) {
       throw Error(fmt::format("--alpha: expected auto or a radius in mm > 0, got '{}'", a.alpha));
     o.alpha = v;
   }
-  o.mode = a.mode == "solid" ? SurfaceMode::Solid : SurfaceMode::Shell;
+  o.mode = a.mode == "solid" ? SurfaceMode::kSolid : SurfaceMode::kShell;
   o.taubin_iterations = a.taubin;
   o.taubin_lambda = a.lambda;
   o.taubin_mu = a.mu;

@@ -26,7 +26,7 @@ struct ProxyColumnsSpec {
 };
 
 /// The proxy track of a recording read from `path` (ParseError naming it when q is missing).
-dd::ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyColumnsSpec& o);
+datadriven::ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyColumnsSpec& o);
 
 /// True when the recording has the normal columns nx,ny,nz.
 bool has_normal_columns(const Recording& rec);
@@ -34,35 +34,35 @@ bool has_normal_columns(const Recording& rec);
 /// Normals at q for local-frame models: columns nx,ny,nz when the recording has them, else the
 /// outward normal of the shape mesh file `mesh` (probe-centre surface) closest to q. ParseError
 /// naming `path` when there are neither.
-void add_normals(dd::ProxyTrack& t, const Recording& rec, const std::string& path,
+void add_normals(datadriven::ProxyTrack& t, const Recording& rec, const std::string& path,
                  const std::string& mesh);
 
 /// What `model train` was asked: a preset, and every option given explicitly (by long name,
 /// "--bins", ...; the values in `params`, `design`, `features`, `above_range`).
 struct TrainRequest {
   std::string preset = "best", above_range = "keep";
-  std::string design = to_string(dd::preset_params("best").design), features = "local";
-  dd::TrainParams params = dd::preset_params("best");
+  std::string design = to_string(datadriven::preset_params("best").design), features = "local";
+  datadriven::TrainParams params = datadriven::preset_params("best");
   std::set<std::string> given;
 };
 
 /// The preset's settings, overridden by every option given explicitly. Without normals the
 /// default local-frame pipeline cannot run: the "world" preset is used instead unless local
 /// features were asked for explicitly; `note` then says so (else it is left alone).
-dd::TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::string* note);
+datadriven::TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::string* note);
 
 /// One line on the forces above the modeling range and above the render clamp.
-std::string range_note(const dd::ForceModel& m, const dd::TrainingSet& set, double force_limit_n);
+std::string range_note(const datadriven::ForceModel& m, const datadriven::TrainingSet& set, double force_limit_n);
 
 /// Writes where the recording covered the object (coverage file `path`) and says it: one line,
 /// and one more with the largest unvisited gaps when there are any.
-std::vector<std::string> write_training_coverage(const dd::TrainingSet& set,
+std::vector<std::string> write_training_coverage(const datadriven::TrainingSet& set,
                                                  const std::string& path);
 
 struct TrainFileOptions {
   std::string recording, sys, mesh;  ///< files; sys and mesh optional (referenced in the model)
   TrainRequest request;
-  dd::FoawParams foaw;
+  datadriven::FoawParams foaw;
   double force_limit_n = kDeviceForceLimitN;
   ProxyColumnsSpec proxy;
   Progress progress;  ///< "train", fraction, eta s
@@ -71,8 +71,8 @@ struct TrainFileOptions {
 };
 
 struct TrainFileResult {
-  dd::ForceModel model;
-  dd::TrainingSet set;
+  datadriven::ForceModel model;
+  datadriven::TrainingSet set;
   std::vector<std::string> notes;  ///< what the program says on stderr, in order
 };
 
@@ -81,22 +81,22 @@ TrainFileResult train_from_file(const TrainFileOptions& o);
 
 /// The model's training report: samples, features, bins, design, non-zeros per axis, then the
 /// l1 fit's certificate per bin and axis (and the CPU time per stage when `verbose`).
-std::string train_summary(const dd::ForceModel& m, bool verbose);
+std::string train_summary(const datadriven::ForceModel& m, bool verbose);
 
 /// The mesh a local-frame model needs: `mesh_flag`, else the model's reference, taken as written
 /// (relative to the current folder) or relative to the model file's folder. Error otherwise.
 std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
-                       const dd::ForceModel& m);
+                       const datadriven::ForceModel& m);
 
 struct ReplayedFile {
   Recording rec;
-  dd::ProxyTrack track;
+  datadriven::ProxyTrack track;
   std::vector<Vec3> forces;  ///< rendered, N
 };
 
 /// Replays a recording file through the servo renderer (normals from its columns, else from the
 /// model's mesh or `mesh_flag`).
-ReplayedFile replay_file(const std::string& model_path, const dd::ForceModel& m,
+ReplayedFile replay_file(const std::string& model_path, const datadriven::ForceModel& m,
                          const std::string& recording, const ProxyColumnsSpec& proxy,
                          const std::string& mesh_flag);
 
@@ -113,7 +113,7 @@ std::string support_note(const SupportShare& s);
 
 /// `model eval`: errors of the in-contact samples (eq. 4.27-4.31) and the report JSON.
 struct ModelEvalResult {
-  dd::ForceErrors errors;
+  datadriven::ForceErrors errors;
   std::size_t contact_samples = 0, above_force_limit = 0;
   double force_limit_n = 0;  ///< the model's render clamp
   SupportShare support;

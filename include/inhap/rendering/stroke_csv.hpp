@@ -7,7 +7,7 @@
 
 #include "inhap/rendering/stroke.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 /// Columns t, px,py,pz (HIP), qx,qy,qz (IHIP), cx,cy,cz (CIHIP), fx,fy,fz, k, s, tx,ty,tz (mesh
 /// compensation), contact (0/1); `command` is the first comment line, the units the second.
@@ -17,4 +17,4 @@ void write_stroke_csv(const std::string& path, const std::vector<StrokeSample>& 
 /// "N ticks (T s), n in contact, mean contact force F N".
 std::string stroke_summary(const std::vector<StrokeSample>& samples);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering
