@@ -56,15 +56,9 @@ inline void add_switch(CLI::App& cmd, const std::string& name, bool& value, cons
       "Turn --" + name + " off" + (on ? "" : " (the default)"));
 }
 
-/// Progress line on stderr for long work: "[what] 42% (eta 3 s)"; quiet when stderr is not a
-/// terminal unless `force`. While a progress hook is set, the line goes to the hook instead.
+/// Progress line on stderr for long work: "[what] 42% (eta 3 s)"; on a terminal updated in
+/// place, otherwise only the final line (fraction 1). Matches eval::Progress.
 void progress(const std::string& what, double fraction, double eta_s);
-
-/// Receives progress() calls instead of stderr while set (e.g. `inhap demo` turns the progress of
-/// shared helpers into its own step progress); an empty hook restores stderr. A progress() call
-/// made from inside the hook prints as usual.
-using ProgressHook = std::function<void(const std::string& what, double fraction, double eta_s)>;
-void set_progress_hook(ProgressHook hook);
 
 }  // namespace inhap::cli
 

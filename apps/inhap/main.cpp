@@ -33,25 +33,7 @@ CommandRegistrar::CommandRegistrar(int order, std::string name, Register fn) {
   registry().push_back({order, std::move(name), std::move(fn)});
 }
 
-namespace {
-ProgressHook& progress_hook() {
-  static ProgressHook h;
-  return h;
-}
-}  // namespace
-
-void set_progress_hook(ProgressHook hook) {
-  progress_hook() = std::move(hook);
-}
-
 void progress(const std::string& what, double fraction, double eta_s) {
-  static thread_local bool in_hook = false;
-  if (progress_hook() && !in_hook) {
-    in_hook = true;
-    progress_hook()(what, fraction, eta_s);
-    in_hook = false;
-    return;
-  }
   static const bool tty = ::isatty(2);
   if (!tty && fraction < 1.0) return;
   fmt::print(stderr, "{}[{}] {:3.0f}%{}{}", tty ? "\r" : "", what, 100.0 * fraction,

@@ -13,6 +13,21 @@ namespace inhap {
 
 namespace fs = std::filesystem;
 
+std::vector<fs::path> beside_program(const std::string& name) {
+  std::vector<fs::path> candidates;
+  std::array<char, 4096> buf{};
+  const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
+  if (n > 0) {
+    fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
+    for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
+      candidates.push_back(d / name);
+      candidates.push_back(d / "share/inhap" / name);
+    }
+  }
+  candidates.push_back(fs::current_path() / name);
+  return candidates;
+}
+
 std::string find_web_dir(const std::string& given, const std::function<bool(const fs::path&)>& has,
                          const std::string& what) {
   std::vector<fs::path> candidates;
@@ -21,16 +36,7 @@ std::string find_web_dir(const std::string& given, const std::function<bool(cons
   } else if (const char* env = std::getenv("INHAP_WEB_DIR"); env && *env) {
     candidates.push_back(env);
   } else {
-    std::array<char, 4096> buf{};
-    const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
-    if (n > 0) {
-      fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
-      for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
-        candidates.push_back(d / "web");
-        candidates.push_back(d / "share/inhap/web");
-      }
-    }
-    candidates.push_back(fs::current_path() / "web");
+    candidates = beside_program("web");
   }
   for (const fs::path& c : candidates)
     if (has(c)) return c.string();

@@ -80,4 +80,42 @@ SolverBenchResult bench_l1_solver(const std::string& name, const SolverBenchOpti
   return r;
 }
 
+nlohmann::ordered_json solver_bench_json(const SolverBenchResult& r) {
+  nlohmann::ordered_json j;
+  j["name"] = r.name;
+  j["rows"] = r.rows;
+  j["columns"] = r.columns;
+  j["lambda"] = r.lambda;
+  j["optimum"] = r.optimum;
+  j["optimum_gap"] = r.optimum_gap;
+  j["objective"] = r.cd.objective;
+  j["gap"] = r.cd.gap;
+  j["relative_gap"] = r.cd.gap / r.cd.objective;
+  j["excess"] = r.cd.excess;
+  j["kkt"] = r.cd.kkt;
+  j["nonzeros"] = r.cd.nonzeros;
+  j["sweeps"] = r.cd.iterations;
+  j["passes"] = r.cd_passes;
+  j["time_s"] = r.cd.time_s;
+  j["baseline"] = {{"solver", "sparsa, relative objective change 1e-5"},
+                   {"objective", r.sparsa.objective},
+                   {"gap", r.sparsa.gap},
+                   {"excess", r.sparsa.excess},
+                   {"kkt", r.sparsa.kkt},
+                   {"nonzeros", r.sparsa.nonzeros},
+                   {"iterations", r.sparsa.iterations},
+                   {"time_s", r.sparsa.time_s}};
+  j["speedup"] = r.speedup;
+  return j;
+}
+
+std::string solver_bench_line(const SolverBenchResult& r) {
+  return fmt::format(
+      "{} ({} x {}): optimum {:.6g}; cd {:.6g} (+{:.2e}, gap {:.2e}, {} non-zeros, KKT {:.4f}) in "
+      "{:.3f} s; sparsa {:.6g} (+{:.2e}, {} non-zeros, KKT {:.2f}) in {:.3f} s; {:.1f}x",
+      r.name, r.rows, r.columns, r.optimum, r.cd.objective, r.cd.excess, r.cd.gap, r.cd.nonzeros,
+      r.cd.kkt, r.cd.time_s, r.sparsa.objective, r.sparsa.excess, r.sparsa.nonzeros, r.sparsa.kkt,
+      r.sparsa.time_s, r.speedup);
+}
+
 }  // namespace inhap::eval

@@ -173,4 +173,16 @@ nlohmann::json to_json(const std::vector<DatasetResult>& results) {
   return {{"units", "mm, N, N/mm, s; step times in microseconds"}, {"datasets", arr}};
 }
 
+std::string strokes_table_header() {
+  return fmt::format("{:<8} {:>9} {:>7}  {:>19}  {:>19}  {:>15}\n", "data set", "triangles",
+                     "strokes", "distortion TCA/CBA", "max jump TCA/CBA", "step p50/p99");
+}
+
+std::string strokes_table_row(const DatasetResult& r) {
+  return fmt::format(
+      "{:<8} {:>9} {:>7}  {:>8.3f} / {:<8.3f}  {:>8.3f} / {:<8.3f}  {:>6.1f} / {:<6.1f}\n", r.name,
+      r.triangles, r.strokes, r.distortion_tca, r.distortion_cba, r.jump_tca, r.jump_cba,
+      r.step_p50_us, r.step_p99_us);
+}
+
 }  // namespace inhap::eval

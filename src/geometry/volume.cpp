@@ -295,4 +295,16 @@ HeadModel head_from_volume(const Volume& volume, const HeadModelOptions& o) {
   return h;
 }
 
+double fit_head(HeadModel& head, double fit_mm) {
+  TriMesh& m = head.mesh;
+  const Box3 b = m.bbox();
+  const double side = b.size().maxCoeff();
+  const double scale = fit_mm > 0 && side > 0 ? fit_mm / side : 1.0;
+  m.transform(scale, fit_mm > 0 ? b.min : Vec3::Zero());
+  auto d = m.property("bone_distance");
+  for (double& v : d) v *= scale;  // distances in the units of the written mesh
+  m.set_property("bone_distance", std::move(d));
+  return scale;
+}
+
 }  // namespace inhap

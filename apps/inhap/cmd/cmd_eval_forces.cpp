@@ -12,27 +12,14 @@
 // run is the explore operator's coverage-driven mode unless --train-operator random.
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <unordered_map>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/core/error.hpp"
-#include "inhap/core/stats.hpp"
-#include "inhap/datadriven/dataset.hpp"
-#include "inhap/datadriven/metrics.hpp"
-#include "inhap/datadriven/model_io.hpp"
-#include "inhap/datadriven/servo.hpp"
 #include "inhap/eval/forces_lab.hpp"
+#include "inhap/eval/forces_report.hpp"
 #include "inhap/lab/operators.hpp"
-#include "inhap/lab/recorder.hpp"
-#include "inhap/lab/scene.hpp"
 #include "model_flags.hpp"
 
 namespace inhap::cli {
@@ -76,38 +63,12 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.progress = cli::progress;
   fo.physics = lab::physics_from_string(o.physics);
   const ForceLabResult d = evaluate_forces_on_lab(fo);
-  const ForceVariant& v = d.proxy;
-  fmt::print(
-      "{}: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE {:.3f} {:.3f} {:.3f} N, RE mean {:.3f} "
-      "median {:.3f}; sliding-only RE median {:.3f} (no proxy {:.3f}, onset proxy {:.3f}); "
-      "train {:.1f} s; step p50 {:.2f} us p99 {:.2f} us; proxy {} (palpation {:.1f} s); outside "
-      "training range {:.3f} (SSE share {:.2f} {:.2f} {:.2f})\n",
-      name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
-      v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
-      v.sliding.re_median, d.no_proxy.sliding.re_median, d.onset.sliding.re_median,
-      v.model.stats.seconds, quantile(v.replay.step_us, 0.5), quantile(v.replay.step_us, 0.99),
-      d.train_track.proxy_source, d.palpation_s, d.support.outside_any,
-      d.support.sse_share_outside[0], d.support.sse_share_outside[1],
-      d.support.sse_share_outside[2]);
+  fmt::print("{}\n", force_lab_summary(d));
   return json::parse(force_lab_json(d));
 }
 
 void run_eval_forces(const EvalForcesOptions& o) {
-  json out;
-  out["units"] = {{"force", "N"}, {"time", "s"}, {"step", "us"}};
-  const bool est = o.proxy == "estimated";
-  out["physics"] = o.physics;
-  out["proxy_source"] = est ? "estimated:sys" : "truth";
-  out["contact_source"] = est ? "estimated:geometric" : "truth";
-  out["note"] =
-      "estimated: q, the normal at q and contact from the friction module's proxy estimator "
-      "(sliding yield surfaces of a palpation of the scene, geometric contact with the palpated "
-      "shape mesh); truth: the virtual lab's true proxy (anchor ax,ay,az) and contact flag; "
-      "errors against the measured force on the truly-in-contact test samples; no_proxy = the "
-      "same model trained on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset "
-      "position (u = p - p_c "
-      "of earlier methods); sliding_only = last third of the test run (the explore operator's "
-      "sliding-only passage); step_us = servo steps of the with-proxy model in contact";
+  json out = forces_report_head(o.physics, o.proxy);
   out["objects"] = json::array();
   for (const auto& s : o.scenes) out["objects"].push_back(evaluate_object(o, s));
   write_file_atomic(o.json_path, out.dump(1) + "\n");

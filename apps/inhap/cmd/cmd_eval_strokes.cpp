@@ -9,11 +9,11 @@
 #include <memory>
 
 #include "command.hpp"
-#include "demo/demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/strokes.hpp"
 #include "inhap/rendering/real_data.hpp"
+#include "inhap/report/strokes.hpp"
 
 namespace inhap::cli {
 namespace {
@@ -27,7 +27,7 @@ struct EvalStrokesOptions {
 };
 
 void run_eval_strokes(EvalStrokesOptions o) {
-  const std::string dir = demo::find_data_dir(o.data);
+  const std::string dir = report::find_data_dir(o.data);
   if (dir.empty())
     throw Error(
         "eval strokes: no data/ folder found; give --data DIR (with afm-topography/, "
@@ -40,16 +40,12 @@ void run_eval_strokes(EvalStrokesOptions o) {
     if (!(v > 0)) throw Error(fmt::format("--speeds: expected speeds > 0 mm/s, got {}", v));
   const std::vector<rendering::RealDataset> sets = rendering::load_real_datasets(dir);
   std::vector<eval::DatasetResult> results;
-  fmt::print("{:<8} {:>9} {:>7}  {:>19}  {:>19}  {:>15}\n", "data set", "triangles", "strokes",
-             "distortion TCA/CBA", "max jump TCA/CBA", "step p50/p99");
+  fmt::print("{}", eval::strokes_table_header());
   for (const auto& ds : sets) {
     progress("eval strokes: " + ds.name, double(results.size()) / double(sets.size()), 0);
     const rendering::Model model(ds.mesh, cfg.params);
     results.push_back(eval::run_dataset(model, ds, cfg));
-    const auto& r = results.back();
-    fmt::print("{:<8} {:>9} {:>7}  {:>8.3f} / {:<8.3f}  {:>8.3f} / {:<8.3f}  {:>6.1f} / {:<6.1f}\n",
-               r.name, r.triangles, r.strokes, r.distortion_tca, r.distortion_cba, r.jump_tca,
-               r.jump_cba, r.step_p50_us, r.step_p99_us);
+    fmt::print("{}", eval::strokes_table_row(results.back()));
   }
   fmt::print("(mm, mm, microseconds; data from {})\n", dir);
   if (!o.json.empty()) write_file_atomic(o.json, eval::to_json(results).dump(2) + "\n");

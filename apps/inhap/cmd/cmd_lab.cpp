@@ -3,12 +3,12 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <cmath>
 #include <memory>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/lab_files.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 
@@ -28,37 +28,12 @@ struct RecordArgs {
 constexpr double kLongRecordingS = 600.0, kMaxRecordingS = 3600.0;
 constexpr double kBytesPerTick = 400.0;  // a recording row plus its truth row, roughly
 
-/// A recording with a non-finite time, position or force is refused (inhap could not read
-/// it back): the scene or the operator drove the simulation out of range.
-void require_finite_recording(const Recording& rec, const std::string& out) {
-  for (std::size_t i = 0; i < rec.size(); ++i)
-    if (!std::isfinite(rec.t[i]) || !rec.p[i].allFinite() || !rec.f[i].allFinite())
-      throw Error(fmt::format(
-          "{}: refusing to write row {} (t = {} s): a position or force is not finite (the "
-          "scene's sizes or positions are out of range?)",
-          out, i + 1, rec.t[i]));
-}
-
-Scene pick_scene(const std::string& name, const std::string& file) {
-  if (!name.empty() && !file.empty()) throw Error("give either --scene or --scene-file, not both");
-  if (!file.empty()) return load_scene(file);
-  if (name.empty())
-    throw Error("expected --scene NAME or --scene-file FILE.json (see `inhap lab scenes`)");
-  return builtin_scene(name);
-}
-
 void run_scenes() {
-  fmt::print("{:<21} {:>12}  {}\n", "scene", "k@5N (N/mm)", "description");
-  for (const auto& name : builtin_scene_names()) {
-    const Scene s = builtin_scene(name);
-    const Vec2 c = s.region.center;
-    const double k = s.object.stiffness_at(Vec3(c.x(), c.y(), 1e3), 5.0);
-    fmt::print("{:<21} {:>12.2f}  {}\n", name, k, s.description);
-  }
+  fmt::print("{}", eval::scenes_table());
 }
 
 void run_record(const RecordArgs& a) {
-  const Scene scene = pick_scene(a.scene, a.scene_file);
+  const Scene scene = eval::pick_scene(a.scene, a.scene_file);
   RecordSpec spec;
   spec.operator_name = a.op;
   spec.seconds = a.seconds;
@@ -92,7 +67,7 @@ void run_record(const RecordArgs& a) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cli::progress(what, f, f > 0 ? el * (1 - f) / f : 0);
   });
-  require_finite_recording(lab.rec, a.out);
+  eval::require_finite_recording(lab.rec, a.out);
   OutputTransaction tx;
   write_lab_recording(a.out, lab);
   tx.commit();

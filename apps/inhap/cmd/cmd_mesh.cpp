@@ -1,4 +1,5 @@
-// inhap mesh info | convert | heightmap
+// inhap mesh info | convert | heightmap (the work: inhap/geometry/mesh_report.hpp, heightmap.hpp).
+// Units: mm, N/mm.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/heightmap.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "inhap/geometry/mesh_report.hpp"
 #include "inhap/geometry/trimesh.hpp"
 
 namespace inhap::cli {
@@ -31,56 +33,9 @@ struct InfoOptions {
 };
 
 void run_info(const InfoOptions& o) {
-  TriMesh m = read_mesh(o.file);
-  MeshAdjacency adj = build_adjacency(m);
-  MeshTopology topo = analyze_topology(m, adj);
-  Box3 b = m.bbox();
-  fmt::print("file        {}\n", o.file);
-  fmt::print("vertices    {}\n", m.num_vertices());
-  fmt::print("faces       {}\n", m.num_triangles());
-  fmt::print("edges       {}\n", topo.edges);
-  if (!b.empty()) {
-    fmt::print("bbox min    {:.6g} {:.6g} {:.6g} mm\n", b.min.x(), b.min.y(), b.min.z());
-    fmt::print("bbox max    {:.6g} {:.6g} {:.6g} mm\n", b.max.x(), b.max.y(), b.max.z());
-    Vec3 s = b.size();
-    fmt::print("size        {:.6g} x {:.6g} x {:.6g} mm\n", s.x(), s.y(), s.z());
-  }
-  nlohmann::json props = nlohmann::json::object();
-  for (const auto& [name, v] : m.properties) {
-    auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    double l = v.empty() ? 0 : *lo, h = v.empty() ? 0 : *hi;
-    fmt::print("property    {} in [{:.6g}, {:.6g}]{}\n", name, l, h,
-               name == "stiffness" ? " N/mm" : "");
-    props[name] = {{"min", l}, {"max", h}};
-  }
-  fmt::print("manifold    {}{}\n", topo.manifold() ? "yes" : "no",
-             topo.manifold() ? ""
-                             : fmt::format(" ({} non-manifold edges, {} non-manifold vertices)",
-                                           topo.nonmanifold_edges, topo.nonmanifold_vertices));
-  fmt::print("watertight  {}\n", topo.watertight() ? "yes" : "no");
-  fmt::print("boundary    {} loops, {} edges\n", topo.boundary_loops, topo.boundary_edges);
-  fmt::print("oriented    {}{}\n", topo.oriented() ? "yes" : "no",
-             topo.oriented()
-                 ? ""
-                 : fmt::format(" ({} edges with inconsistent faces)", topo.inconsistent_edges));
-  fmt::print("components  {}\n", topo.components);
-  if (!o.json.empty()) {
-    nlohmann::json j = {
-        {"file", o.file},
-        {"vertices", m.num_vertices()},
-        {"faces", m.num_triangles()},
-        {"edges", topo.edges},
-        {"bbox_mm",
-         {{"min", {b.min.x(), b.min.y(), b.min.z()}}, {"max", {b.max.x(), b.max.y(), b.max.z()}}}},
-        {"properties", props},
-        {"manifold", topo.manifold()},
-        {"watertight", topo.watertight()},
-        {"oriented", topo.oriented()},
-        {"boundary_loops", topo.boundary_loops},
-        {"boundary_edges", topo.boundary_edges},
-        {"components", topo.components}};
-    write_file_atomic(o.json, j.dump(2) + "\n");
-  }
+  const TriMesh m = read_mesh(o.file);
+  fmt::print("{}", mesh_info_text(o.file, m));
+  if (!o.json.empty()) write_file_atomic(o.json, mesh_info_json(o.file, m));
 }
 
 // --------------------------------------------------------------------------------- convert
@@ -92,16 +47,6 @@ struct ConvertOptions {
   std::vector<double> k_range;
 };
 
-void map_property_to_stiffness(TriMesh& m, const std::string& prop, double kmin, double kmax) {
-  const auto& v = m.property(prop);
-  auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-  const double a = v.empty() ? 0 : *lo, b = v.empty() ? 0 : *hi;
-  std::vector<double> k(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    k[i] = b > a ? kmin + (v[i] - a) / (b - a) * (kmax - kmin) : kmax;
-  m.set_property("stiffness", std::move(k));
-}
-
 void run_convert(const ConvertOptions& o) {
   TriMesh m = read_mesh(o.in);
   if (!o.stiffness_from.empty()) {
@@ -109,24 +54,12 @@ void run_convert(const ConvertOptions& o) {
     if (!(o.k_range[0] >= 0) || !(o.k_range[1] >= o.k_range[0]) || !std::isfinite(o.k_range[1]))
       throw Error(fmt::format("--k-range: expected 0 <= KMIN <= KMAX N/mm, got {} {}", o.k_range[0],
                               o.k_range[1]));
-    map_property_to_stiffness(m, o.stiffness_from, o.k_range[0], o.k_range[1]);
+    m.set_property("stiffness",
+                   map_linear(m.property(o.stiffness_from), o.k_range[0], o.k_range[1]));
   } else if (!o.k_range.empty()) {
     throw Error("--k-range needs --stiffness-from PROP");
   }
-  Box3 b = m.bbox();
-  Vec3 origin = o.center ? b.center() : Vec3::Zero();
-  double scale = 1.0;
-  if (o.scale_to > 0) {
-    double largest = b.size().maxCoeff();
-    if (!(largest > 0)) throw Error(fmt::format("{}: cannot scale a mesh of zero size", o.in));
-    scale = o.scale_to / largest;
-  }
-  if (o.center || scale != 1.0) {
-    m.transform(scale, origin);
-    if (!o.center) {  // keep the original position of the box minimum when only scaling
-      for (auto& p : m.positions) p += origin;
-    }
-  }
+  scale_and_center(m, o.scale_to, o.center, o.in);
   print_warnings(o.out, write_mesh(o.out, m, MeshWriteOptions{.ascii = o.ascii}));
   Box3 nb = m.bbox();
   fmt::print(
@@ -158,17 +91,11 @@ void run_heightmap(const HeightmapOptions& o) {
     throw Error("give either --stiffness MAP or --stiffness-from-height KMIN KMAX, not both");
   if (!o.stiffness.empty()) {
     k = std::make_unique<Grid>(read_grid(o.stiffness));
-    if (o.k_range.size() == 2) {  // map the map's raw levels [min, max] linearly onto the range
-      double a = k->min(), b = k->max();
-      for (auto& v : k->values)
-        v = b > a ? o.k_range[0] + (v - a) / (b - a) * (o.k_range[1] - o.k_range[0]) : o.k_range[1];
-    }
+    if (o.k_range.size() == 2)  // map the map's raw levels [min, max] linearly onto the range
+      k->values = map_linear(k->values, o.k_range[0], o.k_range[1]);
   } else if (o.k_from_height.size() == 2) {
     k = std::make_unique<Grid>(h);
-    double a = h.min(), b = h.max();
-    for (auto& v : k->values)
-      v = b > a ? o.k_from_height[0] + (v - a) / (b - a) * (o.k_from_height[1] - o.k_from_height[0])
-                : o.k_from_height[1];
+    k->values = map_linear(h.values, o.k_from_height[0], o.k_from_height[1]);
   }
   double spacing = o.spacing;
   if (k && (k->width != h.width || k->height != h.height))

@@ -41,16 +41,8 @@ void run_from_volume(const FromVolumeOptions& o) {
   ho.k_max = o.k_range[1];
   ho.far_quantile = o.far_quantile;
   HeadModel head = head_from_volume(vol, ho);
-  TriMesh& m = head.mesh;
-  const Box3 b = m.bbox();
-  const double side = b.size().maxCoeff();
-  const double scale = o.fit_mm > 0 && side > 0 ? o.fit_mm / side : 1.0;
-  m.transform(scale, o.fit_mm > 0 ? b.min : Vec3::Zero());
-  {
-    auto d = m.property("bone_distance");
-    for (double& v : d) v *= scale;  // distances in the units of the written mesh
-    m.set_property("bone_distance", std::move(d));
-  }
+  const double scale = fit_head(head, o.fit_mm);
+  const TriMesh& m = head.mesh;
   const auto& k = m.property("stiffness");
   const auto [klo, khi] = std::minmax_element(k.begin(), k.end());
   fmt::print("skin        iso {}: {} components, kept the largest: {} triangles, {} vertices\n",
@@ -71,26 +63,20 @@ void run_from_volume(const FromVolumeOptions& o) {
   fmt::print("wrote       {}\n", o.out);
 }
 
-CLI::App* mesh_group(CLI::App& app) {
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "mesh"; });
-  if (!found.empty()) return found.front();
-  auto* mesh = app.add_subcommand(
-      "mesh", "Mesh files: inspect, convert, build from height maps and volumes (units: mm, N/mm)");
-  mesh->require_subcommand(1);
-  return mesh;
-}
-
 void register_from_volume(CLI::App& app) {
   auto opt = std::make_shared<FromVolumeOptions>();
   auto* cmd =
-      mesh_group(app)->add_subcommand("from-volume",
-                                      "CT volume (NRRD header, raw slices) -> skin isosurface mesh "
-                                      "with a `stiffness` vertex property\n"
-                                      "(N/mm) inversely proportional to the distance from the skin "
-                                      "to the bone isosurface (thesis fig. 5.3c),\n"
-                                      "plus `bone_distance` (mm of the written mesh). Marching "
-                                      "tetrahedra, largest component, outward normals,\n"
-                                      "scaled into a --fit-mm cube. Units: mm, N/mm.");
+      subcommand_group(
+          app, "mesh",
+          "Mesh files: inspect, convert, build from height maps and volumes (units: mm, N/mm)")
+          ->add_subcommand("from-volume",
+                           "CT volume (NRRD header, raw slices) -> skin isosurface mesh "
+                           "with a `stiffness` vertex property\n"
+                           "(N/mm) inversely proportional to the distance from the skin "
+                           "to the bone isosurface (thesis fig. 5.3c),\n"
+                           "plus `bone_distance` (mm of the written mesh). Marching "
+                           "tetrahedra, largest component, outward normals,\n"
+                           "scaled into a --fit-mm cube. Units: mm, N/mm.");
   cmd->add_option("header", opt->header, "NRRD header (.nhdr or .nrrd)")
       ->required()
       ->check(CLI::ExistingFile);

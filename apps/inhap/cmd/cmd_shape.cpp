@@ -13,6 +13,7 @@
 #include "inhap/contact/tapping.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/shape_files.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/surface/compare.hpp"
 #include "inhap/surface/point_io.hpp"
@@ -49,15 +50,7 @@ void run_contacts(const ContactsArgs& a) {
   write_contact_points(a.out, res.contacts, a.ascii);
   if (!a.csv.empty()) write_contact_table(a.csv, res.contacts);
   tx.commit();
-  std::size_t estimated = 0;
-  for (const auto& c : res.contacts) estimated += c.estimated;
-  const std::string force =
-      res.source == ForceSource::kRaw
-          ? fmt::format("raw sensor compensated offline (tool mass {:.4f} kg, offset {:.3f} N)",
-                        res.compensation.mass_kg, res.compensation.offset.norm())
-          : std::string("recorded contact force");
-  fmt::print("{} taps ({} by true-contact estimation, {} by thresholding); force: {}\nwrote {}\n",
-             res.contacts.size(), estimated, res.contacts.size() - estimated, force, a.out);
+  fmt::print("{}\nwrote {}\n", eval::contacts_summary(res), a.out);
 }
 
 struct ReconstructArgs {
@@ -95,18 +88,7 @@ void run_reconstruct(const ReconstructArgs& a) {
   MeshWriteOptions wo;
   wo.ascii = a.ascii;
   write_mesh(a.out, mesh, wo);
-  fmt::print(
-      "{} points ({} outliers removed), {} mode{}, alpha {:.3f} mm{}\n"
-      "mesh: {} vertices, {} faces{}\nwrote {}\n",
-      rep.points_in, rep.outliers, a.mode,
-      o.mode == SurfaceMode::kShell
-          ? fmt::format(" (shell depth {:.3f} mm, normals oriented by {})", rep.shell_depth,
-                        use_dirs ? "contact directions" : "the alpha solid")
-          : std::string(),
-      rep.alpha, o.alpha > 0 ? " (given)" : " (auto)", rep.vertices, rep.faces,
-      rep.components_dropped ? fmt::format(" ({} smaller pieces dropped)", rep.components_dropped)
-                             : std::string(),
-      a.out);
+  fmt::print("{}\nwrote {}\n", eval::reconstruct_summary(rep, o, a.mode, use_dirs), a.out);
 }
 
 struct CompareArgs {
@@ -131,26 +113,10 @@ void run_compare(const CompareArgs& args) {
   }
   const bool auto_sides = args.crop_sides == "auto";
   o.crop_sides = auto_sides ? auto_crop_sides(a, b) : crop_sides_from_string(args.crop_sides);
-  const CroppedSides cropped = cropped_sides(o);
-  const bool crop_a = cropped.a, crop_b = cropped.b;
-  const CompareResult r = compare_surfaces(a, b, o);
-  fmt::print("hausdorff {:.4f} mm, mean {:.4f} mm, rms {:.4f} mm\n", r.hausdorff, r.mean, r.rms);
-  fmt::print("  cropped: {} {}, {} {}{}\n", args.a, crop_a ? "yes" : "no (every sample scored)",
-             args.b, crop_b ? "yes" : "no (every sample scored)",
-             (crop_a || crop_b) && auto_sides && o.crop_sides != CropSides::kBoth
-                 ? " (auto: only the closed mesh is cropped)"
-                 : "");
-  for (const auto& [from, to, side] :
-       {std::tuple(&args.a, &args.b, &r.a_to_b), std::tuple(&args.b, &args.a, &r.b_to_a)})
-    fmt::print(
-        "  {} -> {}: max {:.4f} (at {:.3f} {:.3f} {:.3f}) mean {:.4f} rms {:.4f} mm ({} samples)\n",
-        *from, *to, side->max, side->max_at.x(), side->max_at.y(), side->max_at.z(), side->mean,
-        side->rms, side->samples);
-  if (o.icp) {
-    const Eigen::AngleAxisd aa(r.transform.R);
-    fmt::print("  icp: rotation {:.4f} deg, translation ({:.4f}, {:.4f}, {:.4f}) mm\n",
-               aa.angle() * 180.0 / M_PI, r.transform.t.x(), r.transform.t.y(), r.transform.t.z());
-  }
+  const eval::CompareReport rep{args.a,           args.b,     o,
+                                cropped_sides(o), auto_sides, compare_surfaces(a, b, o)};
+  const CompareResult& r = rep.result;
+  fmt::print("{}", eval::compare_text(rep));
   OutputTransaction tx;  // the coloured mesh and the JSON: both or neither
   if (!args.colored.empty()) {
     TriMesh out = a;
@@ -161,26 +127,7 @@ void run_compare(const CompareArgs& args) {
     fmt::print("wrote {} (vertex property 'error', mm)\n", args.colored);
   }
   if (!args.json.empty()) {
-    nlohmann::json j;
-    j["a"] = args.a;
-    j["b"] = args.b;
-    j["units"] = "mm";
-    j["hausdorff_mm"] = r.hausdorff;
-    j["mean_mm"] = r.mean;
-    j["rms_mm"] = r.rms;
-    auto side = [](const OneSided& s) {
-      return nlohmann::json{{"max_mm", s.max},
-                            {"max_at_mm", {s.max_at.x(), s.max_at.y(), s.max_at.z()}},
-                            {"mean_mm", s.mean},
-                            {"rms_mm", s.rms},
-                            {"samples", s.samples}};
-    };
-    j["a_to_b"] = side(r.a_to_b);
-    j["b_to_a"] = side(r.b_to_a);
-    j["icp"] = o.icp;
-    j["normal_overlap"] = o.normal_overlap;
-    j["cropped"] = {{"a", crop_a}, {"b", crop_b}};
-    write_file_atomic(args.json, j.dump(2) + "\n");
+    write_file_atomic(args.json, eval::compare_json(rep));
   }
   tx.commit();
 }

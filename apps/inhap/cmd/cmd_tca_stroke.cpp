@@ -10,6 +10,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/rendering/stroke.hpp"
+#include "inhap/rendering/stroke_csv.hpp"
 
 namespace inhap::cli {
 
@@ -57,61 +58,42 @@ void run_stroke(const StrokeArgs& a) {
   const rendering::Model model(read_mesh(a.mesh), params);
   const auto samples = rendering::simulate_stroke(model, alg, o);
 
-  const std::vector<std::string> comments = {
+  rendering::write_stroke_csv(
+      a.out, samples,
       fmt::format(
           "inhap tca stroke --mesh {} --algorithm {} --from {} --to {} --force {} --speed {} "
           "--seed {}",
-          a.mesh, a.algorithm, a.from, a.to, a.force, a.speed, a.seed),
-      "units: t s; px,py,pz HIP mm; qx,qy,qz IHIP mm; cx,cy,cz CIHIP mm; fx,fy,fz force on the "
-      "probe N; k N/mm; s mm; tx,ty,tz mesh compensation t mm; contact 0/1"};
-  CsvWriter csv(a.out,
-                {"t", "px", "py", "pz", "qx", "qy", "qz", "cx", "cy", "cz", "fx", "fy", "fz", "k",
-                 "s", "tx", "ty", "tz", "contact"},
-                comments);
-  std::size_t contact = 0;
-  double fsum = 0;
-  for (const auto& e : samples) {
-    csv.row({e.time, e.hip.x(), e.hip.y(), e.hip.z(), e.ihip.x(), e.ihip.y(), e.ihip.z(),
-             e.cihip.x(), e.cihip.y(), e.cihip.z(), e.force.x(), e.force.y(), e.force.z(), e.k, e.s,
-             e.t.x(), e.t.y(), e.t.z(), e.contact ? 1.0 : 0.0});
-    contact += e.contact;
-    fsum += e.contact ? e.force.norm() : 0.0;
-  }
-  csv.commit();
-  fmt::print("{}: {} ticks ({:.3f} s), {} in contact, mean contact force {:.3f} N\n", a.out,
-             samples.size(), samples.empty() ? 0.0 : samples.back().time, contact,
-             contact ? fsum / double(contact) : 0.0);
-}
-
-CLI::App* tca_group(CLI::App& app) {
-  // Another command file may register further `tca` subcommands: share the group.
-  auto found = app.get_subcommands([](const CLI::App* s) { return s->get_name() == "tca"; });
-  if (!found.empty()) return found.front();
-  auto* tca = app.add_subcommand(
-      "tca", "TCA-MESH and CBA haptic rendering of meshes with stiffness (thesis ch. 5)");
-  tca->require_subcommand(1);
-  return tca;
+          a.mesh, a.algorithm, a.from, a.to, a.force, a.speed, a.seed));
+  fmt::print("{}: {}\n", a.out, rendering::stroke_summary(samples));
 }
 
 void register_stroke(CLI::App& app) {
   auto args = std::make_shared<StrokeArgs>();
-  auto* cmd = tca_group(app)->add_subcommand(
-      "stroke",
-      "Simulate a constant-force stroke across the top of a mesh and write the trajectory.\n"
-      "A force-tracking hand starts above (X,Y) at the mesh top + 5 mm, descends at 20 mm/s until\n"
-      "it touches, settles at the force N, strokes in a straight line to the end point at\n"
-      "--speed while holding the force (force-constancy model), then lifts off. 1 kHz servo.\n"
-      "Units: positions mm, forces N, stiffness N/mm (vertex property `stiffness`), time s.\n"
-      "Output CSV columns (one row per 1 ms tick, after a '# units' comment line):\n"
-      "  t            time, s\n"
-      "  px,py,pz     HIP p(n): the probe, mm\n"
-      "  qx,qy,qz     IHIP q(n): the god-object on the (translated) mesh, mm (= HIP when free)\n"
-      "  cx,cy,cz     CIHIP q'(n) = q(n) + s(n) n(n), mm (= IHIP for CBA)\n"
-      "  fx,fy,fz     rendered force on the probe, N\n"
-      "  k            stiffness k(n) at the IHIP, N/mm (0 when free)\n"
-      "  s            point compensation s(n), mm (TCA only)\n"
-      "  tx,ty,tz     mesh compensation t, mm (TCA only)\n"
-      "  contact      1 in contact, 0 free");
+  auto* cmd =
+      subcommand_group(app, "tca",
+                       "TCA-MESH and CBA haptic rendering of meshes with stiffness (thesis ch. 5)")
+          ->add_subcommand(
+              "stroke",
+              "Simulate a constant-force stroke across the top of a mesh and write the "
+              "trajectory.\n"
+              "A force-tracking hand starts above (X,Y) at the mesh top + 5 mm, descends at 20 "
+              "mm/s until\n"
+              "it touches, settles at the force N, strokes in a straight line to the end point at\n"
+              "--speed while holding the force (force-constancy model), then lifts off. 1 kHz "
+              "servo.\n"
+              "Units: positions mm, forces N, stiffness N/mm (vertex property `stiffness`), time "
+              "s.\n"
+              "Output CSV columns (one row per 1 ms tick, after a '# units' comment line):\n"
+              "  t            time, s\n"
+              "  px,py,pz     HIP p(n): the probe, mm\n"
+              "  qx,qy,qz     IHIP q(n): the god-object on the (translated) mesh, mm (= HIP when "
+              "free)\n"
+              "  cx,cy,cz     CIHIP q'(n) = q(n) + s(n) n(n), mm (= IHIP for CBA)\n"
+              "  fx,fy,fz     rendered force on the probe, N\n"
+              "  k            stiffness k(n) at the IHIP, N/mm (0 when free)\n"
+              "  s            point compensation s(n), mm (TCA only)\n"
+              "  tx,ty,tz     mesh compensation t, mm (TCA only)\n"
+              "  contact      1 in contact, 0 free");
   cmd->add_option("--mesh", args->mesh,
                   "mesh file (.ply/.obj, mm; optional vertex property stiffness in N/mm)")
       ->required();

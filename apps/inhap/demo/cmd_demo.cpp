@@ -1,5 +1,6 @@
-// `inhap demo`: the whole thesis on the virtual lab in one run, with a summary table on stdout
-// and a self-contained HTML report (OUT/report.html). Units: mm, N, s, N/mm.
+// `inhap demo`: the whole thesis on the virtual lab in one run (the steps of inhap::report), with a
+// summary table on stdout and a self-contained HTML report (OUT/report.html). This file parses
+// the flags, selects the steps and commits their files. Units: mm, N, s, N/mm.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -10,126 +11,29 @@
 #include <memory>
 
 #include "command.hpp"
-#include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/report/report.hpp"
 
 namespace inhap::demo {
 
-void Context::progress(double fraction, const std::string& what) const {
-  const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::string label = what.empty() ? step : fmt::format("{}: {}", step, what);
-  const double eta = fraction > 0 ? el * (1 - fraction) / fraction : 0;
+using namespace inhap::report;
+
+namespace {
+
+// The step's progress line: on a terminal the usual line, in logs (CI) one line every 5 s at
+// most.
+void step_progress(const std::string& label, double fraction, double eta) {
   static const bool tty = ::isatty(2);
   if (tty) {
     cli::progress(label, std::min(fraction, 0.999), eta);
     return;
   }
-  // Logs (CI): one line every 5 s at most.
   static auto last = std::chrono::steady_clock::now();
   const auto now = std::chrono::steady_clock::now();
   if (now - last < std::chrono::seconds(5)) return;
   last = now;
   fmt::print(stderr, "[{}] {:3.0f}% (eta {:.0f} s)\n", label, 100.0 * fraction, eta);
-}
-
-std::string Context::file(StepResult& r, const std::string& name) const {
-  r.files.push_back(name);
-  return (std::filesystem::path(options.out) / name).string();
-}
-
-double rnd(double v, int digits) {
-  if (!std::isfinite(v)) return 0.0;
-  const double s = std::pow(10.0, digits);
-  return std::round(v * s) / s;
-}
-
-nlohmann::json series(const std::vector<double>& v, std::size_t stride, int digits) {
-  nlohmann::json j = nlohmann::json::array();
-  for (std::size_t i = 0; i < v.size(); i += std::max<std::size_t>(1, stride))
-    j.push_back(rnd(v[i], digits));
-  return j;
-}
-
-nlohmann::json line_trace(const nlohmann::json& x, const nlohmann::json& y, const std::string& name,
-                          const std::string& colour, double width, const std::string& dash) {
-  return {{"type", "scatter"},
-          {"mode", "lines"},
-          {"x", x},
-          {"y", y},
-          {"name", name},
-          {"line", {{"color", colour}, {"width", width}, {"dash", dash}}}};
-}
-
-std::string fmt_num(double v, int digits) {
-  return fmt::format("{:.{}f}", v, digits);
-}
-
-ForwardProgress::ForwardProgress(const Context& c,
-                                 std::vector<std::pair<std::string, double>> phases, double from,
-                                 double to)
-    : c_(c), phases_(std::move(phases)), from_(from), to_(to), last_(from) {
-  cli::set_progress_hook(
-      [this](const std::string& what, double fraction, double) { on(what, fraction); });
-}
-
-ForwardProgress::~ForwardProgress() {
-  cli::set_progress_hook({});
-}
-
-void ForwardProgress::on(const std::string& what, double fraction) {
-  double total = 0, before = 0;
-  int found = -1;
-  for (std::size_t i = 0; i < phases_.size(); ++i) {
-    if (found < 0 && what.find(phases_[i].first) != std::string::npos) {
-      found = static_cast<int>(i);
-      before = total;
-    }
-    total += phases_[i].second;
-  }
-  if (found >= 0 && total > 0) {
-    const double f = std::clamp(fraction, 0.0, 1.0);
-    last_ = from_ + (to_ - from_) * (before + phases_[std::size_t(found)].second * f) / total;
-  }
-  c_.progress(last_, what);
-}
-
-namespace {
-
-std::vector<Step> all_steps() {
-  return {
-      {"tap", "3.2", "Tap the dome (ground-truth contact)", step_tap},
-      {"contacts", "3.2.2", "Contact points of five objects, threshold vs estimate", step_contacts},
-      {"shape", "3.3", "Shape reconstruction from tapped contact points", step_shape},
-      {"palpation", "4.3", "Palpate the sliding yield surfaces of the dome", step_palpation},
-      {"explore", "4.4.1", "Record free exploration of the dome", step_explore},
-      {"force-model", "4.4-4.5", "Train the force model, validate on a held-out recording",
-       step_force_model},
-      {"strokes", "5.3", "Strokes on the 25-model surface, TCA-MESH vs CBA", step_strokes},
-      {"study", "5.4", "Virtual user study, TCA-MESH vs CBA", step_study},
-      {"data", "5.3", "Strokes on the real data sets: AFM, bunny, CT head (fig. 5.3, 5.7)",
-       step_data_strokes},
-  };
-}
-
-void print_summary(const std::vector<StepRecord>& steps, double total, double cpu) {
-  std::size_t wq = 8, wm = 8;
-  for (const auto& s : steps)
-    for (const auto& r : s.result.rows) {
-      wq = std::max(wq, r.quantity.size());
-      wm = std::max(wm, r.measured.size());
-    }
-  fmt::print("{:<12} {:<{}}  {:<{}}  {}\n", "step", "quantity", wq, "measured", wm, "thesis");
-  fmt::print("{}\n", std::string(12 + wq + wm + 14 + 20, '-'));
-  for (const auto& s : steps)
-    for (const auto& r : s.result.rows)
-      fmt::print("{:<12} {:<{}}  {:<{}}  {}\n", s.step.name, r.quantity, wq, r.measured, wm,
-                 r.thesis);
-  fmt::print("\n");
-  for (const auto& s : steps)
-    fmt::print("{:<12} {:>6.1f} s wall {:>6.1f} s CPU  {}\n", s.step.name, s.result.seconds,
-               s.result.cpu_seconds, s.result.note);
-  fmt::print("total {:.1f} s wall, {:.1f} s CPU\n", total, cpu);
 }
 
 void run_demo(const Options& o) {
@@ -157,7 +61,7 @@ void run_demo(const Options& o) {
     const Step& s = steps[i];
     fmt::print(stderr, "[demo] step {}/{}: {} (thesis {}): {}\n", i + 1, steps.size(), s.name,
                s.chapter, s.title);
-    Context c{o, s.name};
+    Context c{o, s.name, step_progress};
     const std::clock_t step_c0 = std::clock();
     StepResult r = s.run(c);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
@@ -172,7 +76,7 @@ void run_demo(const Options& o) {
   write_report(o, web, done, total, cpu);
   tx.commit();
   folder.keep();
-  print_summary(done, total, cpu);
+  fmt::print("{}", summary_text(done, total, cpu));
   fmt::print("lab physics: {}\n", lab::to_string(o.physics));
   fmt::print("report: {}\n", (std::filesystem::path(o.out) / "report.html").string());
 }

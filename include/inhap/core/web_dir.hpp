@@ -6,8 +6,13 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace inhap {
+
+/// Where a folder `name` of inhap's is looked for: `name` and `share/inhap/name` beside the
+/// running program and in up to four folders above it, then `name` in the working directory.
+std::vector<std::filesystem::path> beside_program(const std::string& name);
 
 /// The web folder: `given` (a --web-dir flag) when non-empty, else $INHAP_WEB_DIR, else `web/` or
 /// `share/inhap/web` beside the running program or up to four folders above it, else ./web. Returns

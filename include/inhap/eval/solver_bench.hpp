@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "inhap/datadriven/l1_problems.hpp"
@@ -45,5 +46,11 @@ datadriven::L1Problem make_l1_problem(const std::string& name, const SolverBench
 
 /// Solves problem `name` to its certified optimum, then times cd and SpaRSA on it.
 SolverBenchResult bench_l1_solver(const std::string& name, const SolverBenchOptions& options);
+
+/// One problem's result as JSON: size, lambda, optimum, cd's objective, gap, excess, KKT,
+/// non-zeros, sweeps, passes and time, SpaRSA's as "baseline", the speed-up.
+nlohmann::ordered_json solver_bench_json(const SolverBenchResult& r);
+/// The line `model bench-solver` prints for it.
+std::string solver_bench_line(const SolverBenchResult& r);
 
 }  // namespace inhap::eval

@@ -91,4 +91,9 @@ DatasetResult run_dataset(const rendering::Model& model, const rendering::RealDa
 /// "max_jump_mm": {"tca", "cba"}, "step_us": {"p50", "p99"}}, ...]} plus per-stroke detail.
 nlohmann::json to_json(const std::vector<DatasetResult>& results);
 
+/// The table `eval strokes` prints: the header line, and one line per data set (triangles,
+/// strokes, distortion and largest jump TCA / CBA in mm, servo step p50 / p99 in us).
+std::string strokes_table_header();
+std::string strokes_table_row(const DatasetResult& r);
+
 }  // namespace inhap::eval

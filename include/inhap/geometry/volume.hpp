@@ -81,4 +81,8 @@ struct HeadModel {
 /// isosurface, stiffness from that distance. Throws Error when an isosurface is empty.
 HeadModel head_from_volume(const Volume& volume, const HeadModelOptions& options = {});
 
+/// Scales the head so its largest side is `fit_mm` mm with the box minimum at the origin
+/// (`fit_mm` 0: the scanner's mm, unmoved), `bone_distance` with it; returns the scale.
+double fit_head(HeadModel& head, double fit_mm);
+
 }  // namespace inhap

@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/eval/contacts_lab.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
+#include "inhap/report/report.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 
 namespace {
 
@@ -89,4 +89,4 @@ StepResult step_contacts(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -1,7 +1,7 @@
-// `inhap demo`: the whole thesis on the virtual lab. The demo is a sequence of steps; each step
-// measures something, writes its data to OUT/*.csv / OUT/*.json, adds rows to the summary table
-// (measured figure beside the thesis figure it answers) and figures to the HTML report.
-// Units: mm, N, s, N/mm.
+// The thesis on the virtual lab as a report (what `inhap demo` runs): a sequence of steps; each
+// step measures something (through inhap::eval), writes its data to OUT/*.csv / OUT/*.json,
+// returns rows of the summary table (measured figure beside the thesis figure it answers) and
+// figures (plotly / three.js JSON) for the self-contained HTML report. Units: mm, N, s, N/mm.
 #pragma once
 
 #include <chrono>
@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "inhap/eval/progress.hpp"
 #include "inhap/lab/physics.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 
 struct Options {
   std::string out = "out";
@@ -52,11 +53,14 @@ struct StepResult {
   double cpu_seconds = 0;          ///< CPU time of the step (all threads)
 };
 
-/// What a step gets: the options and a progress reporter ("what", fraction done).
+/// What a step gets: the options, the step's name and where its progress goes.
 struct Context {
   const Options& options;
   std::string step;
+  /// Receives ("step: what", fraction done, eta s) of the step; empty: silent.
+  eval::Progress progress_to;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  /// Reports `fraction` of the step done, labelled "step: what", with the eta from the start.
   void progress(double fraction, const std::string& what = {}) const;
   /// OUT/name, and records name as written by the step.
   std::string file(StepResult& r, const std::string& name) const;
@@ -67,27 +71,32 @@ struct Step {
   std::function<StepResult(const Context&)> run;
 };
 
-/// While alive, the progress lines of the shared experiments (inhap::eval's `progress` callback set
-/// to cli::progress, e.g. forces_lab and sys_lab) become this step's progress: `phases` are
-/// substrings of the helpers' labels with their share of the time, in the order they run; fraction
-/// f of phase i maps to from + (to - from) * (shares before i + share_i * f) / (all shares). A
-/// label matching no phase keeps the last fraction and shows its own label.
+/// Turns the progress of a shared experiment (an inhap::eval call with several phases, e.g.
+/// forces_lab and sys_lab) into this step's progress: give `callback()` as the call's `progress`.
+/// `phases` are substrings of the call's labels with their share of the time, in the order they
+/// run; fraction f of phase i maps to from + (to - from) * (shares before i + share_i * f) / (all
+/// shares). A label matching no phase keeps the last fraction and shows its own label. Must
+/// outlive the call.
 class ForwardProgress {
  public:
   ForwardProgress(const Context& c, std::vector<std::pair<std::string, double>> phases,
                   double from = 0.0, double to = 1.0);
-  ~ForwardProgress();
   ForwardProgress(const ForwardProgress&) = delete;
   ForwardProgress& operator=(const ForwardProgress&) = delete;
+  eval::Progress callback();
+  void on(const std::string& what, double fraction);
 
  private:
-  void on(const std::string& what, double fraction);
   const Context& c_;
   std::vector<std::pair<std::string, double>> phases_;
   double from_, to_, last_;
 };
 
-// Steps (demo_steps_*.cpp).
+/// Every step in the order of the thesis (tap, contacts, shape, palpation, explore, force-model,
+/// strokes, study, data).
+std::vector<Step> all_steps();
+
+// Steps (src/report/steps_*.cpp).
 StepResult step_tap(const Context& c);
 /// Fig. 3.4.
 StepResult step_contacts(const Context& c);
@@ -113,11 +122,14 @@ nlohmann::json line_trace(const nlohmann::json& x, const nlohmann::json& y, cons
                           const std::string& colour, double width = 1.5,
                           const std::string& dash = "solid");
 
-// Report (demo_report.cpp).
+// The HTML report (html_report.cpp).
 struct StepRecord {
   Step step;
   StepResult result;
 };
+/// The summary table printed after a run: every row (step, quantity, measured, thesis), then
+/// each step's wall and CPU time and note, then the totals.
+std::string summary_text(const std::vector<StepRecord>& steps, double total_s, double cpu_s);
 /// Folder with node_modules/plotly.js-dist-min etc.: --web-dir, INHAP_WEB_DIR, or web/ found
 /// beside or above the executable / the working directory. Throws Error telling to run
 /// ./run setup when the libraries are missing.
@@ -126,4 +138,4 @@ std::string find_web_dir(const std::string& given);
 void write_report(const Options& o, const std::string& web_dir,
                   const std::vector<StepRecord>& steps, double total_seconds, double cpu_seconds);
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -7,15 +7,14 @@
 #include <cmath>
 #include <numbers>
 
-#include "command.hpp"
-#include "demo.hpp"
-#include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/stats.hpp"
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/lab/operators.hpp"
+#include "inhap/report/report.hpp"
+#include "inhap/report/strokes.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 const char* kLevelColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd"};
@@ -147,9 +146,9 @@ StepResult step_palpation(const Context& c) {
   po.quick = quick;
   if (quick) po.points = "rings:1,3:20";  // 4 reference points, f_N 1 and 3 N, 4 directions
   po.progress_label = "palpate";
-  po.progress = cli::progress;
   const eval::ScenePalpation p = [&] {
     ForwardProgress fw(c, {{"palpate", 1.0}}, 0.0, 0.8);
+    po.progress = fw.callback();
     return eval::palpate_scene(po);
   }();
   const friction::SysModel& m = p.sys;
@@ -198,4 +197,4 @@ StepResult step_palpation(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -6,14 +6,14 @@
 #include <cmath>
 #include <span>
 
-#include "demo.hpp"
 #include "inhap/contact/knee.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
+#include "inhap/report/report.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 lab::LabRecording record_dome(const Context& c, const std::string& op, double seconds,
@@ -178,4 +178,4 @@ StepResult step_explore(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

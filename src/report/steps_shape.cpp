@@ -6,16 +6,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demo.hpp"
-#include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/eval/shape_lab.hpp"
 #include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/scene.hpp"
+#include "inhap/report/report.hpp"
+#include "inhap/report/strokes.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 struct ShapeTarget {
@@ -202,4 +202,4 @@ StepResult step_shape(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -8,12 +8,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/web_dir.hpp"
+#include "inhap/report/report.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -179,4 +179,4 @@ void write_report(const Options& o, const std::string& web_dir,
   write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -8,13 +8,12 @@
 #include <cmath>
 #include <map>
 
-#include "command.hpp"
-#include "demo.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/eval/forces_lab.hpp"
+#include "inhap/report/report.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 struct SceneTarget {
@@ -249,6 +248,23 @@ Figure coverage_figure(const std::vector<eval::ForceLabResult>& all,
   f.spec["layout"] = layout;
   return f;
 }
+// The summary rows of one object: RMSE per axis, RE mean / median, and (with the baselines) the
+// sliding-only RE median with and without the proxy, beside the thesis' figures.
+void add_error_rows(StepResult& r, const SceneTarget& t, const eval::ForceLabResult& d,
+                    bool baselines) {
+  const datadriven::ForceErrors& e = d.proxy.all;
+  r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),
+                    fmt::format("{:.2f} / {:.2f} / {:.2f}", e.rmse[0], e.rmse[1], e.rmse[2]),
+                    t.thesis_rmse + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
+  r.rows.push_back({fmt::format("{}: relative error RE mean / median", t.name),
+                    fmt::format("{:.3f} / {:.3f} ({} samples)", e.re_mean, e.re_median, e.n),
+                    t.thesis_re + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
+  if (baselines)
+    r.rows.push_back(
+        {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
+         fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
+         "with < without (fig. 4.14)"});
+}
 }  // namespace
 
 StepResult step_force_model(const Context& c) {
@@ -275,7 +291,6 @@ StepResult step_force_model(const Context& c) {
     // same on the lab: RE median 0.129 vs 0.131 on the dome).
     if (quick) fo.params.centers = 100;
     fo.progress_label = t.name;
-    fo.progress = cli::progress;
     const double share = 1.0 / static_cast<double>(targets.size());
     {
       ForwardProgress fw(c,
@@ -285,22 +300,13 @@ StepResult step_force_model(const Context& c) {
                           {"train (no proxy)", 0.27},
                           {"train (onset proxy)", 0.27}},
                          share * static_cast<double>(s), share * static_cast<double>(s + 1));
+      fo.progress = fw.callback();
       all.push_back(eval::evaluate_forces_on_lab(fo));
     }
     const eval::ForceLabResult& d = all.back();
-    const datadriven::ForceErrors& e = d.proxy.all;
     write_series(c.file(r, fmt::format("forces_{}_test.csv", t.name)), d);
-    r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),
-                      fmt::format("{:.2f} / {:.2f} / {:.2f}", e.rmse[0], e.rmse[1], e.rmse[2]),
-                      t.thesis_rmse + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
-    r.rows.push_back({fmt::format("{}: relative error RE mean / median", t.name),
-                      fmt::format("{:.3f} / {:.3f} ({} samples)", e.re_mean, e.re_median, e.n),
-                      t.thesis_re + (t.name == "dome" ? " (sec. 4.5.2)" : " (sec. 4.5.1)")});
-    if (baselines)
-      r.rows.push_back(
-          {fmt::format("{}: RE median, sliding-only third: with / without proxy", t.name),
-           fmt::format("{:.3f} / {:.3f}", d.proxy.sliding.re_median, d.no_proxy.sliding.re_median),
-           "with < without (fig. 4.14)"});
+    add_error_rows(r, t, d, baselines);
+    const datadriven::ForceErrors& e = d.proxy.all;
     const eval::ForceCoverage& cov = coverages.emplace_back(eval::training_coverage(d));
     std::string where;
     for (std::size_t g = 0; g < std::min<std::size_t>(2, cov.gaps.size()); ++g)
@@ -333,4 +339,4 @@ StepResult step_force_model(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -1,5 +1,5 @@
 // inhap demo: TCA-MESH vs CBA stroke pairs and their figures. Units: mm, N, s, N/mm.
-#include "demo_strokes.hpp"
+#include "inhap/report/strokes.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 
 #include "inhap/core/csv.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 // Distance along the stroke, mm.
@@ -42,24 +42,6 @@ nlohmann::json trace(const std::vector<double>& u, const std::vector<double>& z,
           {"name", name},      {"line", {{"color", color}, {"dash", dash}, {"width", width}}}};
 }
 
-// Heights of one point kind along the sliding part, thinned to about 600 points.
-void path(const StrokeCase& sc, const std::vector<rendering::StrokeSample>& s, int which,
-          std::vector<double>& u, std::vector<double>& z) {
-  const double len = (sc.to - sc.from).norm();
-  std::size_t n = 0;
-  for (const auto& x : s) n += x.contact;
-  const std::size_t stride = std::max<std::size_t>(1, n / 600);
-  std::size_t k = 0;
-  for (const auto& x : s) {
-    if (!x.contact || k++ % stride) continue;
-    const Vec3& p = which == 0 ? x.hip : which == 1 ? x.ihip : x.cihip;
-    const double a = along(sc, x.hip);
-    if (a < 0.2 || a > len - 0.2) continue;  // the sliding part (not the descent or lift)
-    u.push_back(a);
-    z.push_back(p.z());
-  }
-}
-
 // Blue (low) to red (high) through white, 0 <= v <= 1.
 std::array<double, 3> ramp(double v) {
   v = std::clamp(v, 0.0, 1.0);
@@ -69,6 +51,22 @@ std::array<double, 3> ramp(double v) {
 }
 
 }  // namespace
+
+void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& from, const Vec2& dir,
+                     double len, int which, std::vector<double>& u, std::vector<double>& z) {
+  std::size_t n = 0;
+  for (const auto& x : s) n += x.contact;
+  const std::size_t stride = std::max<std::size_t>(1, n / 600);
+  std::size_t k = 0;
+  for (const auto& x : s) {
+    if (!x.contact || k++ % stride) continue;
+    const double a = (Vec2(x.hip.x(), x.hip.y()) - from).dot(dir);
+    if (a < 0.2 || a > len - 0.2) continue;  // the sliding part (not the descent or lift)
+    const Vec3& p = which == 0 ? x.hip : which == 1 ? x.ihip : x.cihip;
+    u.push_back(a);
+    z.push_back(p.z());
+  }
+}
 
 StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc, std::uint64_t seed) {
   rendering::StrokeOptions o;
@@ -113,12 +111,14 @@ Figure stroke_figure(const StrokeCase& sc, const StrokePair& p, const std::strin
   const char* dashes[] = {"solid", "dot", "dash"};
   for (int w = 0; w < 3; ++w) {
     std::vector<double> u, z;
-    path(sc, p.tca, w, u, z);
+    sliding_heights(p.tca, sc.from, (sc.to - sc.from).normalized(), (sc.to - sc.from).norm(), w, u,
+                    z);
     data.push_back(trace(u, z, fmt::format("TCA-MESH {}", names[w]), "#1f77b4", dashes[w]));
   }
   for (int w = 0; w < 2; ++w) {
     std::vector<double> u, z;
-    path(sc, p.cba, w, u, z);
+    sliding_heights(p.cba, sc.from, (sc.to - sc.from).normalized(), (sc.to - sc.from).norm(), w, u,
+                    z);
     data.push_back(trace(u, z, fmt::format("CBA {}", names[w]), "#ff7f0e", dashes[w]));
   }
   f.spec["data"] = data;
@@ -192,4 +192,4 @@ Figure mesh_figure(const TriMesh& mesh, const std::string& property,
   return f;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

@@ -5,14 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "demo.hpp"
-#include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/eval/tca_study.hpp"
 #include "inhap/rendering/datasets.hpp"
 #include "inhap/rendering/experiment.hpp"
+#include "inhap/report/report.hpp"
+#include "inhap/report/strokes.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 namespace {
 
 using rendering::Algorithm;
@@ -192,4 +192,4 @@ StepResult step_strokes(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

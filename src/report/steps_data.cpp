@@ -3,7 +3,6 @@
 // DIR), loaded as the thesis did (real_data.hpp), stroked through the regions the thesis marks
 // with TCA-MESH and CBA (eval/strokes.hpp). Units: mm, N, N/mm, s.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -11,15 +10,16 @@
 #include <filesystem>
 #include <limits>
 
-#include "demo.hpp"
-#include "demo_strokes.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/web_dir.hpp"
 #include "inhap/eval/strokes.hpp"
 #include "inhap/rendering/real_data.hpp"
+#include "inhap/report/report.hpp"
+#include "inhap/report/strokes.hpp"
 
-namespace inhap::demo {
+namespace inhap::report {
 
 namespace fs = std::filesystem;
 
@@ -43,16 +43,7 @@ std::string find_data_dir(const std::string& given) {
   }
   std::vector<fs::path> candidates;
   if (const char* env = std::getenv("INHAP_DATA"); env && *env) candidates.push_back(env);
-  std::array<char, 4096> buf{};
-  const ssize_t n = ::readlink("/proc/self/exe", buf.data(), buf.size() - 1);
-  if (n > 0) {
-    fs::path d = fs::path(std::string(buf.data(), std::size_t(n))).parent_path();
-    for (int up = 0; up < 5 && !d.empty(); ++up, d = d.parent_path()) {
-      candidates.push_back(d / "data");
-      candidates.push_back(d / "share/inhap/data");
-    }
-  }
-  candidates.push_back(fs::current_path() / "data");
+  for (const fs::path& c : beside_program("data")) candidates.push_back(c);
   for (const auto& c : candidates)
     if (has_data(c)) return c.string();
   return {};
@@ -109,18 +100,7 @@ Figure profile_figure(const rendering::Model& model, const rendering::RealDatase
   auto add = [&](const std::vector<rendering::StrokeSample>& s, int which, const std::string& name,
                  const std::string& colour, const std::string& dash) {
     std::vector<double> x, z;
-    std::size_t m = 0;
-    for (const auto& e : s) m += e.contact;
-    const std::size_t stride = std::max<std::size_t>(1, m / 600);
-    std::size_t i = 0;
-    for (const auto& e : s) {
-      if (!e.contact || i++ % stride) continue;
-      const double a = (Vec2(e.hip.x(), e.hip.y()) - line.from).dot(dir);
-      if (a < 0.2 || a > len - 0.2) continue;
-      const Vec3& p = which == 0 ? e.hip : which == 1 ? e.ihip : e.cihip;
-      x.push_back(a);
-      z.push_back(p.z());
-    }
+    sliding_heights(s, line.from, dir, len, which, x, z);
     data.push_back(line_trace(series(x), series(z), name, colour, 1.8, dash));
   };
   add(run.samples_tca, 0, "TCA-MESH HIP p", "#1f77b4", "solid");
@@ -249,4 +229,4 @@ StepResult step_data_strokes(const Context& c) {
   return r;
 }
 
-}  // namespace inhap::demo
+}  // namespace inhap::report

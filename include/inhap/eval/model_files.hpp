@@ -1,0 +1,125 @@
+// The data-driven force model (thesis 4.4-4.5) on recording files: what `inhap model train`,
+// `model eval` and `model render` do between reading their flags and writing their outputs.
+// Units: positions mm, forces N, times s.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "inhap/core/csv.hpp"
+#include "inhap/core/device.hpp"
+#include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/force_model.hpp"
+#include "inhap/datadriven/metrics.hpp"
+#include "inhap/eval/progress.hpp"
+
+namespace inhap::eval {
+
+/// Where a recording keeps its proxy: columns <prefix>x,y,z (mm) and a contact column, or
+/// |f| above `contact_threshold_n` when that column is absent.
+struct ProxyColumnsSpec {
+  std::string prefix = "q", contact_column = "contact";
+  double contact_threshold_n = 0.05;
+};
+
+/// The proxy track of a recording read from `path` (ParseError naming it when q is missing).
+datadriven::ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyColumnsSpec& o);
+
+/// True when the recording has the normal columns nx,ny,nz.
+bool has_normal_columns(const Recording& rec);
+
+/// Normals at q for local-frame models: columns nx,ny,nz when the recording has them, else the
+/// outward normal of the shape mesh file `mesh` (probe-centre surface) closest to q. ParseError
+/// naming `path` when there are neither.
+void add_normals(datadriven::ProxyTrack& t, const Recording& rec, const std::string& path,
+                 const std::string& mesh);
+
+/// What `model train` was asked: a preset, and every option given explicitly (by long name,
+/// "--bins", ...; the values in `params`, `design`, `features`, `above_range`).
+struct TrainRequest {
+  std::string preset = "best", above_range = "keep";
+  std::string design = to_string(datadriven::preset_params("best").design), features = "local";
+  datadriven::TrainParams params = datadriven::preset_params("best");
+  std::set<std::string> given;
+};
+
+/// The preset's settings, overridden by every option given explicitly. Without normals the
+/// default local-frame pipeline cannot run: the "world" preset is used instead unless local
+/// features were asked for explicitly; `note` then says so (else it is left alone).
+datadriven::TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::string* note);
+
+/// One line on the forces above the modeling range and above the render clamp.
+std::string range_note(const datadriven::ForceModel& m, const datadriven::TrainingSet& set, double force_limit_n);
+
+/// Writes where the recording covered the object (coverage file `path`) and says it: one line,
+/// and one more with the largest unvisited gaps when there are any.
+std::vector<std::string> write_training_coverage(const datadriven::TrainingSet& set,
+                                                 const std::string& path);
+
+struct TrainFileOptions {
+  std::string recording, sys, mesh;  ///< files; sys and mesh optional (referenced in the model)
+  TrainRequest request;
+  datadriven::FoawParams foaw;
+  double force_limit_n = kDeviceForceLimitN;
+  ProxyColumnsSpec proxy;
+  Progress progress;  ///< "train", fraction, eta s
+  /// Told each note as it arises (before the long training), e.g. to print it; may be empty.
+  std::function<void(const std::string&)> on_note;
+};
+
+struct TrainFileResult {
+  datadriven::ForceModel model;
+  datadriven::TrainingSet set;
+  std::vector<std::string> notes;  ///< what the program says on stderr, in order
+};
+
+/// Reads the recording, builds the training set and trains (the model is not written).
+TrainFileResult train_from_file(const TrainFileOptions& o);
+
+/// The model's training report: samples, features, bins, design, non-zeros per axis, then the
+/// l1 fit's certificate per bin and axis (and the CPU time per stage when `verbose`).
+std::string train_summary(const datadriven::ForceModel& m, bool verbose);
+
+/// The mesh a local-frame model needs: `mesh_flag`, else the model's reference, taken as written
+/// (relative to the current folder) or relative to the model file's folder. Error otherwise.
+std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
+                       const datadriven::ForceModel& m);
+
+struct ReplayedFile {
+  Recording rec;
+  datadriven::ProxyTrack track;
+  std::vector<Vec3> forces;  ///< rendered, N
+};
+
+/// Replays a recording file through the servo renderer (normals from its columns, else from the
+/// model's mesh or `mesh_flag`).
+ReplayedFile replay_file(const std::string& model_path, const datadriven::ForceModel& m,
+                         const std::string& recording, const ProxyColumnsSpec& proxy,
+                         const std::string& mesh_flag);
+
+/// Shares of the in-contact samples outside the training support of the coverage file beside the
+/// model (unknown when there is none).
+struct SupportShare {
+  bool known = false;
+  std::string file;
+  double outside_share = 0, outside_position_share = 0;
+};
+SupportShare support_share(const std::string& model_path, const ReplayedFile& r);
+/// The line the program prints about it.
+std::string support_note(const SupportShare& s);
+
+/// `model eval`: errors of the in-contact samples (eq. 4.27-4.31) and the report JSON.
+struct ModelEvalResult {
+  datadriven::ForceErrors errors;
+  std::size_t contact_samples = 0, above_force_limit = 0;
+  double force_limit_n = 0;  ///< the model's render clamp
+  SupportShare support;
+  nlohmann::ordered_json json;
+};
+ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
+                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag);
+
+}  // namespace inhap::eval

@@ -1,0 +1,321 @@
+// The data-driven force model on recording files (`inhap model train|eval|render`).
+// Units: positions mm, forces N, times s.
+#include "inhap/eval/model_files.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/coverage.hpp"
+#include "inhap/datadriven/model_io.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/geometry/mesh_io.hpp"
+
+namespace inhap::eval {
+
+using namespace inhap::datadriven;
+
+namespace {
+constexpr double kFewContactSeconds = 30.0;  // less contact than this gets a warning
+}
+
+ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyColumnsSpec& o) {
+  return proxy_from_columns(rec, path, o.prefix, o.contact_column, o.contact_threshold_n);
+}
+
+bool has_normal_columns(const Recording& rec) {
+  return rec.find_extra("nx") && rec.find_extra("ny") && rec.find_extra("nz");
+}
+
+void add_normals(ProxyTrack& t, const Recording& rec, const std::string& path,
+                 const std::string& mesh) {
+  const auto *nx = rec.find_extra("nx"), *ny = rec.find_extra("ny"), *nz = rec.find_extra("nz");
+  t.n.assign(rec.size(), Vec3::UnitZ());
+  if (nx && ny && nz) {
+    for (std::size_t i = 0; i < rec.size(); ++i) t.n[i] = Vec3((*nx)[i], (*ny)[i], (*nz)[i]);
+    return;
+  }
+  if (mesh.empty())
+    throw ParseError(path, 1,
+                     "local-frame features: expected normal columns nx,ny,nz or a shape mesh "
+                     "(--mesh), got neither");
+  const friction::MeshSurface shape(read_mesh(mesh), 0.0);
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    Vec3 c, n;
+    if (t.contact[i] && shape.closest(t.q[i], c, n)) t.n[i] = n;
+  }
+}
+
+namespace {
+
+// The options given explicitly override the preset's.
+void override_given(TrainParams& p, const TrainRequest& r) {
+  const TrainParams& g = r.params;
+  const auto given = [&](const char* name) { return r.given.count(name) > 0; };
+  if (given("--bins")) p.bins = g.bins;
+  if (given("--centers")) p.centers = g.centers;
+  if (given("--nonzeros")) p.nonzeros = g.nonzeros;
+  if (given("--lambda-ratio")) p.lambda_ratio = g.lambda_ratio;
+  if (given("--tail")) p.linear_tail = g.linear_tail;
+  if (given("--tangent-mirror")) p.tangent_mirror = g.tangent_mirror;
+  if (given("--stiffness-prior")) p.stiffness_prior = g.stiffness_prior;
+  if (given("--shear-prior")) p.shear_prior = g.shear_prior;
+  if (given("--friction-cone")) p.friction_cone = g.friction_cone;
+  if (given("--fallback")) p.fallback = g.fallback;
+  if (given("--fallback-near")) p.fallback_near_mm = g.fallback_near_mm;
+  if (given("--fallback-far")) p.fallback_far_mm = g.fallback_far_mm;
+  if (given("--solver")) p.solver = g.solver;
+  if (given("--feature-weights")) p.feature_weights = g.feature_weights;
+  if (given("--bin-blend")) p.bin_blend = g.bin_blend;
+  if (given("--design")) p.design = design_from_string(r.design);
+  if (given("--features")) p.features = feature_set_from_string(r.features);
+  if (p.features != FeatureSet::kLocalFrame) {  // the local-only settings of a local preset
+    if (!given("--tangent-mirror")) p.tangent_mirror = false;
+    if (!given("--stiffness-prior")) p.stiffness_prior = false;
+    if (!given("--shear-prior")) p.shear_prior = false;
+    if (!given("--friction-cone")) p.friction_cone = false;
+    if (!given("--fallback")) p.fallback = false;
+  }
+}
+
+}  // namespace
+
+TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::string* note) {
+  std::string preset = r.preset;
+  const bool local_asked = r.given.count("--features") && r.features == "local";
+  if (!have_normals && !local_asked && preset_params(preset).features == FeatureSet::kLocalFrame &&
+      !r.given.count("--features")) {
+    if (note)
+      *note = fmt::format(
+          "no normal columns nx,ny,nz and no --mesh: preset '{}' needs the surface normal, "
+          "training with preset 'world' (world-frame features) instead",
+          preset);
+    preset = "world";
+  }
+  TrainParams p = preset_params(preset);
+  override_given(p, r);
+  p.seed = r.params.seed;
+  p.threads = r.params.threads;
+  p.modeling_range_n = r.params.modeling_range_n;
+  p.above_range = above_range_from_string(r.above_range);
+  return p;
+}
+
+std::string range_note(const ForceModel& m, const TrainingSet& set, double force_limit_n) {
+  const TrainStats& s = m.stats;
+  const TrainParams& p = m.params;
+  if (s.above_range == 0)
+    return fmt::format("all {} samples within the {:.2f} N modeling range (max {:.2f} N)",
+                       s.offered, p.modeling_range_n, s.max_force_n);
+  const bool keep = p.above_range == AboveRange::kKeep;
+  return fmt::format(
+      "{} of {} samples ({:.1f} %) above the {:.2f} N modeling range (max {:.2f} N): {} ({}); {} "
+      "above the {:.2f} N render clamp (device limit), where rendering caps the force",
+      s.above_range, s.offered,
+      100.0 * static_cast<double>(s.above_range) /
+          static_cast<double>(std::max<std::size_t>(s.offered, 1)),
+      p.modeling_range_n, s.max_force_n, keep ? "kept" : "excluded",
+      keep ? "--above-range exclude leaves them out" : "--above-range keep trains on them",
+      count_above(set.f, force_limit_n), force_limit_n);
+}
+
+std::vector<std::string> write_training_coverage(const TrainingSet& set, const std::string& path) {
+  const CoverageMap map(set.q, set.f);
+  write_coverage(path, map);
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const Vec3& q : set.q)
+    if (q.allFinite()) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  std::vector<double> fmax;
+  for (const CoverageCell& c : map.cells()) fmax.push_back(c.f_max);
+  std::sort(fmax.begin(), fmax.end());
+  const double med = fmax.empty() ? 0.0 : fmax[fmax.size() / 2];
+  std::vector<std::string> lines;
+  lines.push_back(fmt::format(
+      "coverage: {} cells of {:g} mm visited by q (x {:.1f}..{:.1f}, y {:.1f}..{:.1f} mm), "
+      "largest |f| per cell median {:.2f} N; elsewhere the model extrapolates -> {}",
+      map.cells().size(), map.params().cell_mm, lo.x(), hi.x(), lo.y(), hi.y(), med, path));
+  const std::vector<CoverageGap> gaps = coverage_gaps(map);
+  if (!gaps.empty()) {
+    std::string line = "coverage: explore more around (x, y mm, unvisited area):";
+    for (const CoverageGap& g : gaps)
+      line +=
+          fmt::format(" ({:.0f}, {:.0f}) {:.0f} mm^2", g.x_mm, g.y_mm,
+                      static_cast<double>(g.cells) * map.params().cell_mm * map.params().cell_mm);
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+TrainFileResult train_from_file(const TrainFileOptions& o) {
+  TrainFileResult r;
+  const auto say = [&](std::string line) {
+    if (o.on_note) o.on_note(line);
+    r.notes.push_back(std::move(line));
+  };
+  const Recording rec = read_recording(o.recording);
+  ProxyTrack track = track_of(rec, o.recording, o.proxy);
+  const bool have_normals = has_normal_columns(rec) || !o.mesh.empty();
+  std::string note;
+  TrainParams params = resolve_train_params(o.request, have_normals, &note);
+  if (!note.empty()) say(note);
+  if (params.features == FeatureSet::kLocalFrame) add_normals(track, rec, o.recording, o.mesh);
+  FoawParams foaw = o.foaw;
+  foaw.dt_s = median_dt(rec);
+  r.set = make_training_set(rec, track, foaw);
+  say(fmt::format("{} samples, {} in contact ({}), proxy from {}", rec.size(), r.set.size(),
+                  track.contact_source, track.proxy_source));
+  const double contact_s = static_cast<double>(r.set.size()) * foaw.dt_s;
+  if (contact_s < kFewContactSeconds)
+    say(fmt::format(
+        "warning: only {:.1f} s of contact to train on; a model needs about {:.0f} s or more of "
+        "varied contact to generalise (expect large errors)",
+        contact_s, kFewContactSeconds));
+  const auto t0 = std::chrono::steady_clock::now();
+  if (o.progress)
+    params.progress = [t0, progress = o.progress](double frac, const std::string&) {
+      const double el =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      progress("train", frac, frac > 0 ? el * (1 - frac) / frac : 0);
+    };
+  r.model = train_force_model(r.set, params, foaw);
+  ForceModel& m = r.model;
+  m.force_limit_n = o.force_limit_n;
+  m.proxy_source = track.proxy_source;
+  if (!o.sys.empty()) {
+    m.sys_path = o.sys;
+    m.sys_digest = file_digest(o.sys);
+  }
+  if (!o.mesh.empty()) {
+    m.mesh_path = o.mesh;
+    m.mesh_digest = file_digest(o.mesh);
+  }
+  return r;
+}
+
+std::string train_summary(const ForceModel& m, bool verbose) {
+  std::string s = fmt::format(
+      "trained {} samples in {:.1f} s: features {}, {} bins, design {}, non-zeros per "
+      "axis",
+      m.stats.samples, m.stats.seconds, to_string(m.features), m.bins.size(),
+      to_string(m.params.design));
+  for (const auto& x : m.stats.support) s += fmt::format(" {}/{}/{}", x[0], x[1], x[2]);
+  s += "\n";
+  for (std::size_t b = 0; b < m.stats.gap.size(); ++b)  // the l1 fit's certificate per bin
+    for (int c = 0; c < 3; ++c) {
+      const auto uc = static_cast<std::size_t>(c);
+      s += fmt::format("  bin {} axis {}: {} relative gap {:.2e}, {} iterations, {} non-zeros\n", b,
+                       "xyz"[c], to_string(m.params.solver), m.stats.gap[b][uc],
+                       m.stats.sparsa_iterations[b][uc], m.stats.nonzeros[b][uc]);
+    }
+  if (verbose) {
+    s += "  stages (CPU s, summed over threads):";
+    for (const auto& [name, cpu] : m.stats.stage_cpu_s) s += fmt::format(" {} {:.2f}", name, cpu);
+    s += fmt::format("; wall {:.2f} s\n", m.stats.seconds);
+  }
+  return s;
+}
+
+std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
+                       const ForceModel& m) {
+  if (!mesh_flag.empty()) return mesh_flag;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (m.mesh_path.empty())
+    throw Error(
+        fmt::format("{}: the model uses local-frame features but names no mesh; pass "
+                    "--mesh FILE",
+                    model_path));
+  if (fs::is_regular_file(m.mesh_path, ec)) return m.mesh_path;
+  const fs::path beside = fs::path(model_path).parent_path() / m.mesh_path;
+  if (fs::path(m.mesh_path).is_relative() && fs::is_regular_file(beside, ec))
+    return beside.string();
+  throw Error(fmt::format(
+      "{}: the mesh '{}' named by the model (references.mesh.path) is found neither from the "
+      "current folder nor from the model's folder; pass --mesh FILE to give it",
+      model_path, m.mesh_path));
+}
+
+ReplayedFile replay_file(const std::string& model_path, const ForceModel& m,
+                         const std::string& recording, const ProxyColumnsSpec& proxy,
+                         const std::string& mesh_flag) {
+  ReplayedFile r{read_recording(recording), {}, {}};
+  r.track = track_of(r.rec, recording, proxy);
+  if (m.features == FeatureSet::kLocalFrame) {
+    // Normal columns in the recording come first; the mesh is only looked for without them.
+    const bool has_normals = has_normal_columns(r.rec);
+    add_normals(r.track, r.rec, recording,
+                has_normals ? std::string() : model_mesh(model_path, mesh_flag, m));
+  }
+  r.forces = replay(m, r.rec, r.track);
+  return r;
+}
+
+SupportShare support_share(const std::string& model_path, const ReplayedFile& r) {
+  SupportShare c;
+  c.file = coverage_path_for(model_path);
+  if (!std::filesystem::exists(c.file)) return c;
+  const CoverageMap map = read_coverage(c.file);
+  std::size_t n = 0, out = 0, out_pos = 0;
+  for (std::size_t i = 0; i < r.rec.size(); ++i)
+    if (r.track.contact[i]) {
+      ++n;
+      out += map.outside(r.track.q[i], r.rec.f[i].norm()) ? 1 : 0;
+      out_pos += map.outside(r.track.q[i]) ? 1 : 0;
+    }
+  c.known = true;
+  c.outside_share = n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
+  c.outside_position_share = n ? static_cast<double>(out_pos) / static_cast<double>(n) : 0.0;
+  return c;
+}
+
+std::string support_note(const SupportShare& c) {
+  if (!c.known) return fmt::format("no coverage file {}: training support unknown", c.file);
+  return fmt::format(
+      "{:.1f} % of the contact samples outside the training support ({:.1f} % far from any "
+      "training proxy, the rest beyond its force range)",
+      100 * c.outside_share, 100 * c.outside_position_share);
+}
+
+ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
+                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
+  const ForceModel m = load_force_model(model_path);
+  const ReplayedFile r = replay_file(model_path, m, recording, proxy, mesh_flag);
+  std::vector<Vec3> rendered, measured;
+  for (std::size_t i = 0; i < r.rec.size(); ++i)
+    if (r.track.contact[i]) {
+      rendered.push_back(r.forces[i]);
+      measured.push_back(r.rec.f[i]);
+    }
+  if (rendered.empty())
+    throw Error(fmt::format("{}: expected samples in contact ({}), got none", recording,
+                            r.track.contact_source));
+  ModelEvalResult e;
+  e.errors = force_errors(rendered, measured);
+  e.contact_samples = rendered.size();
+  e.support = support_share(model_path, r);
+  nlohmann::ordered_json& j = e.json;
+  j["model"] = model_path;
+  j["recording"] = recording;
+  j["samples"] = r.rec.size();
+  j["contact_samples"] = rendered.size();
+  j["proxy_source"] = r.track.proxy_source;
+  j["contact_source"] = r.track.contact_source;
+  j["units"] = {{"force", "N"}};
+  // Measured forces above the model's render clamp: the rendered force is capped there (the
+  // device limit), so the errors on those samples include the clamp. Said, not hidden.
+  e.above_force_limit = count_above(measured, m.force_limit_n);
+  e.force_limit_n = m.force_limit_n;
+  j["force_limit_n"] = m.force_limit_n;
+  j["measured_above_force_limit"] = e.above_force_limit;
+  if (e.support.known)
+    j["coverage"] = {{"file", e.support.file},
+                     {"outside_share", e.support.outside_share},
+                     {"outside_position_share", e.support.outside_position_share}};
+  j["errors"] = nlohmann::ordered_json::parse(force_errors_json(e.errors));
+  return e;
+}
+
+}  // namespace inhap::eval
