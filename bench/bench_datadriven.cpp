@@ -19,7 +19,7 @@
 namespace {
 
 using namespace inhap;
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 const Vec3 kNormal = Vec3(0.1, -0.2, 1.0).normalized();  // normal handed to the local variant
 

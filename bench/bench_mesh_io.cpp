@@ -61,13 +61,13 @@ void read_bench(benchmark::State& state, PlyFormat format, const char* name) {
 }
 
 void BM_ReadPlyBinary1M(benchmark::State& state) {
-  read_bench(state, PlyFormat::binary_little_endian, "r.ply");
+  read_bench(state, PlyFormat::kBinaryLittleEndian, "r.ply");
 }
 void BM_ReadPlyBinaryBigEndian1M(benchmark::State& state) {
-  read_bench(state, PlyFormat::binary_big_endian, "rbe.ply");
+  read_bench(state, PlyFormat::kBinaryBigEndian, "rbe.ply");
 }
 void BM_ReadPlyAscii1M(benchmark::State& state) {
-  read_bench(state, PlyFormat::ascii, "ra.ply");
+  read_bench(state, PlyFormat::kAscii, "ra.ply");
 }
 
 void BM_ParsePlyBinaryInMemory1M(benchmark::State& state) {

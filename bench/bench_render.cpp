@@ -2,7 +2,7 @@
 // bumpy heightmap with a stiffness map: 257 x 257 grid at 0.39 mm (131,072 triangles, the
 // protein-on-mica size of thesis sec. 5.3) and a 708 x 708 grid (1.0 M triangles).
 // Each step() is timed on its own; counters report p50/p99/max in microseconds (target p99 <= 5).
-// BM_ServoStep calls render::step directly; BM_RendererInterface runs the same strokes through
+// BM_ServoStep calls rendering::step directly; BM_RendererInterface runs the same strokes through
 // the common servo interface (haptics::Renderer, a virtual call per tick, as the servo loop does).
 // Units: mm, N, N/mm, s.
 #include <benchmark/benchmark.h>
@@ -52,10 +52,10 @@ TriMesh bumpy_map(int n, std::uint64_t seed) {
   return grid_to_mesh(h, spacing, &k);
 }
 
-const render::Model& model(int n) {
-  static std::unique_ptr<render::Model> m257, m708;
+const rendering::Model& model(int n) {
+  static std::unique_ptr<rendering::Model> m257, m708;
   auto& m = n == 257 ? m257 : m708;
-  if (!m) m = std::make_unique<render::Model>(bumpy_map(n, 42));
+  if (!m) m = std::make_unique<rendering::Model>(bumpy_map(n, 42));
   return *m;
 }
 
@@ -69,13 +69,13 @@ double percentile(std::vector<double> v, double q) {
 // args: grid size, algorithm (0 CBA, 1 TCA), mean stroke speed (mm/s)
 void BM_ServoStep(benchmark::State& bs) {
   const int n = static_cast<int>(bs.range(0));
-  const auto alg = bs.range(1) ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  const auto alg = bs.range(1) ? rendering::Algorithm::kTCA : rendering::Algorithm::kCBA;
   const double speed = static_cast<double>(bs.range(2));
-  const render::Model& m = model(n);
+  const rendering::Model& m = model(n);
   const double dt = 1e-3, F = 1.5, tau = 0.03;
   // Lissajous path over the map; angular rate chosen for the requested mean speed.
   const double w = speed / 45.0;
-  render::State st;
+  rendering::State st;
   Vec3 p(50, 50, 10);
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(bs.max_iterations));
@@ -84,7 +84,7 @@ void BM_ServoStep(benchmark::State& bs) {
   double t = 0;
   for (auto _ : bs) {
     const auto t0 = std::chrono::steady_clock::now();
-    const Vec3 f = render::step(m, st, p, alg);
+    const Vec3 f = rendering::step(m, st, p, alg);
     const auto t1 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(f);
     const double sec = std::chrono::duration<double>(t1 - t0).count();
@@ -95,7 +95,7 @@ void BM_ServoStep(benchmark::State& bs) {
     was = st.collision;
     walk += st.walk_steps;
     max_walk = std::max<long>(max_walk, st.walk_steps);
-    // Force-tracking hand (as in render::simulate_stroke).
+    // Force-tracking hand (as in rendering::simulate_stroke).
     t += dt;
     const double vz =
         st.collision ? std::clamp((f.norm() - F) / (st.k * tau), -100.0, 100.0) : -20.0;
@@ -117,9 +117,9 @@ void BM_ServoStep(benchmark::State& bs) {
 // tick, as the servo loop runs every renderer). args: grid size, algorithm (0 CBA, 1 TCA), mm/s.
 void BM_RendererInterface(benchmark::State& bs) {
   const int n = static_cast<int>(bs.range(0));
-  const auto alg = bs.range(1) ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  const auto alg = bs.range(1) ? rendering::Algorithm::kTCA : rendering::Algorithm::kCBA;
   const double speed = static_cast<double>(bs.range(2));
-  const render::Model& m = model(n);
+  const rendering::Model& m = model(n);
   std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::MeshRenderer>(m, alg);
   const auto& st = static_cast<const haptics::MeshRenderer&>(*r).state();
   const double dt = 1e-3, F = 1.5, tau = 0.03, w = speed / 45.0;

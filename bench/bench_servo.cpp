@@ -2,7 +2,7 @@
 // per tick, p50/p99/max in us, three ways in the same run:
 //   BM_ServoByHand      the pieces composed by hand, as `inhap eval forces` did before the
 //                       haptics module: friction::proxy_step, the contact/normal gating, then
-//                       dd::servo_step;
+//                       datadriven::servo_step;
 //   BM_ServoHaptics     haptics::step(DataDrivenModel, DataDrivenState, ServoInput) (no virtual);
 //   BM_ServoRenderer    the same through the virtual haptics::Renderer (a device loop);
 //   BM_ServoRendererMesh131k  the same with the shape a 131,072-triangle grid mesh.
@@ -40,7 +40,7 @@ struct Setup {
   /// The same top plane as a 257 x 257 grid mesh over the explored region: 131,072 triangles
   /// (the size of the thesis' protein-on-mica map), so the proxy queries a real mesh index.
   std::unique_ptr<friction::MeshSurface> mesh;
-  dd::ForceModel force;
+  datadriven::ForceModel force;
 
   Setup() {
     lab::RecordSpec spec;
@@ -68,7 +68,7 @@ struct Setup {
     for (Vec3& v : m.positions) v += Vec3(-80, -80, 0);
     mesh = std::make_unique<friction::MeshSurface>(m, 0.0);
     const friction::ProxyColumns c = friction::proxy_track({&sys, plane.get()}, rec);
-    dd::ProxyTrack t;
+    datadriven::ProxyTrack t;
     t.q.resize(c.size());
     t.n.assign(c.size(), Vec3::UnitZ());
     t.contact.resize(c.size());
@@ -77,9 +77,9 @@ struct Setup {
       t.q[i] = t.contact[i] ? c.q[i] : rec.p[i];
       if (t.contact[i]) t.n[i] = c.n[i];
     }
-    dd::TrainParams p = dd::preset_params("best");  // what `model train` runs
+    datadriven::TrainParams p = datadriven::preset_params("best");  // what `model train` runs
     p.centers = 150;
-    force = dd::train_force_model(dd::make_training_set(rec, t, dd::FoawParams{}), p);
+    force = datadriven::train_force_model(datadriven::make_training_set(rec, t, datadriven::FoawParams{}), p);
   }
 };
 
@@ -128,7 +128,7 @@ void BM_ServoByHand(benchmark::State& state) {
   const Setup& s = setup();
   const friction::ProxyModel pm{&s.sys, s.plane.get()};
   friction::ProxyState ps;
-  dd::ServoState ss;
+  datadriven::ServoState ss;
   run(
       state,
       [&](std::size_t i) {
@@ -136,14 +136,14 @@ void BM_ServoByHand(benchmark::State& state) {
         const double dt = i ? s.rec.t[i] - s.rec.t[i - 1] : 0.0;
         const friction::ProxyOutput o = friction::proxy_step(pm, ps, p, dt);
         const bool contact = o.contact && o.q.allFinite();
-        const Vec3 f = dd::servo_step(s.force, ss, p, contact ? o.q : p,
+        const Vec3 f = datadriven::servo_step(s.force, ss, p, contact ? o.q : p,
                                       contact ? o.n : Vec3::UnitZ(), contact);
         benchmark::DoNotOptimize(f);
         return contact;
       },
       [&] {
         ps = friction::ProxyState{};
-        ss = dd::ServoState{};
+        ss = datadriven::ServoState{};
       });
 }
 

@@ -78,7 +78,7 @@ std::vector<Vec3> noisy_sphere(int n, double r, double sigma) {
 void BM_Reconstruct(benchmark::State& state) {
   const auto pts = noisy_sphere(static_cast<int>(state.range(0)), 40.0, 0.05);
   ReconstructOptions o;
-  o.mode = state.range(1) ? SurfaceMode::Shell : SurfaceMode::Solid;
+  o.mode = state.range(1) ? SurfaceMode::kShell : SurfaceMode::kSolid;
   std::size_t faces = 0;
   for (auto _ : state) {
     ReconstructReport rep;

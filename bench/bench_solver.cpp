@@ -13,7 +13,7 @@
 
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 const L1Problem& problem(int which) {
   static std::map<int, L1Problem> cache;

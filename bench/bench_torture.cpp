@@ -26,15 +26,15 @@ void report(benchmark::State& state, const test::TortureResult& r) {
 }
 
 void BM_TortureCba(benchmark::State& state) {
-  const render::Model m(test::torture_mesh());
-  for (auto _ : state) report(state, test::torture_renderer(m, render::Algorithm::kCBA, kSteps, 1));
+  const rendering::Model m(test::torture_mesh());
+  for (auto _ : state) report(state, test::torture_renderer(m, rendering::Algorithm::kCBA, kSteps, 1));
 }
 void BM_TortureTcaMesh(benchmark::State& state) {
-  const render::Model m(test::torture_mesh());
-  for (auto _ : state) report(state, test::torture_renderer(m, render::Algorithm::kTCA, kSteps, 2));
+  const rendering::Model m(test::torture_mesh());
+  for (auto _ : state) report(state, test::torture_renderer(m, rendering::Algorithm::kTCA, kSteps, 2));
 }
 void BM_TortureDataDriven(benchmark::State& state) {
-  const dd::ForceModel m = test::torture_dd_model();
+  const datadriven::ForceModel m = test::torture_dd_model();
   for (auto _ : state) report(state, test::torture_data_driven(m, kSteps, 3));
 }
 

@@ -1,6 +1,6 @@
 // Flags shared by `inhap model train` and `inhap eval forces`: the local-frame training options
 // (tangent mirror, stiffness and shear priors, friction cone) and the l1 solver of
-// dd::TrainParams. Units: mm, N.
+// datadriven::TrainParams. Units: mm, N.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,33 +16,33 @@ namespace inhap::cli {
 /// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior,
 /// --[no-]friction-cone and --solver cd|sparsa bound to `p`;
 /// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
-inline void add_local_training_flags(CLI::App& cmd, dd::TrainParams& p,
+inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
                                      const std::string& defaults) {
   struct Flag {
     const char* name;  // --NAME and --no-NAME
-    bool dd::TrainParams::*value;
+    bool datadriven::TrainParams::*value;
     const char* help;  // completed by defaults + ")"
   };
   static constexpr Flag kFlags[] = {
-      {"tangent-mirror", &dd::TrainParams::tangent_mirror,
+      {"tangent-mirror", &datadriven::TrainParams::tangent_mirror,
        "Local features: also train on every sample turned 180 deg about the normal (assumes a "
        "tangentially isotropic material; "},
-      {"stiffness-prior", &dd::TrainParams::stiffness_prior,
+      {"stiffness-prior", &datadriven::TrainParams::stiffness_prior,
        "Local features: fit a local stiffness prior f_n = k(q) d^alpha (N, mm) first and let the "
        "RBFs learn the rest; carries shallow stiffness to deep pushes ("},
-      {"shear-prior", &dd::TrainParams::shear_prior,
+      {"shear-prior", &datadriven::TrainParams::shear_prior,
        "Local features: fit a local shear prior f_t = -k_t(q) |u_t|^beta u_t/|u_t| (N, mm; u_t = "
        "tangential part of p - q) first and let the RBFs learn the rest ("},
-      {"friction-cone", &dd::TrainParams::friction_cone,
+      {"friction-cone", &datadriven::TrainParams::friction_cone,
        "Local features: keep the rendered force inside the training data's friction cone, "
        "|f_t| <= c max(f_n, 0.3 N) ("},
-      {"fallback", &dd::TrainParams::fallback,
+      {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},
   };
   for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
   cmd.add_option_function<std::string>(
-         "--solver", [&p](const std::string& s) { p.solver = dd::l1_solver_from_string(s); },
+         "--solver", [&p](const std::string& s) { p.solver = datadriven::l1_solver_from_string(s); },
          "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
          "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
          "progress (default: cd in preset best, which eval forces uses; sparsa in world and "

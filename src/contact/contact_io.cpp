@@ -31,7 +31,7 @@ TriMesh contacts_to_points(std::span<const Contact> contacts) {
 
 void write_contact_points(const std::string& path, std::span<const Contact> contacts, bool ascii) {
   PlyWriteOptions o;
-  o.format = ascii ? PlyFormat::ascii : PlyFormat::binary_little_endian;
+  o.format = ascii ? PlyFormat::kAscii : PlyFormat::kBinaryLittleEndian;
   write_ply(path, contacts_to_points(contacts), o);
 }
 

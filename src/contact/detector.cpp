@@ -97,7 +97,7 @@ std::vector<Contact> detect_contacts(std::span<const double> t, std::span<const 
       if (mag[k] > mag[peak]) peak = k;
     c.peak_force = mag[peak];
     if (mag[peak] > 0) c.direction = f[peak] / mag[peak];
-    if (o.method == ContactMethod::Estimate) {
+    if (o.method == ContactMethod::kEstimate) {
       const std::size_t lo = std::max(tap.start, tap.detect > o.window ? tap.detect - o.window : 0);
       const std::size_t hi = std::min(n - 1, std::min(tap.end, tap.detect + o.post));
       if (tap.detect - lo < o.min_window) {

@@ -14,13 +14,13 @@ TappingResult contacts_from_recording(const Recording& rec, const ContactOptions
   const auto* ry = rec.find_extra("rfy");
   const auto* rz = rec.find_extra("rfz");
   const bool has_raw = rx && ry && rz;
-  if (source == ForceSource::Raw && !has_raw)
+  if (source == ForceSource::kRaw && !has_raw)
     throw Error(
         "recording has no rfx,rfy,rfz columns: expected raw sensor columns for --force raw");
   out.source =
-      source == ForceSource::Auto ? (has_raw ? ForceSource::Raw : ForceSource::Recorded) : source;
+      source == ForceSource::kAuto ? (has_raw ? ForceSource::kRaw : ForceSource::kRecorded) : source;
   std::vector<Vec3> f = rec.f;
-  if (out.source == ForceSource::Raw) {
+  if (out.source == ForceSource::kRaw) {
     std::vector<Vec3> raw(rec.size());
     for (std::size_t i = 0; i < rec.size(); ++i) raw[i] = Vec3((*rx)[i], (*ry)[i], (*rz)[i]);
     out.compensation = fit_offline_compensation(rec.t, rec.p, raw);

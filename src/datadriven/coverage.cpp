@@ -9,7 +9,7 @@
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 namespace {
 
@@ -164,4 +164,4 @@ CoverageMap read_coverage(const std::string& path) {
   return CoverageMap(std::move(cells), p);
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -9,7 +9,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/servo.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 ProxyTrack proxy_from_columns(const Recording& rec, const std::string& path,
                               const std::string& prefix, const std::string& contact_column,
@@ -122,4 +122,4 @@ std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const Pr
   return out;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -10,7 +10,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 double DepthLaw::force(double d) const {
   if (empty() || !(d > 0) || !std::isfinite(d)) return 0.0;
@@ -229,4 +229,4 @@ void validate_fallback(const Fallback& f, const std::string& where) {
                             f.near_mm, f.far_mm));
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

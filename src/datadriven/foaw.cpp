@@ -7,16 +7,16 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 void FoawParams::validate() const {
-  if (!(dt > 0) || !std::isfinite(dt))
-    throw Error(fmt::format("FOAW: expected a sample period dt > 0 s, got {}", dt));
+  if (!(dt_s > 0) || !std::isfinite(dt_s))
+    throw Error(fmt::format("FOAW: expected a sample period dt_s > 0 s, got {}", dt_s));
   if (max_window < 1 || max_window >= kFoawMaxWindow)
     throw Error(fmt::format("FOAW: expected a window cap in 1..{}, got {}", kFoawMaxWindow - 1,
                             max_window));
-  if (!(noise_bound >= 0) || !std::isfinite(noise_bound))
-    throw Error(fmt::format("FOAW: expected a noise bound >= 0 mm, got {}", noise_bound));
+  if (!(noise_bound_mm >= 0) || !std::isfinite(noise_bound_mm))
+    throw Error(fmt::format("FOAW: expected a noise bound >= 0 mm, got {}", noise_bound_mm));
 }
 
 namespace {
@@ -39,14 +39,14 @@ double axis_slope(const FoawParams& prm, const FoawState& s, int axis, int& wind
     const double yn = rel(s, n, axis, yk);
     s0 += yn;
     s1 += n * yn;
-    const double denom = prm.dt * n * (n + 1.0) * (n + 2.0) / 6.0;
+    const double denom = prm.dt_s * n * (n + 1.0) * (n + 2.0) / 6.0;
     const double b = (n * s0 - 2.0 * s1) / denom;
     // Inside the band means strictly inside: a deviation equal to d (up to rounding of the
     // differences of quantised positions, 1e-12 relative) ends the window.
-    const double bound = prm.noise_bound * (1.0 - 1e-12) - 1e-15;
+    const double bound = prm.noise_bound_mm * (1.0 - 1e-12) - 1e-15;
     bool inside = true;
     for (int j = 1; j < n && inside; ++j) {
-      const double dev = rel(s, j, axis, yk) + b * j * prm.dt;  // y_{k-j} - (y_k - b j T)
+      const double dev = rel(s, j, axis, yk) + b * j * prm.dt_s;  // y_{k-j} - (y_k - b j T)
       inside = std::fabs(dev) < bound;
     }
     if (!inside) break;
@@ -74,4 +74,4 @@ Vec3 foaw_step(const FoawParams& params, FoawState& state, const Vec3& p) {
   return v;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -22,7 +22,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/kmeans.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 using detail::fit_fallback;
 using detail::fit_friction_cone;
@@ -589,10 +589,10 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
   }
   if (!f.allFinite()) return Vec3::Zero();
   // The device profile's limit caps the model's: a model struct built in code cannot raise it.
-  const double limit = effective_force_limit(model.force_limit);
+  const double limit = effective_force_limit(model.force_limit_n);
   const double mag = f.norm();
   if (mag > limit) f *= limit / mag;
   return f;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace inhap::dd::detail {
+namespace inhap::datadriven::detail {
 
 void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& model,
                 std::vector<Vec3>& base) {
@@ -17,7 +17,7 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
       depth[i] = frame[i].n.dot(data.q[i] - data.p[i]);
       fn[i] = frame[i].n.dot(data.f[i]);
     }
-    model.prior = fit_stiffness_map(data.q, depth, fn, params.stiffness);
+    model.prior = fit_stiffness_prior(data.q, depth, fn, params.stiffness);
     for (std::size_t i = 0; i < n; ++i) base[i].z() = model.prior.normal_force(data.q[i], depth[i]);
   }
   if (params.shear_prior) {
@@ -31,7 +31,7 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
       const double lu = ut.norm(), lf = ft.norm();
       if (lu > 0 && lf > 0 && -ut.dot(ft) >= 0.9 * lu * lf) ut_len[i] = lu, ft_len[i] = lf;
     }
-    model.shear = fit_stiffness_map(data.q, ut_len, ft_len, params.shear);
+    model.shear = fit_stiffness_prior(data.q, ut_len, ft_len, params.shear);
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3 t = frame[i].to_local(shear_force(model.shear, data.p[i], data.q[i], frame[i].n));
       base[i].x() += t.x(), base[i].y() += t.y();
@@ -54,7 +54,7 @@ double fit_friction_cone(const TrainingSet& data) {
 }
 
 Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
-                      const StiffnessMap& prior) {
+                      const StiffnessPrior& prior) {
   const std::size_t n = data.size();
   std::vector<double> depth(n), fn(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -71,4 +71,4 @@ Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
   return fb;
 }
 
-}  // namespace inhap::dd::detail
+}  // namespace inhap::datadriven::detail

@@ -7,7 +7,7 @@
 
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd::detail {
+namespace inhap::datadriven::detail {
 
 /// Tangential part of p - q (mm) in world axes, given the unit normal n.
 inline Vec3 tangential_displacement(const Vec3& p, const Vec3& q, const Vec3& n) {
@@ -16,7 +16,7 @@ inline Vec3 tangential_displacement(const Vec3& p, const Vec3& q, const Vec3& n)
 }
 
 /// Shear prior force (N, world axes): -k_t(q) |u_t|^(beta - 1) u_t.
-inline Vec3 shear_force(const StiffnessMap& shear, const Vec3& p, const Vec3& q, const Vec3& n) {
+inline Vec3 shear_force(const StiffnessPrior& shear, const Vec3& p, const Vec3& q, const Vec3& n) {
   const Vec3 ut = tangential_displacement(p, q, n);
   const double len = ut.norm();
   return len > 0 ? Vec3(-shear.force(q, len) / len * ut) : Vec3::Zero();
@@ -36,15 +36,15 @@ double fit_friction_cone(const TrainingSet& data);
 /// rendered times k(q): the shape of the depth-force law is the data's own, its local scale
 /// the prior's map, which follows the stiffness of the data around a gap.
 Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
-                      const StiffnessMap& prior);
+                      const StiffnessPrior& prior);
 
 /// Exponent of the prior's local stiffness in the fallback's scale (0: one global law, 1: k(q)).
 inline constexpr double kFallbackScaleExponent = 1.0;
 
 /// Local stiffness scale of the fallback law at q: k(q)^kFallbackScaleExponent of the prior, 1
 /// without one. Servo-safe.
-inline double fallback_scale(const StiffnessMap& prior, const Vec3& q) {
+inline double fallback_scale(const StiffnessPrior& prior, const Vec3& q) {
   return prior.empty() ? 1.0 : std::exp(kFallbackScaleExponent * prior.log_stiffness(q));
 }
 
-}  // namespace inhap::dd::detail
+}  // namespace inhap::datadriven::detail

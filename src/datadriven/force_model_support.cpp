@@ -6,7 +6,7 @@
 
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
                            const Vec3& normal) {
@@ -40,4 +40,4 @@ SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v
   return out;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

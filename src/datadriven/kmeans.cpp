@@ -9,7 +9,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 namespace {
 
@@ -149,4 +149,4 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const KMeansParams& params) {
   return res;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -12,7 +12,7 @@
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/synthetic.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 namespace {
 
@@ -93,4 +93,4 @@ L1Problem force_model_problem(int samples, int m, std::uint64_t seed) {
   return p;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -11,7 +11,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 const char* to_string(L1Solver s) {
   return s == L1Solver::kSparsa ? "sparsa" : "cd";
@@ -409,4 +409,4 @@ std::vector<L1Fit> solve_l1(L1Solver solver, const Eigen::MatrixXd& a, const Eig
   return out;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

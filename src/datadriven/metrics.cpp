@@ -8,7 +8,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 double absolute_error(const Vec3& r, const Vec3& m) {
   return (r - m).norm();
@@ -157,4 +157,4 @@ std::string force_errors_json(const ForceErrors& e) {
   return j.dump();
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

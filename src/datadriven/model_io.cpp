@@ -13,7 +13,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/core/json_guard.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 using json = nlohmann::ordered_json;
 
@@ -140,7 +140,7 @@ void read_reference(const Reader& r, const json& refs, const char* key, std::str
   digest = r.str(r.need(*it, "fnv1a64", where), where + "/fnv1a64");
 }
 
-json map_json(const StiffnessMap& s, const char* model) {
+json map_json(const StiffnessPrior& s, const char* model) {
   return {{"model", model},
           {"exponent", s.exponent},
           {"origin_mm", {s.origin.x(), s.origin.y(), s.origin.z()}},
@@ -150,8 +150,8 @@ json map_json(const StiffnessMap& s, const char* model) {
           {"ln_k", s.log_k}};
 }
 
-StiffnessMap read_map(const Reader& r, const json& sp, const std::string& w) {
-  StiffnessMap m;
+StiffnessPrior read_map(const Reader& r, const json& sp, const std::string& w) {
+  StiffnessPrior m;
   m.exponent = r.num(r.need(sp, "exponent", w), w + "/exponent");
   const std::vector<double> o = r.nums(r.need(sp, "origin_mm", w), w + "/origin_mm", 3);
   m.origin = Vec3(o[0], o[1], o[2]);
@@ -165,7 +165,7 @@ StiffnessMap read_map(const Reader& r, const json& sp, const std::string& w) {
     m.fitted_samples = static_cast<std::size_t>(
         r.integer(sp["fitted_samples"], w + "/fitted_samples", 0, 1L << 50));
   try {
-    validate_stiffness_map(m, w);
+    validate_stiffness_prior(m, w);
   } catch (const Error& e) {
     r.fail(w, e.what());
   }
@@ -192,12 +192,12 @@ std::string force_model_to_json(const ForceModel& m) {
   j["features"] = to_string(m.features);
   j["feature_dim"] = kFeatureDim;
   j["rbf"] = "r^3";
-  j["force_limit_n"] = m.force_limit;
+  j["force_limit_n"] = m.force_limit_n;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
   if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
-  j["foaw"] = {{"dt_s", m.foaw.dt},
+  j["foaw"] = {{"dt_s", m.foaw.dt_s},
                {"max_window", m.foaw.max_window},
-               {"noise_bound_mm", m.foaw.noise_bound}};
+               {"noise_bound_mm", m.foaw.noise_bound_mm}};
   json refs = json::object();
   refs["sys"] =
       m.sys_path.empty() ? json(nullptr) : json{{"path", m.sys_path}, {"fnv1a64", m.sys_digest}};
@@ -318,7 +318,7 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
   } catch (const Error& e) {
     r.fail("features", e.what());
   }
-  m.force_limit = r.num(r.need(j, "force_limit_n", "(root)"), "force_limit_n");
+  m.force_limit_n = r.num(r.need(j, "force_limit_n", "(root)"), "force_limit_n");
   if (j.contains("bin_blend_mm")) {
     m.bin_blend = r.num(j["bin_blend_mm"], "bin_blend_mm");
     if (!(m.bin_blend >= 0)) r.fail("bin_blend_mm", "expected >= 0");
@@ -328,10 +328,10 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     if (!(m.friction_cone >= 0)) r.fail("friction_cone", "expected >= 0");
   }
   const json& fo = r.need(j, "foaw", "(root)");
-  m.foaw.dt = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
+  m.foaw.dt_s = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(
       r.integer(r.need(fo, "max_window", "foaw"), "foaw/max_window", 1, kFoawMaxWindow - 1));
-  m.foaw.noise_bound = r.num(r.need(fo, "noise_bound_mm", "foaw"), "foaw/noise_bound_mm");
+  m.foaw.noise_bound_mm = r.num(r.need(fo, "noise_bound_mm", "foaw"), "foaw/noise_bound_mm");
   const json& refs = r.need(j, "references", "(root)");
   read_reference(r, refs, "sys", m.sys_path, m.sys_digest);
   read_reference(r, refs, "mesh", m.mesh_path, m.mesh_digest);
@@ -448,11 +448,11 @@ void validate_model(const ForceModel& m, const std::string& where) {
   } catch (const Error& e) {
     fail(fmt::format("foaw: {}", e.what()));
   }
-  if (!(m.force_limit > 0) || !(m.force_limit <= kDeviceForceLimitN))
+  if (!(m.force_limit_n > 0) || !(m.force_limit_n <= kDeviceForceLimitN))
     fail(fmt::format(
         "force_limit_n: expected a force in (0, {}] N (a model may lower the device's limit, "
         "never raise it), got {}",
-        kDeviceForceLimitN, m.force_limit));
+        kDeviceForceLimitN, m.force_limit_n));
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");
@@ -462,7 +462,7 @@ void validate_model(const ForceModel& m, const std::string& where) {
     if (m.features != FeatureSet::kLocalFrame)
       fail(fmt::format("{}: expected local-frame features (the prior needs the normal)", name));
     try {
-      validate_stiffness_map(*map, name);
+      validate_stiffness_prior(*map, name);
     } catch (const Error& e) {
       fail(e.what());
     }
@@ -516,4 +516,4 @@ ForceModel load_force_model(const std::string& path) {
   return force_model_from_json(read_file(path), path);
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

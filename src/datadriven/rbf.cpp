@@ -6,7 +6,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 Eigen::MatrixXd rbf_matrix(const Eigen::MatrixXd& rows, const Eigen::MatrixXd& centres) {
   const Eigen::Index r = rows.rows(), c = centres.rows(), d = rows.cols();
@@ -84,4 +84,4 @@ RbfExpansion rbf_interpolate(const Eigen::MatrixXd& centres, const Eigen::Vector
   return e;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

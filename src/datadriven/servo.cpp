@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 namespace {
 bool sane(const Vec3& v) {
@@ -43,4 +43,4 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
   return state.force;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

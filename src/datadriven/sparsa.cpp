@@ -11,7 +11,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 double lasso_objective(const Eigen::MatrixXd& a, const Eigen::VectorXd& f, const Eigen::VectorXd& w,
                        double lambda) {
@@ -235,4 +235,4 @@ CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
   return res;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -6,7 +6,7 @@
 
 #include "inhap/core/random.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 double SyntheticObject::stiffness(double x, double y) const {
   const double dx = x - blob_x, dy = y - blob_y;
@@ -118,4 +118,4 @@ Recording synthetic_recording(const SyntheticParams& prm, const SyntheticObject&
   return rec;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -7,7 +7,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 const char* to_string(AboveRange a) {
   return a == AboveRange::kExclude ? "exclude" : "keep";
@@ -60,4 +60,4 @@ std::size_t count_above(const std::vector<Vec3>& f, double modeling_range_n) {
       f.begin(), f.end(), [&](const Vec3& x) { return x.norm() > modeling_range_n; }));
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -65,7 +65,7 @@ ContactObjectResult run_contact_object(const std::string& name, const ContactObj
   ContactObjectResult r;
   r.name = name;
   const lab::Scene scene = lab::builtin_scene(name);
-  if (o.physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
+  if (o.physics == lab::Physics::kMujoco && !lab::mujoco_represents(scene.object.shape())) {
     r.skipped = true;
     r.skipped_shape = scene.object.shape().type_name();
     return r;
@@ -79,7 +79,7 @@ ContactObjectResult run_contact_object(const std::string& name, const ContactObj
   ContactOptions est, thr;
   est.eps_f = thr.eps_f = o.eps;
   est.window = thr.window = o.window;
-  thr.method = ContactMethod::Threshold;
+  thr.method = ContactMethod::kThreshold;
   const MatchedContacts me = match_contacts(rec, est, o.taps),
                         mt = match_contacts(rec, thr, o.taps);
   r.estimate = summarize_errors(me.error);

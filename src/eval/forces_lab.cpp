@@ -36,7 +36,7 @@
 namespace inhap::eval {
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 struct Durations {
   double train_s, test_s;
@@ -299,7 +299,7 @@ ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& score
                          const ProxyTrack& tr, const ProxyTrack& te, TrainParams p,
                          const char* what, const std::string& label, const Progress& progress) {
   FoawParams foaw;
-  foaw.dt = median_dt(d.train.rec);
+  foaw.dt_s = median_dt(d.train.rec);
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
   p.progress = [&](double f, const std::string&) {
     if (progress) progress(fmt::format("{} {}", label, what), f, 0);
@@ -427,14 +427,14 @@ ForceCoverage training_coverage(const ForceLabResult& d) {
   std::vector<Vec3> q, f;
   for (std::size_t i = 0; i < d.train.rec.size(); ++i)
     if (d.train_track.contact[i]) q.push_back(d.train_track.q[i]), f.push_back(d.train.rec.f[i]);
-  const dd::CoverageMap map(q, f);
+  const datadriven::CoverageMap map(q, f);
   ForceCoverage c;
   std::size_t n = 0, out = 0;
   for (std::size_t i = 0; i < d.test.rec.size(); ++i)
     if (d.test_track.contact[i])
       ++n, out += map.outside(d.test_track.q[i], d.test.rec.f[i].norm()) ? 1 : 0;
   c.outside = n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
-  c.gaps = dd::coverage_gaps(map);
+  c.gaps = datadriven::coverage_gaps(map);
   c.cell_mm = map.params().cell_mm;
   c.map = map;
   return c;

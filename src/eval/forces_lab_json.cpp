@@ -8,7 +8,7 @@
 namespace inhap::eval {
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 using json = nlohmann::ordered_json;
 
 json xyz(const std::array<double, 3>& v) {
@@ -19,7 +19,7 @@ json mean_median(double mean, double median) {
 }
 
 /// Exponent, fitted samples and grid size of a prior's map (null when the prior is off).
-json map_summary(const dd::StiffnessMap& m) {
+json map_summary(const datadriven::StiffnessPrior& m) {
   if (m.empty()) return nullptr;
   return {{"exponent", m.exponent}, {"fitted_samples", m.fitted_samples}, {"dims", m.dims}};
 }

@@ -86,7 +86,7 @@ TriMesh prism_mesh(const std::vector<Vec2>& top, double zb, const Vec3& origin, 
 MatchedContacts match_contacts(const lab::LabRecording& lab, const ContactOptions& o,
                                std::size_t limit) {
   MatchedContacts m;
-  const TappingResult res = contacts_from_recording(lab.rec, o, ForceSource::Auto);
+  const TappingResult res = contacts_from_recording(lab.rec, o, ForceSource::kAuto);
   long last_tap = -1;
   for (const Contact& c : res.contacts) {
     const long tap = lab.truth.tap[c.detect_index];

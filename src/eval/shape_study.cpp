@@ -15,8 +15,8 @@ ShapeObjectResult run_shape_object(const lab::Scene& scene, const ShapeObjectOpt
   const TriMesh reachable = reachable_part(r.reference, scene.object, o.tap.reach);
   ShapeCompareOptions co = o.compare;
   co.reachable_reference = o.score_reachable_part ? &reachable : nullptr;
-  r.estimate = reconstruct_and_compare(rec, ContactMethod::Estimate, o.taps, r.reference, co);
-  r.threshold = reconstruct_and_compare(rec, ContactMethod::Threshold, o.taps, r.reference, co);
+  r.estimate = reconstruct_and_compare(rec, ContactMethod::kEstimate, o.taps, r.reference, co);
+  r.threshold = reconstruct_and_compare(rec, ContactMethod::kThreshold, o.taps, r.reference, co);
   r.coverage = tap_coverage(scene.object, r.estimate.matched.truth, o.coverage_radius_mm,
                             o.coverage_samples, o.tap.reach);
   r.taps_per_minute = taps_per_minute(rec);

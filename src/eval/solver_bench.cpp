@@ -17,8 +17,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-SolverFit certified(const dd::L1Problem& pb, const Eigen::VectorXd& w, double optimum) {
-  const dd::LassoCertificate c = dd::lasso_certificate(pb.a, pb.f, w, pb.lambda);
+SolverFit certified(const datadriven::L1Problem& pb, const Eigen::VectorXd& w, double optimum) {
+  const datadriven::LassoCertificate c = datadriven::lasso_certificate(pb.a, pb.f, w, pb.lambda);
   SolverFit s;
   s.objective = c.primal;
   s.gap = c.gap;
@@ -30,48 +30,48 @@ SolverFit certified(const dd::L1Problem& pb, const Eigen::VectorXd& w, double op
 
 }  // namespace
 
-dd::L1Problem make_l1_problem(const std::string& name, const SolverBenchOptions& o) {
-  if (name == "force_model") return dd::force_model_problem(o.samples, o.fm_centres, o.seed);
+datadriven::L1Problem make_l1_problem(const std::string& name, const SolverBenchOptions& o) {
+  if (name == "force_model") return datadriven::force_model_problem(o.samples, o.fm_centres, o.seed);
   if (name != "r3_cube" && name != "r3_cube_normalised")
     throw Error(fmt::format(
         "unknown l1 problem '{}' (expected r3_cube, r3_cube_normalised or force_model)", name));
-  dd::L1Problem p = dd::r3_cube_problem(o.points, o.centres, o.seed);
-  if (name == "r3_cube_normalised") dd::normalise_columns(p);
+  datadriven::L1Problem p = datadriven::r3_cube_problem(o.points, o.centres, o.seed);
+  if (name == "r3_cube_normalised") datadriven::normalise_columns(p);
   return p;
 }
 
 SolverBenchResult bench_l1_solver(const std::string& name, const SolverBenchOptions& o) {
-  const dd::L1Problem pb = make_l1_problem(name, o);
+  const datadriven::L1Problem pb = make_l1_problem(name, o);
   SolverBenchResult r;
   r.name = pb.name;
   r.rows = static_cast<long>(pb.a.rows());
   r.columns = static_cast<long>(pb.a.cols());
   r.lambda = pb.lambda;
-  dd::LassoParams lp;
+  datadriven::LassoParams lp;
   lp.threads = o.threads;
   // The optimum: the same solver driven to a relative gap of 1e-12 (its value is certified to
   // that fraction by the gap).
-  dd::LassoParams tight = lp;
+  datadriven::LassoParams tight = lp;
   tight.gap_tolerance = 1e-12;
-  const dd::LassoResult best = dd::lasso_cd(pb.a, pb.f, pb.lambda, tight);
+  const datadriven::LassoResult best = datadriven::lasso_cd(pb.a, pb.f, pb.lambda, tight);
   r.optimum = best.objective;
   r.optimum_gap = best.gap;
   lp.gap_tolerance = o.gap_tolerance;
   auto t0 = std::chrono::steady_clock::now();
-  const dd::LassoResult cd = dd::lasso_cd(pb.a, pb.f, pb.lambda, lp);
+  const datadriven::LassoResult cd = datadriven::lasso_cd(pb.a, pb.f, pb.lambda, lp);
   const double t_cd = seconds_since(t0);
   r.cd = certified(pb, cd.w, best.objective);
   r.cd.iterations = cd.iterations;
   r.cd.time_s = t_cd;
   r.cd_passes = cd.passes;
-  dd::SparsaParams sp;
+  datadriven::SparsaParams sp;
   sp.lambda = pb.lambda;
   sp.max_nonzeros = static_cast<int>(pb.a.cols());  // no early stop on the count
-  sp.stop = dd::SparsaStop::kObjective;
+  sp.stop = datadriven::SparsaStop::kObjective;
   sp.tolerance = o.sparsa_tolerance;
   sp.max_iterations = 1000000;
   t0 = std::chrono::steady_clock::now();
-  const dd::SparsaResult base = dd::sparsa(pb.a, pb.f, sp);
+  const datadriven::SparsaResult base = datadriven::sparsa(pb.a, pb.f, sp);
   const double t_base = seconds_since(t0);
   r.sparsa = certified(pb, base.w, best.objective);
   r.sparsa.iterations = base.iterations;

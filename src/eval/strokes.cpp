@@ -12,8 +12,8 @@
 
 namespace inhap::eval {
 
-SurfaceTrace surface_trace(const render::Model& model,
-                           const std::vector<render::StrokeSample>& samples, const Vec2& from,
+SurfaceTrace surface_trace(const rendering::Model& model,
+                           const std::vector<rendering::StrokeSample>& samples, const Vec2& from,
                            const Vec2& to, const MetricOptions& o) {
   SurfaceTrace tr;
   const double len = (to - from).norm();
@@ -68,13 +68,13 @@ StrokeMetrics stroke_metrics(const SurfaceTrace& tr, const MetricOptions& o) {
 namespace {
 
 // Replays the HIP sequence through a fresh State, timing each step (microseconds).
-void time_replay(const render::Model& model, const std::vector<render::StrokeSample>& s,
-                 render::Algorithm a, std::vector<double>& us) {
-  render::State st;
+void time_replay(const rendering::Model& model, const std::vector<rendering::StrokeSample>& s,
+                 rendering::Algorithm a, std::vector<double>& us) {
+  rendering::State st;
   using clock = std::chrono::steady_clock;
   for (const auto& x : s) {
     const auto t0 = clock::now();
-    static_cast<void>(render::step(model, st, x.hip, a));
+    static_cast<void>(rendering::step(model, st, x.hip, a));
     const auto t1 = clock::now();
     us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
   }
@@ -89,7 +89,7 @@ double pct(std::vector<double>& v, double q) {
 
 }  // namespace
 
-DatasetResult run_dataset(const render::Model& model, const render::RealDataset& ds,
+DatasetResult run_dataset(const rendering::Model& model, const rendering::RealDataset& ds,
                           const StrokesConfig& c) {
   if (c.speeds_mm_s.empty()) throw Error("eval strokes: expected at least one speed");
   DatasetResult r;
@@ -100,7 +100,7 @@ DatasetResult run_dataset(const render::Model& model, const render::RealDataset&
   long n_t = 0, n_c = 0;
   for (const auto& line : ds.strokes)
     for (double v : c.speeds_mm_s) {
-      render::StrokeOptions so;
+      rendering::StrokeOptions so;
       so.from = line.from;
       so.to = line.to;
       so.force_n = c.force_n;
@@ -110,16 +110,16 @@ DatasetResult run_dataset(const render::Model& model, const render::RealDataset&
       run.stroke = line.name;
       run.speed_mm_s = v;
       run.line = line;
-      std::vector<render::StrokeSample> tca =
-          render::simulate_stroke(model, render::Algorithm::kTCA, so);
-      std::vector<render::StrokeSample> cba =
-          render::simulate_stroke(model, render::Algorithm::kCBA, so);
+      std::vector<rendering::StrokeSample> tca =
+          rendering::simulate_stroke(model, rendering::Algorithm::kTCA, so);
+      std::vector<rendering::StrokeSample> cba =
+          rendering::simulate_stroke(model, rendering::Algorithm::kCBA, so);
       run.trace_tca = surface_trace(model, tca, line.from, line.to, c.metric);
       run.trace_cba = surface_trace(model, cba, line.from, line.to, c.metric);
       run.tca = stroke_metrics(run.trace_tca, c.metric);
       run.cba = stroke_metrics(run.trace_cba, c.metric);
-      time_replay(model, tca, render::Algorithm::kTCA, us);
-      time_replay(model, cba, render::Algorithm::kCBA, us);
+      time_replay(model, tca, rendering::Algorithm::kTCA, us);
+      time_replay(model, cba, rendering::Algorithm::kCBA, us);
       sq_t += double(run.tca.samples) * run.tca.distortion_rms_mm * run.tca.distortion_rms_mm;
       sq_c += double(run.cba.samples) * run.cba.distortion_rms_mm * run.cba.distortion_rms_mm;
       n_t += run.tca.samples;

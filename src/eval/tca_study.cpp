@@ -33,9 +33,9 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
   r.config.participants = o.participants;
   r.config.trials = o.trials;
   r.config.seed = o.seed;
-  const render::StudyConfig& cfg = r.config;
-  const long total = long(o.participants) * long(render::participant_schedule(cfg, 0).size());
-  std::vector<std::vector<render::TrialResult>> per(o.participants);
+  const rendering::StudyConfig& cfg = r.config;
+  const long total = long(o.participants) * long(rendering::participant_schedule(cfg, 0).size());
+  std::vector<std::vector<rendering::TrialResult>> per(o.participants);
   std::atomic<int> next{0};
   std::atomic<long> done{0};
   std::mutex progress_mutex;
@@ -43,8 +43,8 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
   auto worker = [&] {
     for (int p = next++; p < o.participants; p = next++) {
       lab::VirtualParticipant vp(lab::sample_participant(o.seed * 1000003ull + std::uint64_t(p)));
-      for (const auto& spec : render::participant_schedule(cfg, p)) {
-        per[p].push_back(render::run_trial(vp, vp, spec));
+      for (const auto& spec : rendering::participant_schedule(cfg, p)) {
+        per[p].push_back(rendering::run_trial(vp, vp, spec));
         const long d = ++done;
         if (!o.progress) continue;
         std::lock_guard lock(progress_mutex);
@@ -59,21 +59,21 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
   worker();
   for (auto& t : pool) t.join();
   for (auto& v : per) r.trials.insert(r.trials.end(), v.begin(), v.end());
-  r.summary = render::summarize(r.trials);
+  r.summary = rendering::summarize(r.trials);
   r.study_s = seconds_since(start);
   for (const auto& t : r.trials) r.incomplete += !t.session.completed;
   return r;
 }
 
-TcaConditions tca_conditions(const render::StudySummary& s) {
-  using render::Algorithm;
-  using render::Task;
+TcaConditions tca_conditions(const rendering::StudySummary& s) {
+  using rendering::Algorithm;
+  using rendering::Task;
   return {s.get(Algorithm::kTCA, Task::kShape), s.get(Algorithm::kCBA, Task::kShape),
           s.get(Algorithm::kTCA, Task::kStiffness), s.get(Algorithm::kCBA, Task::kStiffness)};
 }
 
 TriMesh tca_timing_surface(std::uint64_t seed, const std::string& afm) {
-  if (afm.empty()) return render::afm_like_surface(seed);
+  if (afm.empty()) return rendering::afm_like_surface(seed);
   Grid raw = read_wsxm_top(afm);
   level_plane(raw);
   const int n = 257;
@@ -88,8 +88,8 @@ TriMesh tca_timing_surface(std::uint64_t seed, const std::string& afm) {
   return grid_to_mesh(h, 100.0 / (n - 1), &k);
 }
 
-StepTiming time_servo_steps(const render::Model& model, render::Algorithm algorithm) {
-  render::State state;
+StepTiming time_servo_steps(const rendering::Model& model, rendering::Algorithm algorithm) {
+  rendering::State state;
   const Box3 b = model.mesh().bbox();
   std::vector<double> us;
   long contact = 0;
@@ -99,14 +99,14 @@ StepTiming time_servo_steps(const render::Model& model, render::Algorithm algori
     for (double x = b.min.x() + 2; x < b.max.x() - 2; x += speed) {
       p.x() = x;
       const auto t0 = std::chrono::steady_clock::now();
-      const Vec3 f = render::step(model, state, p, algorithm);
+      const Vec3 f = rendering::step(model, state, p, algorithm);
       const auto t1 = std::chrono::steady_clock::now();
       us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
       contact += state.collision;
       p.z() += std::clamp(0.3 * (f.norm() - force), -0.05, 0.05);  // hand: push until 1.5 N
     }
     for (int i = 0; i < 200; ++i)
-      render::step(model, state, Vec3(p.x(), p.y(), b.max.z() + 2), algorithm);  // lift
+      rendering::step(model, state, Vec3(p.x(), p.y(), b.max.z() + 2), algorithm);  // lift
   }
   StepTiming t;
   t.steps = static_cast<long>(us.size());

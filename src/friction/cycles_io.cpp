@@ -177,7 +177,7 @@ std::vector<CycleRecord> read_cycles_csv(const std::string& path, const CycleGeo
                                    "plateau start), got {}",
                                    c.t_plateau, c.t_measurement_s));
     c.status =
-        i_status ? static_cast<CycleStatus>(integer(*i_status, "status", 0, 5)) : CycleStatus::ok;
+        i_status ? static_cast<CycleStatus>(integer(*i_status, "status", 0, 5)) : CycleStatus::kOk;
     out.push_back(c);
   }
   if (out.empty()) throw ParseError(path, r.header_line(), "expected at least one cycle row");

@@ -18,17 +18,17 @@ Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle) {
 
 const char* to_string(CycleStatus s) {
   switch (s) {
-    case CycleStatus::ok:
+    case CycleStatus::kOk:
       return "ok";
-    case CycleStatus::no_contact:
+    case CycleStatus::kNoContact:
       return "no_contact";
-    case CycleStatus::saturated:
+    case CycleStatus::kSaturated:
       return "saturated";
-    case CycleStatus::unsettled:
+    case CycleStatus::kUnsettled:
       return "unsettled";
-    case CycleStatus::slip_capped:
+    case CycleStatus::kSlipCapped:
       return "slip_capped";
-    case CycleStatus::bad_input:
+    case CycleStatus::kBadInput:
       return "bad_input";
   }
   return "unknown";
@@ -87,7 +87,7 @@ void PalpationProtocol::begin_lift(double time, const Vec3& position) {
   const Vec3 lifted = position + std::max(0.0, cfg_.hover - height) * n_;
   begin_move(time, position, lifted, cfg_.travel_speed);
   travel_to_ = c_ + cfg_.hover * n_;
-  phase_ = Phase::lift;
+  phase_ = Phase::kLift;
 }
 
 Vec3 PalpationProtocol::clamp_force(const Vec3& f) const {
@@ -118,7 +118,7 @@ Vec3 PalpationProtocol::fail(const char* why, CycleStatus status, const Vec3& po
   cur_.status = status;
   cur_.pr = position.allFinite() ? position : Vec3::Zero();
   if (cycles_.size() < cycles_.capacity()) cycles_.push_back(cur_);
-  phase_ = Phase::done;
+  phase_ = Phase::kDone;
   return Vec3::Zero();
 }
 
@@ -135,9 +135,9 @@ Vec3 PalpationProtocol::finish_cycle(double time, const Vec3& position) {
 }
 
 Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sensor_force) {
-  if (phase_ == Phase::done) return Vec3::Zero();
+  if (phase_ == Phase::kDone) return Vec3::Zero();
   if (!std::isfinite(time) || !position.allFinite() || !sensor_force.allFinite())
-    return fail("non-finite device reading", CycleStatus::bad_input, position);
+    return fail("non-finite device reading", CycleStatus::kBadInput, position);
   double dt = have_last_ ? time - last_time_ : 0.0;
   if (!(dt > 0)) dt = 1.0 / info_.servo_rate_hz;
   if (have_last_) {
@@ -149,33 +149,33 @@ Vec3 PalpationProtocol::step(double time, const Vec3& position, const Vec3& sens
   last_p_ = position;
   const Tick k{time, time - phase_t0_, dt, position, sensor_force};
   switch (phase_) {
-    case Phase::start:
+    case Phase::kStart:
       if (schedule_.done()) {
-        phase_ = Phase::done;
+        phase_ = Phase::kDone;
         return Vec3::Zero();
       }
       begin_cycle(time, position);
       return hold_zero_load();
-    case Phase::lift:
-    case Phase::travel:
+    case Phase::kLift:
+    case Phase::kTravel:
       return move_step(k);
-    case Phase::tare:
+    case Phase::kTare:
       return tare_step(k);
-    case Phase::approach:
+    case Phase::kApproach:
       return approach_step(k);
-    case Phase::drop:
+    case Phase::kDrop:
       if (k.tau >= cfg_.drop_time) {
         cur_.pc = position;
         profile_ = LoadingProfile(cur_.f_normal, cur_.f_tangential, cur_.t_plateau, cfg_.rates);
-        phase_ = Phase::load;
+        phase_ = Phase::kLoad;
         phase_t0_ = time;
       }
       return hold_zero_load();
-    case Phase::load:
+    case Phase::kLoad:
       return load_step(k);
-    case Phase::release:
+    case Phase::kRelease:
       return release_step(k);
-    case Phase::done:
+    case Phase::kDone:
       break;
   }
   return Vec3::Zero();
@@ -189,11 +189,11 @@ Vec3 PalpationProtocol::move_step(const Tick& k) {
   const Vec3 target = move_from_ + blend * (move_to_ - move_from_);
   const Vec3 f = pid(k.position, target, rate * (move_to_ - move_from_), k.dt);
   if (s >= 1.0) {
-    if (phase_ == Phase::lift) {
+    if (phase_ == Phase::kLift) {
       begin_move(k.time, move_to_, travel_to_, cfg_.travel_speed);
-      phase_ = Phase::travel;
+      phase_ = Phase::kTravel;
     } else {
-      phase_ = Phase::tare;
+      phase_ = Phase::kTare;
       phase_t0_ = k.time;
       bias_sum_.setZero();
       bias_n_ = 0;
@@ -211,10 +211,10 @@ Vec3 PalpationProtocol::tare_step(const Tick& k) {
   if (k.tau >= cfg_.tare_time) {
     if (bias_n_ > 0) bias_ = bias_sum_ / bias_n_;
     if (finishing_) {
-      phase_ = Phase::done;
+      phase_ = Phase::kDone;
       return Vec3::Zero();
     }
-    phase_ = Phase::approach;
+    phase_ = Phase::kApproach;
     phase_t0_ = k.time;
     contact_run_ = 0;
   }
@@ -224,11 +224,11 @@ Vec3 PalpationProtocol::tare_step(const Tick& k) {
 Vec3 PalpationProtocol::approach_step(const Tick& k) {
   const double depth = cfg_.approach_speed * k.tau;
   if (depth > cfg_.hover + cfg_.approach_extra)
-    return fail("no contact found below the reference point", CycleStatus::no_contact, k.position);
+    return fail("no contact found below the reference point", CycleStatus::kNoContact, k.position);
   const double fn = (k.sensor - bias_).dot(n_);
   contact_run_ = fn > cfg_.contact_force ? contact_run_ + 1 : 0;
   if (contact_run_ >= cfg_.contact_ticks) {
-    phase_ = Phase::drop;
+    phase_ = Phase::kDrop;
     phase_t0_ = k.time;
     return hold_zero_load();
   }
@@ -260,7 +260,7 @@ Vec3 PalpationProtocol::load_step(const Tick& k) {
   }
   if (measure_now && !measured_) measure(k);
   if (k.tau >= profile_.duration()) {
-    phase_ = Phase::release;
+    phase_ = Phase::kRelease;
     phase_t0_ = k.time;
     settle_run_ = 0;
   }
@@ -280,11 +280,11 @@ Vec3 PalpationProtocol::release_step(const Tick& k) {
   const bool settled = settle_run_ >= cfg_.settle_window;
   if (settled || k.tau >= cfg_.settle_max) {
     if (saturated_)
-      cur_.status = CycleStatus::saturated;
+      cur_.status = CycleStatus::kSaturated;
     else if (slip_capped_)
-      cur_.status = CycleStatus::slip_capped;
+      cur_.status = CycleStatus::kSlipCapped;
     else if (!settled)
-      cur_.status = CycleStatus::unsettled;
+      cur_.status = CycleStatus::kUnsettled;
     return finish_cycle(k.time, k.position);
   }
   return hold_zero_load();

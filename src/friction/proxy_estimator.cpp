@@ -40,7 +40,7 @@ void interpolate_gs(const SysModel& sys, const Vec3& x, int& hint, YieldSurface&
 
 ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double dt) noexcept {
   if (!m.sys || !m.shape || m.sys->points.empty() || !p.allFinite() ||
-      p.cwiseAbs().maxCoeff() > m.max_coordinate)
+      p.cwiseAbs().maxCoeff() > m.max_coordinate_mm)
     return no_contact(s, p);
   const SysModel& sys = *m.sys;
   if (!s.contact) {
@@ -61,8 +61,8 @@ ProxyOutput proxy_step(const ProxyModel& m, ProxyState& s, const Vec3& p, double
     const Vec3 trial = p - s.q;  // u* = u^e(n-1) + delta u
     const Vec3 local = to_gs(s.frame, trial);
     if (!(local.z() > 0.0)) return no_contact(s, p);  // left the surface
-    if (local.z() > m.max_depth) return no_contact(s, p);
-    if (s.gs.excess(local) <= m.tolerance || it >= m.max_iterations || (viscous && it > 0)) {
+    if (local.z() > m.max_depth_mm) return no_contact(s, p);
+    if (s.gs.excess(local) <= m.tolerance_mm || it >= m.max_iterations || (viscous && it > 0)) {
       s.ue = trial;
       out.depth = local.z();
       break;

@@ -36,8 +36,8 @@ std::size_t index_of(const std::vector<double>& levels, double x) {
 }
 
 bool usable(const CycleRecord& c) {
-  return c.status == CycleStatus::ok || c.status == CycleStatus::unsettled ||
-         c.status == CycleStatus::slip_capped;
+  return c.status == CycleStatus::kOk || c.status == CycleStatus::kUnsettled ||
+         c.status == CycleStatus::kSlipCapped;
 }
 
 double wrap_angle(double a) {
@@ -200,7 +200,7 @@ BorderStep make_step(double ft, const CycleRecord& s, const CycleRecord& l, cons
   st.f_tangential = ft;
   st.u_short = s.up_tangential();
   st.u_long = l.up_tangential();
-  st.capped = s.status == CycleStatus::slip_capped || l.status == CycleStatus::slip_capped;
+  st.capped = s.status == CycleStatus::kSlipCapped || l.status == CycleStatus::kSlipCapped;
   st.f_normal = s.f_normal;
   const CycleRecord& m = measured_cycle(s, l);
   st.depth = -m.u_meas.dot(m.nc);

@@ -96,17 +96,17 @@ class BinarySource {
 
   std::int64_t read_int(PlyType t, const PlyProperty& p) {
     switch (t) {
-      case PlyType::i8:
+      case PlyType::kI8:
         return std::bit_cast<std::int8_t>(load<std::uint8_t>(p));
-      case PlyType::u8:
+      case PlyType::kU8:
         return load<std::uint8_t>(p);
-      case PlyType::i16:
+      case PlyType::kI16:
         return std::bit_cast<std::int16_t>(load<std::uint16_t>(p));
-      case PlyType::u16:
+      case PlyType::kU16:
         return load<std::uint16_t>(p);
-      case PlyType::i32:
+      case PlyType::kI32:
         return std::bit_cast<std::int32_t>(load<std::uint32_t>(p));
-      case PlyType::u32:
+      case PlyType::kU32:
         return load<std::uint32_t>(p);
       default:
         fail(p, "expected an integer type");  // excluded by the header checks
@@ -114,8 +114,8 @@ class BinarySource {
   }
 
   double read_value(PlyType t, const PlyProperty& p) {
-    if (t == PlyType::f32) return std::bit_cast<float>(load<std::uint32_t>(p));
-    if (t == PlyType::f64) return std::bit_cast<double>(load<std::uint64_t>(p));
+    if (t == PlyType::kF32) return std::bit_cast<float>(load<std::uint32_t>(p));
+    if (t == PlyType::kF64) return std::bit_cast<double>(load<std::uint64_t>(p));
     return static_cast<double>(read_int(t, p));
   }
 
@@ -234,19 +234,19 @@ class AsciiSource {
     const bool ok = ec == std::errc() && end == s.data() + s.size();
     std::int64_t lo = 0, hi = 0;
     switch (t) {
-      case PlyType::i8:
+      case PlyType::kI8:
         lo = -128, hi = 127;
         break;
-      case PlyType::u8:
+      case PlyType::kU8:
         lo = 0, hi = 255;
         break;
-      case PlyType::i16:
+      case PlyType::kI16:
         lo = -32768, hi = 32767;
         break;
-      case PlyType::u16:
+      case PlyType::kU16:
         lo = 0, hi = 65535;
         break;
-      case PlyType::i32:
+      case PlyType::kI32:
         lo = std::numeric_limits<std::int32_t>::min(),
         hi = std::numeric_limits<std::int32_t>::max();
         break;
@@ -268,7 +268,7 @@ class AsciiSource {
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
     if (ec != std::errc() || end != s.data() + s.size())
       fail(p, fmt::format("expected a {} number, got {}", type_name(t), quote_token(tok)));
-    if (t == PlyType::f32) {
+    if (t == PlyType::kF32) {
       // Same value as the binary float would give; out-of-range would be undefined behaviour.
       if (std::isfinite(v) && std::fabs(v) > std::numeric_limits<float>::max())
         fail(p,
@@ -287,12 +287,12 @@ class AsciiSource {
 
 // ---------------------------------------------------------------------------------------------
 // What to do with each vertex / face property.
-enum class Target : std::uint8_t { x, y, z, nx, ny, nz, prop, skip };
+enum class Target : std::uint8_t { kX, kY, kZ, kNx, kNy, kNz, kProp, kSkip };
 
 struct VertexPlan {
   const PlyElement* el = nullptr;
   std::vector<Target> targets;
-  std::vector<std::size_t> slots;  ///< property column per target (Target::prop only)
+  std::vector<std::size_t> slots;  ///< property column per target (Target::kProp only)
   std::vector<std::string> names;  ///< property names, by slot
   bool normals = false;
 };
@@ -333,24 +333,24 @@ VertexPlan plan_vertices(const PlyHeader& h, const std::string& src) {
   }
   plan.normals = scalar_normals == 3;
   for (const auto& p : el.props) {
-    Target t = Target::prop;
+    Target t = Target::kProp;
     if (p.is_list)
-      t = Target::skip;
+      t = Target::kSkip;
     else if (p.name == "x")
-      t = Target::x;
+      t = Target::kX;
     else if (p.name == "y")
-      t = Target::y;
+      t = Target::kY;
     else if (p.name == "z")
-      t = Target::z;
+      t = Target::kZ;
     else if (plan.normals && p.name == "nx")
-      t = Target::nx;
+      t = Target::kNx;
     else if (plan.normals && p.name == "ny")
-      t = Target::ny;
+      t = Target::kNy;
     else if (plan.normals && p.name == "nz")
-      t = Target::nz;
+      t = Target::kNz;
     plan.targets.push_back(t);
     plan.slots.push_back(plan.names.size());
-    if (t == Target::prop) plan.names.push_back(p.name);
+    if (t == Target::kProp) plan.names.push_back(p.name);
   }
   return plan;
 }
@@ -402,29 +402,29 @@ void read_vertices(Src& s, const VertexPlan& plan, TriMesh& mesh) {
     for (std::size_t k = 0; k < el.props.size(); ++k) {
       const PlyProperty& p = el.props[k];
       const Target t = plan.targets[k];
-      if (t == Target::skip) {
+      if (t == Target::kSkip) {
         s.skip_list(p);
         continue;
       }
       const double v = s.scalar(p);
       if (!std::isfinite(v)) s.fail(p, fmt::format("expected a finite number, got {}", v));
       switch (t) {
-        case Target::x:
+        case Target::kX:
           pos.x() = v;
           break;
-        case Target::y:
+        case Target::kY:
           pos.y() = v;
           break;
-        case Target::z:
+        case Target::kZ:
           pos.z() = v;
           break;
-        case Target::nx:
+        case Target::kNx:
           mesh.normals[r].x() = v;
           break;
-        case Target::ny:
+        case Target::kNy:
           mesh.normals[r].y() = v;
           break;
-        case Target::nz:
+        case Target::kNz:
           mesh.normals[r].z() = v;
           break;
         default:
@@ -506,11 +506,11 @@ TriMesh parse_ply(std::string_view bytes, const std::string& source) {
   const FacePlan fp = plan_faces(h, source);
   const std::string_view data = bytes.substr(h.data_offset);
   TriMesh mesh;
-  if (h.format == PlyFormat::ascii) {
+  if (h.format == PlyFormat::kAscii) {
     AsciiSource s(data, h.lines, source);
     read_body(s, h, vp, fp, mesh);
   } else {
-    const bool file_big = h.format == PlyFormat::binary_big_endian;
+    const bool file_big = h.format == PlyFormat::kBinaryBigEndian;
     BinarySource s(data, file_big != (std::endian::native == std::endian::big), source);
     read_body(s, h, vp, fp, mesh);
   }

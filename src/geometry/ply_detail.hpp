@@ -11,7 +11,7 @@
 
 namespace inhap::ply_detail {
 
-enum class PlyType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+enum class PlyType : std::uint8_t { kI8, kU8, kI16, kU16, kI32, kU32, kF32, kF64 };
 
 /// Size in bytes of one binary value.
 std::size_t type_size(PlyType t);
@@ -22,8 +22,8 @@ const char* type_name(PlyType t);
 struct PlyProperty {
   std::string name;
   bool is_list = false;
-  PlyType type = PlyType::f32;       ///< scalar type, or list item type
-  PlyType count_type = PlyType::u8;  ///< list count type (lists only)
+  PlyType type = PlyType::kF32;       ///< scalar type, or list item type
+  PlyType count_type = PlyType::kU8;  ///< list count type (lists only)
   std::size_t line = 0;              ///< header line declaring it
 };
 
@@ -35,7 +35,7 @@ struct PlyElement {
 };
 
 struct PlyHeader {
-  PlyFormat format = PlyFormat::ascii;
+  PlyFormat format = PlyFormat::kAscii;
   std::vector<PlyElement> elements;
   std::size_t data_offset = 0;  ///< first byte after the end_header line
   std::size_t lines = 0;        ///< number of header lines (the end_header line included)

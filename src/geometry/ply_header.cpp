@@ -20,14 +20,14 @@ struct TypeInfo {
 };
 
 constexpr std::array<TypeInfo, 8> kTypes{{
-    {PlyType::i8, "char", "int8", 1},
-    {PlyType::u8, "uchar", "uint8", 1},
-    {PlyType::i16, "short", "int16", 2},
-    {PlyType::u16, "ushort", "uint16", 2},
-    {PlyType::i32, "int", "int32", 4},
-    {PlyType::u32, "uint", "uint32", 4},
-    {PlyType::f32, "float", "float32", 4},
-    {PlyType::f64, "double", "float64", 8},
+    {PlyType::kI8, "char", "int8", 1},
+    {PlyType::kU8, "uchar", "uint8", 1},
+    {PlyType::kI16, "short", "int16", 2},
+    {PlyType::kU16, "ushort", "uint16", 2},
+    {PlyType::kI32, "int", "int32", 4},
+    {PlyType::kU32, "uint", "uint32", 4},
+    {PlyType::kF32, "float", "float32", 4},
+    {PlyType::kF64, "double", "float64", 8},
 }};
 
 constexpr std::uint64_t kMaxIndexable = std::numeric_limits<std::int32_t>::max();
@@ -124,11 +124,11 @@ class HeaderParser {
                "expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0', got {} words",
                tok.size()));
     if (tok[1] == "ascii")
-      h_.format = PlyFormat::ascii;
+      h_.format = PlyFormat::kAscii;
     else if (tok[1] == "binary_little_endian")
-      h_.format = PlyFormat::binary_little_endian;
+      h_.format = PlyFormat::kBinaryLittleEndian;
     else if (tok[1] == "binary_big_endian")
-      h_.format = PlyFormat::binary_big_endian;
+      h_.format = PlyFormat::kBinaryBigEndian;
     else
       fail(line_,
            fmt::format("expected format ascii, binary_little_endian or binary_big_endian, got {}",
@@ -201,7 +201,7 @@ class HeaderParser {
     const std::uint64_t remaining = b_.size() - h_.data_offset;
     std::uint64_t total = 0;
     for (const auto& el : h_.elements) {
-      if (h_.format == PlyFormat::ascii) {
+      if (h_.format == PlyFormat::kAscii) {
         total = sat_add(total, sat_mul(el.count, el.props.size()));
         if (total > (remaining + 1) / 2)
           fail(el.line,
@@ -233,7 +233,7 @@ std::size_t type_size(PlyType t) {
   return kTypes[static_cast<std::size_t>(t)].size;
 }
 bool is_integer(PlyType t) {
-  return t != PlyType::f32 && t != PlyType::f64;
+  return t != PlyType::kF32 && t != PlyType::kF64;
 }
 const char* type_name(PlyType t) {
   return kTypes[static_cast<std::size_t>(t)].name;

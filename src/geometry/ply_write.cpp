@@ -70,7 +70,7 @@ class PlyEmitter {
       end_line();
     }
     for (const Tri& t : mesh.triangles) {
-      if (format_ == PlyFormat::ascii) {
+      if (format_ == PlyFormat::kAscii) {
         fmt::format_to(std::back_inserter(buf_), "3 {} {} {}\n", t[0], t[1], t[2]);
       } else {
         buf_.push_back(3);
@@ -83,8 +83,8 @@ class PlyEmitter {
 
  private:
   void header(const TriMesh& mesh) {
-    const char* fmt_name = format_ == PlyFormat::ascii                  ? "ascii"
-                           : format_ == PlyFormat::binary_little_endian ? "binary_little_endian"
+    const char* fmt_name = format_ == PlyFormat::kAscii                  ? "ascii"
+                           : format_ == PlyFormat::kBinaryLittleEndian ? "binary_little_endian"
                                                                         : "binary_big_endian";
     buf_ += fmt::format("ply\nformat {} 1.0\n", fmt_name);
     buf_ += "comment written by inhap; units: positions mm, stiffness N/mm\n";
@@ -99,7 +99,7 @@ class PlyEmitter {
   }
 
   void value(double v, bool first) {
-    if (format_ == PlyFormat::ascii) {
+    if (format_ == PlyFormat::kAscii) {
       if (!first) buf_.push_back(' ');
       fmt::format_to(std::back_inserter(buf_), "{}", v);  // shortest exact round-trip form
     } else {
@@ -109,7 +109,7 @@ class PlyEmitter {
 
   template <class U>
   void raw(U u) {
-    const bool big = format_ == PlyFormat::binary_big_endian;
+    const bool big = format_ == PlyFormat::kBinaryBigEndian;
     if (big != (std::endian::native == std::endian::big)) {
       if constexpr (sizeof(U) == 4) u = __builtin_bswap32(u);
       if constexpr (sizeof(U) == 8) u = __builtin_bswap64(u);
@@ -120,7 +120,7 @@ class PlyEmitter {
   }
 
   void end_line() {
-    if (format_ == PlyFormat::ascii) buf_.push_back('\n');
+    if (format_ == PlyFormat::kAscii) buf_.push_back('\n');
     maybe_flush();
   }
   void maybe_flush() {

@@ -3,10 +3,10 @@
 
 namespace inhap::haptics {
 
-ServoOutput step(const render::Model& model, render::State& state, render::Algorithm algorithm,
+ServoOutput step(const rendering::Model& model, rendering::State& state, rendering::Algorithm algorithm,
                  const ServoInput& input) noexcept {
   ServoOutput out;
-  out.force_n = render::step(model, state, input.p_mm, algorithm);
+  out.force_n = rendering::step(model, state, input.p_mm, algorithm);
   out.contact = state.collision;
   out.hip_mm = input.p_mm;
   out.ihip_mm = state.collision ? state.ihip.point : input.p_mm;

@@ -19,7 +19,7 @@
 namespace inhap::lab {
 
 const char* to_string(Physics p) {
-  return p == Physics::mujoco ? "mujoco" : "builtin";
+  return p == Physics::kMujoco ? "mujoco" : "builtin";
 }
 
 bool mujoco_represents(const Shape& shape) {
@@ -34,8 +34,8 @@ bool mujoco_represents(const Shape& shape) {
 }
 
 Physics physics_from_string(const std::string& s) {
-  if (s == "builtin") return Physics::builtin;
-  if (s == "mujoco") return Physics::mujoco;
+  if (s == "builtin") return Physics::kBuiltin;
+  if (s == "mujoco") return Physics::kMujoco;
   throw Error(fmt::format("expected physics 'builtin' or 'mujoco', got '{}'", s));
 }
 

@@ -22,7 +22,7 @@ using detail::min_jerk;
 using detail::smoothstep;
 
 struct Segment {
-  enum Kind { air_move, touch, press, slide, circle, lift } kind;
+  enum Kind { kAirMove, kTouch, kPress, kSlide, kCircle, kLift } kind;
   double duration = 0;  ///< s (touch and lift: time-out)
   Vec2 to = Vec2::Zero();
   double force = 0;  ///< reference force at the segment's end (press/slide/circle), N
@@ -147,10 +147,10 @@ class ExploreOperator final : public HandOperator {
     const double ramp = smoothstep(tau / std::min(0.3, s.duration));
     bool done = tau >= s.duration;
     switch (s.kind) {
-      case Segment::air_move:  // over the object (not through it) to above the next spot
+      case Segment::kAirMove:  // over the object (not through it) to above the next spot
         done = air_move(s, tau);
         break;
-      case Segment::touch:
+      case Segment::kTouch:
         depth_ += s.speed * dt_;
         if (perception_.force() > 0.08) {
           touching_ = true;
@@ -159,26 +159,26 @@ class ExploreOperator final : public HandOperator {
           done = true;
         } else if (depth_ > 40.0) {  // nothing there: give up this gesture
           queue_.clear();
-          queue_.push_back({Segment::lift, 2.0});
+          queue_.push_back({Segment::kLift, 2.0});
           seg_t0_ = t;
           return;
         }
         break;
-      case Segment::press:
+      case Segment::kPress:
         regulate(f_from_ + smoothstep(tau / s.duration) * (s.force - f_from_));
         break;
-      case Segment::slide:
+      case Segment::kSlide:
         cursor_ = seg_from_ + min_jerk(tau / s.duration) * (s.to - seg_from_);
         regulate(f_from_ + ramp * (s.force - f_from_));
         break;
-      case Segment::circle: {  // spiral out, circle, spiral back in: smooth at both ends
+      case Segment::kCircle: {  // spiral out, circle, spiral back in: smooth at both ends
         const double r = s.radius * smoothstep(tau / 0.4) * smoothstep((s.duration - tau) / 0.4);
         const double a = 2 * M_PI * s.freq * tau;
         cursor_ = seg_from_ + r * Vec2(std::cos(a), std::sin(a));
         regulate(f_from_ + ramp * (s.force - f_from_));
         break;
       }
-      case Segment::lift:
+      case Segment::kLift:
         touching_ = false;
         integ_ = 0;
         f_ref_ = 0;
@@ -199,22 +199,22 @@ class ExploreOperator final : public HandOperator {
   void add_slide(double force) {
     const Vec2 goal = slide_goal();
     const double v = rng_.uniform(8.0, 35.0);  // mean speed, mm/s
-    queue_.push_back({Segment::slide, std::max(0.4, (goal - cursor_).norm() / v), goal, force});
+    queue_.push_back({Segment::kSlide, std::max(0.4, (goal - cursor_).norm() / v), goal, force});
   }
 
   void add_circles(double force) {
     const double f = rng_.uniform(0.5, 1.5);
-    queue_.push_back({Segment::circle, rng_.uniform(1.5, 4.0) / f, Vec2::Zero(), force,
+    queue_.push_back({Segment::kCircle, rng_.uniform(1.5, 4.0) / f, Vec2::Zero(), force,
                       rng_.uniform(4.0, 10.0), f});
   }
 
   /// Lift (if touching), move above a new point (random unless given), touch, load to `force`.
   void add_approach(double force, double load_time, std::optional<Vec2> to = std::nullopt) {
-    if (touching_) queue_.push_back({Segment::lift, 2.0});
+    if (touching_) queue_.push_back({Segment::kLift, 2.0});
     const Vec2 xy = to ? *to : detail::random_in_region(rng_, scene_.region);
-    queue_.push_back({Segment::air_move, 0.0, xy, 0, 0, 0, rng_.uniform(100.0, 250.0)});
-    queue_.push_back({Segment::touch, 10.0, Vec2::Zero(), 0, 0, 0, rng_.uniform(15.0, 40.0)});
-    queue_.push_back({Segment::press, load_time, Vec2::Zero(), force});
+    queue_.push_back({Segment::kAirMove, 0.0, xy, 0, 0, 0, rng_.uniform(100.0, 250.0)});
+    queue_.push_back({Segment::kTouch, 10.0, Vec2::Zero(), 0, 0, 0, rng_.uniform(15.0, 40.0)});
+    queue_.push_back({Segment::kPress, load_time, Vec2::Zero(), force});
   }
 
   /// Coverage mode: a hexagonal grid over the region (lattice points up to half a cell outside
@@ -255,17 +255,17 @@ class ExploreOperator final : public HandOperator {
       add_approach(f_slide, rng_.uniform(0.3, 0.5), xy);
     } else {
       const double v = rng_.uniform(12.0, 35.0);
-      queue_.push_back({Segment::slide, std::max(0.3, (xy - cursor_).norm() / v), xy, f_slide});
+      queue_.push_back({Segment::kSlide, std::max(0.3, (xy - cursor_).norm() / v), xy, f_slide});
     }
     // Load, hold, unload: about 1.2 s at the default 2 s per spot (scaled with it, 0.4 s at least
     // for the load).
     const double deep = rng_.uniform(0.8, 0.95) * opt_.max_force;
     const double s = std::clamp(opt_.seconds_per_spot / 2.0, 0.5, 2.0);
     queue_.push_back(
-        {Segment::press, std::max(0.3, s * rng_.uniform(0.4, 0.7)), Vec2::Zero(), deep});
-    queue_.push_back({Segment::press, s * rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
+        {Segment::kPress, std::max(0.3, s * rng_.uniform(0.4, 0.7)), Vec2::Zero(), deep});
+    queue_.push_back({Segment::kPress, s * rng_.uniform(0.1, 0.3), Vec2::Zero(), deep});
     queue_.push_back(
-        {Segment::press, std::max(0.2, s * rng_.uniform(0.25, 0.4)), Vec2::Zero(), f_slide});
+        {Segment::kPress, std::max(0.2, s * rng_.uniform(0.25, 0.4)), Vec2::Zero(), f_slide});
     // Now and then a long stroke at the usual random speed (8-35 mm/s mean: the random
     // exploration's strokes cross the region fast), from which the next spot is reached.
     if (rng_.uniform() < opt_.stroke_probability)
@@ -288,11 +288,11 @@ class ExploreOperator final : public HandOperator {
     if (pick < 0.3) {  // push
       const double f = rng_.uniform(1.0, std::min(4.0, opt_.max_force));
       add_approach(f, rng_.uniform(0.3, 0.8));
-      queue_.push_back({Segment::press, rng_.uniform(0.2, 0.8), Vec2::Zero(), f});
+      queue_.push_back({Segment::kPress, rng_.uniform(0.2, 0.8), Vec2::Zero(), f});
     } else if (pick < 0.45) {  // deep push
       const double f = rng_.uniform(0.8, 0.95) * opt_.max_force;
       add_approach(f, rng_.uniform(0.6, 1.2));
-      queue_.push_back({Segment::press, rng_.uniform(0.3, 1.0), Vec2::Zero(), f});
+      queue_.push_back({Segment::kPress, rng_.uniform(0.3, 1.0), Vec2::Zero(), f});
     } else if (pick < 0.75) {  // stroke (and sometimes back)
       const double f = rng_.uniform(0.5, 3.0);
       add_approach(f, rng_.uniform(0.3, 0.5));
@@ -303,8 +303,8 @@ class ExploreOperator final : public HandOperator {
       add_approach(f, rng_.uniform(0.3, 0.5));
       add_circles(f);
     }
-    queue_.push_back({Segment::press, rng_.uniform(0.3, 0.6), Vec2::Zero(), 0.1});
-    queue_.push_back({Segment::lift, 2.0});
+    queue_.push_back({Segment::kPress, rng_.uniform(0.3, 0.6), Vec2::Zero(), 0.1});
+    queue_.push_back({Segment::kLift, 2.0});
   }
 
   Scene scene_;

@@ -41,7 +41,7 @@ class TapOperator final : public HandOperator {
   }
 
  private:
-  enum class Phase { transit, approach, dwell, retract, pause };
+  enum class Phase { kTransit, kApproach, kDwell, kRetract, kPause };
 
   /// Whole-object mode: the reachable surface samples the spots come from.
   void init_spots() {
@@ -119,7 +119,7 @@ class TapOperator final : public HandOperator {
     if (!opt_.whole_object && !approach_is_clear(spot.center, h0 + retract)) u_ = Vec3::UnitZ();
     start_ = spot.center + h0 * u_;
     retract_to_ = start_ + retract * u_;
-    phase_ = Phase::transit;
+    phase_ = Phase::kTransit;
     t0_ = t;
     const double speed = rng_.uniform(150.0, 350.0);
     if (opt_.whole_object) {
@@ -192,31 +192,31 @@ class TapOperator final : public HandOperator {
   void update(double t) {
     const double tau = t - t0_;
     switch (phase_) {
-      case Phase::transit:
+      case Phase::kTransit:
         target_ = path_.at(tau);
-        if (tau >= path_.duration()) phase_ = Phase::approach, t0_ = t;
+        if (tau >= path_.duration()) phase_ = Phase::kApproach, t0_ = t;
         break;
-      case Phase::retract:
+      case Phase::kRetract:
         target_ = from_ + min_jerk(tau / duration_) * (to_ - from_);
         if (tau >= duration_)
-          phase_ = Phase::pause, t0_ = t,
+          phase_ = Phase::kPause, t0_ = t,
           duration_ = opt_.whole_object ? rng_.uniform(0.02, 0.12) : rng_.uniform(0.05, 0.3);
         break;
-      case Phase::approach: {
+      case Phase::kApproach: {
         bool finished;
         target_ = start_ - approach_path(tau, finished) * u_;
         if (perception_.force() > 1.4 * peak_ + 0.3) {  // felt too hard: pull back now
-          begin_move(t, Phase::retract, retract_to_, retract_s());
+          begin_move(t, Phase::kRetract, retract_to_, retract_s());
         } else if (finished) {
-          phase_ = Phase::dwell, t0_ = t,
+          phase_ = Phase::kDwell, t0_ = t,
           duration_ = opt_.whole_object ? rng_.uniform(0.03, 0.12) : rng_.uniform(0.05, 0.25);
         }
         break;
       }
-      case Phase::dwell:
-        if (tau >= duration_) begin_move(t, Phase::retract, retract_to_, retract_s());
+      case Phase::kDwell:
+        if (tau >= duration_) begin_move(t, Phase::kRetract, retract_to_, retract_s());
         break;
-      case Phase::pause:
+      case Phase::kPause:
         if (tau >= duration_) plan_next(t);
         break;
     }
@@ -229,7 +229,7 @@ class TapOperator final : public HandOperator {
   detail::Perception perception_;
   HandParams hand_;
   double radius_ = 0;
-  Phase phase_ = Phase::pause;
+  Phase phase_ = Phase::kPause;
   double t0_ = 0, duration_ = 0;
   Vec3 target_ = Vec3::Zero(), from_ = Vec3::Zero(), to_ = Vec3::Zero();
   Vec3 start_ = Vec3::Zero(), retract_to_ = Vec3::Zero(), u_ = Vec3::UnitZ();

@@ -138,7 +138,7 @@ std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& s
                       setup.op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
                                               ? std::string(" (whole object)")
                                               : std::string()),
-                      spec.seconds, spec.seed, spec.probe.kind == ProbeKind::tip ? "tip" : "sphere",
+                      spec.seconds, spec.seed, spec.probe.kind == ProbeKind::kTip ? "tip" : "sphere",
                       spec.probe.radius_mm, to_string(spec.physics)),
           fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
                       "gravity {}, inertia {}",

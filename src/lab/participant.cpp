@@ -13,11 +13,11 @@
 
 namespace inhap::lab {
 
-using render::Label;
-using render::SceneInfo;
-using render::ShapeClass;
-using render::StiffnessClass;
-using render::Task;
+using rendering::Label;
+using rendering::SceneInfo;
+using rendering::ShapeClass;
+using rendering::StiffnessClass;
+using rendering::Task;
 
 ParticipantProfile sample_participant(std::uint64_t seed) {
   Rng rng(seed ^ 0x7a5c0ffee1234567ull);
@@ -319,7 +319,7 @@ void VirtualParticipant::Impl::judge(int cell) {
       double mean = 0;
       for (double c : e.stroke_contrast_mm) mean += c;
       mean /= double(e.stroke_contrast_mm.size());
-      value = static_cast<int>(render::classify_height_contrast(mean, prof.shape.threshold_mm));
+      value = static_cast<int>(rendering::classify_height_contrast(mean, prof.shape.threshold_mm));
     }
   } else {
     if (e.k_centre.empty() || e.k_surround.empty() || lapse) {

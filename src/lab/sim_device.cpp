@@ -55,7 +55,7 @@ SimDevice::SimDevice(SoftObject object, DeviceParams params)
   info_.gravity_mm_s2 = params_.gravity_mm_s2;
   info_.sensor_rotation = Mat3::Identity();
   info_.probe_radius_mm = params_.probe.radius_mm;
-  if (params_.physics == Physics::mujoco) {
+  if (params_.physics == Physics::kMujoco) {
     info_.name = "inhap virtual lab: simulated 3-DOF device, MuJoCo contact";
     mujoco_ = std::make_unique<MujocoContact>(object_, params_.probe.radius_mm,
                                               1.0 / (params_.servo_rate_hz * params_.substeps),

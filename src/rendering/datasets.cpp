@@ -12,7 +12,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/heightmap.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 const char* to_string(ShapeClass c) {
   switch (c) {
@@ -298,4 +298,4 @@ TriMesh afm_like_surface(std::uint64_t seed, int n, double size_mm) {
   return grid_to_mesh(h, spacing, &k);
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

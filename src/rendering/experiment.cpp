@@ -11,7 +11,7 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 const char* to_string(Task t) {
   return t == Task::kShape ? "shape" : "stiffness";
@@ -235,4 +235,4 @@ StudySummary summarize(const std::vector<TrialResult>& results) {
   return s;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

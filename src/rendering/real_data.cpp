@@ -17,7 +17,7 @@
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/geometry/volume.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 namespace {
 
@@ -262,4 +262,4 @@ std::vector<RealDataset> load_real_datasets(const std::string& dir, const RealDa
   return out;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

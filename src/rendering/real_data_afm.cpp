@@ -12,7 +12,7 @@
 #include "inhap/geometry/heightmap.hpp"
 #include "inhap/rendering/real_data.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 namespace {
 
@@ -202,4 +202,4 @@ RealDataset load_afm(const std::string& top_path, const RealDataOptions& o) {
   return ds;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

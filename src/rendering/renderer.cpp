@@ -12,7 +12,7 @@
 #include "inhap/core/error.hpp"
 #include "surface_walk.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 namespace {
 
@@ -279,4 +279,4 @@ Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm) 
   return force;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

@@ -15,7 +15,7 @@
 #include "inhap/geometry/mesh_index.hpp"
 #include "inhap/rendering/real_data.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 namespace {
 
@@ -83,4 +83,4 @@ TriMesh simplify_mesh(const TriMesh& mesh, std::size_t target_triangles) {
   return out;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

@@ -10,7 +10,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 namespace {
 
@@ -125,4 +125,4 @@ std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorith
   return out;
 }
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

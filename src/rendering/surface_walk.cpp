@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace inhap::render::detail {
+namespace inhap::rendering::detail {
 
 namespace {
 
@@ -190,4 +190,4 @@ WalkResult local_closest(const TriMesh& mesh, const MeshAdjacency& adj, std::int
   return out;
 }
 
-}  // namespace inhap::render::detail
+}  // namespace inhap::rendering::detail

@@ -8,7 +8,7 @@
 #include "inhap/geometry/mesh_index.hpp"
 #include "inhap/geometry/trimesh.hpp"
 
-namespace inhap::render::detail {
+namespace inhap::rendering::detail {
 
 /// Voronoi region of a triangle's closest point: interior, a vertex (its corner 0..2) or an edge
 /// (edge e runs from corner e to corner (e+1)%3, the numbering of MeshAdjacency::face_neighbors).
@@ -38,4 +38,4 @@ struct WalkResult {
 WalkResult local_closest(const TriMesh& mesh, const MeshAdjacency& adj, std::int32_t start,
                          const Vec3& p, std::uint32_t max_steps);
 
-}  // namespace inhap::render::detail
+}  // namespace inhap::rendering::detail

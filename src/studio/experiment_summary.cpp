@@ -39,12 +39,12 @@ long to_long(const std::string& s, const std::string& file, std::size_t line, co
 
 }  // namespace
 
-std::vector<render::TrialResult> read_answers(const fs::path& csv) {
+std::vector<rendering::TrialResult> read_answers(const fs::path& csv) {
   const std::string file = csv.string();
   std::ifstream in(csv);
   if (!in) throw IoError(file, "cannot open");
   using Key = std::tuple<int, int, int, int>;  // participant, task, session, trial
-  std::map<Key, render::TrialResult> trials;
+  std::map<Key, rendering::TrialResult> trials;
   std::string line;
   std::size_t n = 0;
   while (std::getline(in, line)) {
@@ -54,27 +54,27 @@ std::vector<render::TrialResult> read_answers(const fs::path& csv) {
     if (f.size() != 12)
       throw ParseError(file, n,
                        fmt::format("expected 12 comma-separated fields, got {}", f.size()));
-    render::TrialSpec spec;
+    rendering::TrialSpec spec;
     spec.participant = int(to_long(f[0], file, n, "participant"));
     spec.session = int(to_long(f[1], file, n, "session"));
     spec.trial = int(to_long(f[2], file, n, "trial"));
-    if (f[3] != render::to_string(render::Algorithm::kTCA) &&
-        f[3] != render::to_string(render::Algorithm::kCBA))
+    if (f[3] != rendering::to_string(rendering::Algorithm::kTCA) &&
+        f[3] != rendering::to_string(rendering::Algorithm::kCBA))
       throw ParseError(file, n,
                        fmt::format("expected an algorithm name, got \"{}\"", f[3].substr(0, 40)));
-    spec.algorithm = f[3] == render::to_string(render::Algorithm::kTCA) ? render::Algorithm::kTCA
-                                                                        : render::Algorithm::kCBA;
-    if (f[4] != render::to_string(render::Task::kShape) &&
-        f[4] != render::to_string(render::Task::kStiffness))
+    spec.algorithm = f[3] == rendering::to_string(rendering::Algorithm::kTCA) ? rendering::Algorithm::kTCA
+                                                                        : rendering::Algorithm::kCBA;
+    if (f[4] != rendering::to_string(rendering::Task::kShape) &&
+        f[4] != rendering::to_string(rendering::Task::kStiffness))
       throw ParseError(file, n,
                        fmt::format("expected a task name, got \"{}\"", f[4].substr(0, 40)));
-    spec.task = f[4] == render::to_string(render::Task::kShape) ? render::Task::kShape
-                                                                : render::Task::kStiffness;
+    spec.task = f[4] == rendering::to_string(rendering::Task::kShape) ? rendering::Task::kShape
+                                                                : rendering::Task::kStiffness;
     const long model = to_long(f[7], file, n, "model");
     const long label = to_long(f[8], file, n, "label");
-    if (model < 1 || model > render::kNumModels)
+    if (model < 1 || model > rendering::kNumModels)
       throw ParseError(file, n,
-                       fmt::format("expected a model 1-{}, got {}", render::kNumModels, model));
+                       fmt::format("expected a model 1-{}, got {}", rendering::kNumModels, model));
     if (label < 0 || label > 2)
       throw ParseError(file, n, fmt::format("expected a label 0-2, got {}", label));
     const Key key{spec.participant, int(spec.task), spec.session, spec.trial};
@@ -85,12 +85,12 @@ std::vector<render::TrialResult> read_answers(const fs::path& csv) {
     }
     it->second.answer[static_cast<std::size_t>(model - 1)] = int(label);  // the last label counts
   }
-  std::vector<render::TrialResult> out;
+  std::vector<rendering::TrialResult> out;
   for (auto& [key, r] : trials) {
     r.correct = 0;
-    for (int m = 0; m < render::kNumModels; ++m) {
-      const int truth = r.spec.task == render::Task::kShape ? int(render::true_shape_class(m))
-                                                            : int(render::true_stiffness_class(m));
+    for (int m = 0; m < rendering::kNumModels; ++m) {
+      const int truth = r.spec.task == rendering::Task::kShape ? int(rendering::true_shape_class(m))
+                                                            : int(rendering::true_stiffness_class(m));
       r.correct += r.answer[static_cast<std::size_t>(m)] == truth;
     }
     out.push_back(r);
@@ -99,7 +99,7 @@ std::vector<render::TrialResult> read_answers(const fs::path& csv) {
 }
 
 nlohmann::json summarize_answers(const fs::path& folder) {
-  std::vector<render::TrialResult> all;
+  std::vector<rendering::TrialResult> all;
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(folder)) {
     const std::string name = e.path().filename().string();
@@ -110,14 +110,14 @@ nlohmann::json summarize_answers(const fs::path& folder) {
     for (auto& r : read_answers(e.path())) all.push_back(std::move(r));
   }
   std::sort(files.begin(), files.end());
-  const render::StudySummary s = render::summarize(all);
+  const rendering::StudySummary s = rendering::summarize(all);
   nlohmann::json conditions = nlohmann::json::array();
   for (const auto& c : s.conditions) {
     std::vector<int> below;
-    for (int m = 0; m < render::kNumModels; ++m)
+    for (int m = 0; m < rendering::kNumModels; ++m)
       if (c.model_ratio[static_cast<std::size_t>(m)] < 0.5) below.push_back(m + 1);
-    conditions.push_back({{"algorithm", render::to_string(c.algorithm)},
-                          {"task", render::to_string(c.task)},
+    conditions.push_back({{"algorithm", rendering::to_string(c.algorithm)},
+                          {"task", rendering::to_string(c.task)},
                           {"trials", c.trials},
                           {"mean", c.mean},
                           {"sd_participants", c.sd_participants},

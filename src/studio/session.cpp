@@ -21,7 +21,7 @@ struct Session::Rig {
   Device* device = nullptr;
   TargetMailbox mailbox;
   MouseOperator* mouse = nullptr;
-  std::unique_ptr<render::Model> model;
+  std::unique_ptr<rendering::Model> model;
   std::unique_ptr<haptics::Renderer> renderer;
   haptics::ObserverRing ring;
   std::unique_ptr<haptics::ServoLoop> loop;
@@ -77,7 +77,7 @@ Session::Session(const StudioOptions& options, const Workspace& workspace, Broad
   if (!(options_.speed >= 0.1 && options_.speed <= 20))
     throw Error("--speed: expected 0.1-20 simulated seconds per second");
   explore_name_ = "study25";
-  explore_mesh_ = render::StudySurface(render::DatasetParams{}, render::identity_layout()).mesh();
+  explore_mesh_ = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout()).mesh();
 }
 
 Session::~Session() {
@@ -144,8 +144,8 @@ void Session::start_rig(const std::string& mode) {
     rig->renderer = std::make_unique<haptics::NullRenderer>();
   } else {
     const TriMesh& mesh = mode == "experiment" && surface_ ? surface_->mesh() : explore_mesh_;
-    rig->model = std::make_unique<render::Model>(mesh, render::Params{});
-    const render::Algorithm alg = mode == "experiment" && trial_ < schedule_.size()
+    rig->model = std::make_unique<rendering::Model>(mesh, rendering::Params{});
+    const rendering::Algorithm alg = mode == "experiment" && trial_ < schedule_.size()
                                       ? schedule_[trial_].algorithm
                                       : algorithm_;
     rig->renderer = std::make_unique<haptics::MeshRenderer>(*rig->model, alg);

@@ -276,7 +276,7 @@ std::string Session::do_open_mesh(const Message& m) {
   std::string name = source;
   std::shared_ptr<DataDrivenBundle> dd;
   if (source == "study25") {
-    mesh = render::StudySurface(render::DatasetParams{}, render::identity_layout()).mesh();
+    mesh = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout()).mesh();
   } else if (source == "workspace") {
     const auto path = workspace_.resolve(get_string(m, "path"));
     mesh = read_mesh(path.string());
@@ -290,7 +290,7 @@ std::string Session::do_open_mesh(const Message& m) {
     const auto shape = workspace_.resolve(get_string(m, "shape"));
     const double radius = get_number_or(m, "probe_radius", 0, 50, 0);
     mesh = read_mesh(shape.string());
-    dd = std::make_shared<DataDrivenBundle>(dd::load_force_model(model.string()),
+    dd = std::make_shared<DataDrivenBundle>(datadriven::load_force_model(model.string()),
                                             friction::read_sys_json(sys.string()), mesh, radius);
     name = model.filename().string();
   }
@@ -309,7 +309,7 @@ std::string Session::do_open_mesh(const Message& m) {
   j["faces_rendered"] = explore_mesh_.num_triangles();
   j["name"] = name;
   j["algorithm"] = data_driven_                            ? "data-driven"
-                   : algorithm_ == render::Algorithm::kTCA ? "tca"
+                   : algorithm_ == rendering::Algorithm::kTCA ? "tca"
                                                            : "cba";
   return j.dump();
 }
@@ -320,7 +320,7 @@ std::string Session::do_algorithm(const Message& m) {
     throw ProtocolError(
         "algorithm: the open model is data-driven; open a mesh with a stiffness map for TCA-MESH "
         "or CBA");
-  algorithm_ = a == "tca" ? render::Algorithm::kTCA : render::Algorithm::kCBA;
+  algorithm_ = a == "tca" ? rendering::Algorithm::kTCA : rendering::Algorithm::kCBA;
   if (mode() == "explore") {
     stop_rig();
     start_rig("explore");
@@ -331,9 +331,9 @@ std::string Session::do_algorithm(const Message& m) {
 // --- experiment ------------------------------------------------------------------------------
 
 std::string Session::trial_json() const {
-  const render::TrialSpec& s = schedule_[trial_];
+  const rendering::TrialSpec& s = schedule_[trial_];
   nlohmann::json centres = nlohmann::json::array();
-  for (int c = 0; c < render::kNumModels; ++c)
+  for (int c = 0; c < rendering::kNumModels; ++c)
     centres.push_back({surface_->cell_centre(c).x(), surface_->cell_centre(c).y()});
   return nlohmann::json{{"type", "trial"},
                         {"participant", participant_},
@@ -341,26 +341,26 @@ std::string Session::trial_json() const {
                         {"trials", schedule_.size()},
                         {"session", s.session},
                         {"trial", s.trial},
-                        {"task", render::to_string(s.task)},
+                        {"task", rendering::to_string(s.task)},
                         {"centres", centres},
                         {"cell_mm", surface_->params().cell_mm},
                         {"size_mm", surface_->params().cell_mm * surface_->params().cells},
-                        {"highlight_mm", render::ProtocolConfig{}.highlight_radius_mm},
+                        {"highlight_mm", rendering::ProtocolConfig{}.highlight_radius_mm},
                         {"answered", trial_answers_}}
       .dump();
 }
 
 std::string Session::do_experiment(const Message& m) {
   const int participant = static_cast<int>(get_integer(m, "participant", 0, 999));
-  render::StudyConfig sc;
+  rendering::StudyConfig sc;
   sc.participants = participant + 1;
   sc.seed = options_.seed;
-  schedule_ = render::participant_schedule(sc, participant);
+  schedule_ = rendering::participant_schedule(sc, participant);
   participant_ = participant;
   trial_ = 0;
   answers_.clear();
   trial_answers_.fill(-1);
-  surface_.emplace(render::DatasetParams{}, render::shuffled_layout(schedule_[0].layout_seed));
+  surface_.emplace(rendering::DatasetParams{}, rendering::shuffled_layout(schedule_[0].layout_seed));
   stop_rig();
   start_rig("experiment");
   write_answers();
@@ -376,19 +376,19 @@ std::string Session::do_answer(const Message& m) {
     if (!have_latest_) throw ProtocolError("answer: no probe position yet");
     hip = latest_.out.hip_mm;
   }
-  const double r = render::ProtocolConfig{}.highlight_radius_mm;
+  const double r = rendering::ProtocolConfig{}.highlight_radius_mm;
   const int cell = surface_->cell_at(hip.x(), hip.y());
   if (cell < 0 || (surface_->cell_centre(cell) - hip.head<2>()).norm() > r)
     throw ProtocolError(
         fmt::format("answer: the probe is at no model (within {:g} mm of a centre)", r));
-  const render::TrialSpec& spec = schedule_[trial_];
+  const rendering::TrialSpec& spec = schedule_[trial_];
   Answer a;
   a.spec = spec;
   a.cell = cell;
   a.model = surface_->layout().model_at_cell[static_cast<std::size_t>(cell)];
   a.value = value;
-  a.truth = spec.task == render::Task::kShape ? int(render::true_shape_class(a.model))
-                                              : int(render::true_stiffness_class(a.model));
+  a.truth = spec.task == rendering::Task::kShape ? int(rendering::true_shape_class(a.model))
+                                              : int(rendering::true_stiffness_class(a.model));
   a.t_s = latest_.t_s;
   answers_.push_back(a);
   trial_answers_[static_cast<std::size_t>(cell)] = value;
@@ -401,7 +401,7 @@ std::string Session::do_next_trial() {
   if (trial_ + 1 >= schedule_.size()) throw ProtocolError("next_trial: this was the last trial");
   ++trial_;
   trial_answers_.fill(-1);
-  surface_.emplace(render::DatasetParams{}, render::shuffled_layout(schedule_[trial_].layout_seed));
+  surface_.emplace(rendering::DatasetParams{}, rendering::shuffled_layout(schedule_[trial_].layout_seed));
   stop_rig();
   start_rig("experiment");
   return trial_json();
@@ -415,8 +415,8 @@ void Session::write_answers() const {
       "participant,session,trial,algorithm,task,layout_seed,cell,model,label,truth,correct,t\n";
   for (const Answer& a : answers_)
     out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{:.3f}\n", participant_, a.spec.session,
-                       a.spec.trial, render::to_string(a.spec.algorithm),
-                       render::to_string(a.spec.task), a.spec.layout_seed, a.cell, a.model + 1,
+                       a.spec.trial, rendering::to_string(a.spec.algorithm),
+                       rendering::to_string(a.spec.task), a.spec.layout_seed, a.cell, a.model + 1,
                        a.value, a.truth, a.value == a.truth ? 1 : 0, a.t_s);
   write_file_atomic(path.string(), out);
 }

@@ -225,7 +225,7 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
   rep.points_used = pts.size();
 
   TriMesh soup;
-  if (o.mode == SurfaceMode::Solid) {
+  if (o.mode == SurfaceMode::kSolid) {
     AlphaShapeOptions ao;
     ao.alpha = o.alpha;
     AlphaShapeResult as = alpha_shape(pts, ao);
@@ -236,12 +236,12 @@ TriMesh reconstruct_surface(std::span<const Vec3> points, std::span<const Vec3> 
     soup = shell_surface(pts, dirs, o, rep);
   }
   ManifoldReport mr;
-  const bool patches = o.mode == SurfaceMode::Shell && o.patches;
+  const bool patches = o.mode == SurfaceMode::kShell && o.patches;
   TriMesh mesh = make_manifold(soup, !patches, &mr, patches ? o.min_patch_faces : 0);
   rep.duplicated_vertices = mr.duplicated_vertices;
   rep.components_dropped = mr.components - mr.kept_components;
   rep.components = mr.kept_components;
-  if (o.mode == SurfaceMode::Shell) rep.holes_filled = close_small_holes(mesh, pts, dirs, o);
+  if (o.mode == SurfaceMode::kShell) rep.holes_filled = close_small_holes(mesh, pts, dirs, o);
   taubin_smooth(mesh, o.taubin_iterations, o.taubin_lambda, o.taubin_mu);
   mesh = sqrt3_subdivide(mesh, o.subdivisions);
   if (o.final_projection && o.jet_k > 0 && pts.size() > o.jet_k) {

@@ -57,7 +57,7 @@ TEST(Detector, ThresholdErrorIsEpsOverStiffnessAndEstimationRemovesIt) {
   // Soft surface 0.1 N/mm: thresholding at 0.2 N detects 2 mm deep.
   const Synthetic s = tapping(10, 0.1, 40.0, 0.003, 3);
   ContactOptions est, thr;
-  thr.method = ContactMethod::Threshold;
+  thr.method = ContactMethod::kThreshold;
   const auto a = detect_contacts(s.t, s.p, s.f, est);
   const auto b = detect_contacts(s.t, s.p, s.f, thr);
   ASSERT_EQ(a.size(), 10u);
@@ -92,7 +92,7 @@ TEST(Detector, TapTooCloseToTheStartFallsBackToThresholding) {
   // The recording starts 4 samples before the first detection: no window for the knee fit.
   const Synthetic s = tapping(2, 0.1, 40.0, 0.003, 6);
   ContactOptions thr;
-  thr.method = ContactMethod::Threshold;
+  thr.method = ContactMethod::kThreshold;
   const std::size_t cut = detect_contacts(s.t, s.p, s.f, thr).front().detect_index - 4;
   const auto from = static_cast<std::ptrdiff_t>(cut);
   const std::vector<double> t(s.t.begin() + from, s.t.end());

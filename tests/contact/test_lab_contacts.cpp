@@ -51,8 +51,8 @@ TEST(LabContacts, EstimationBeatsThresholdingOnSoftObjects) {
   for (const std::string scene : {"sponge", "silicone-hemisphere"}) {
     const lab::LabRecording rec = tapping(scene, 40.0, 11);
     ContactOptions est, thr;
-    thr.method = ContactMethod::Threshold;
-    for (ForceSource src : {ForceSource::Raw, ForceSource::Recorded}) {
+    thr.method = ContactMethod::kThreshold;
+    for (ForceSource src : {ForceSource::kRaw, ForceSource::kRecorded}) {
       long taps = 0, false_est = 0, false_thr = 0;
       const auto e = errors(rec, est, src, taps, false_est);
       const auto t = errors(rec, thr, src, taps, false_thr);
@@ -67,8 +67,8 @@ TEST(LabContacts, EstimationBeatsThresholdingOnSoftObjects) {
 
 TEST(LabContacts, OfflineCompensationFindsTheToolMass) {
   const lab::LabRecording rec = tapping("foam-ball", 20.0, 5);
-  const TappingResult r = contacts_from_recording(rec.rec, {}, ForceSource::Auto);
-  EXPECT_EQ(r.source, ForceSource::Raw);
+  const TappingResult r = contacts_from_recording(rec.rec, {}, ForceSource::kAuto);
+  EXPECT_EQ(r.source, ForceSource::kRaw);
   // The lab's tool: 10 g beyond the sensor (DeviceParams::tool_mass_kg).
   EXPECT_NEAR(r.compensation.mass_kg, 0.01, 0.001);
   EXPECT_NEAR(r.compensation.offset.z(), -0.01 * 9.81, 0.005);
@@ -80,7 +80,7 @@ TEST(LabContacts, FreeMotionGivesNoContact) {
   spec.probe = lab::ProbeSpec::tip();
   spec.seconds = 10.0;
   const lab::LabRecording rec = lab::record_scene(lab::builtin_scene("foam-ball"), spec);
-  const TappingResult r = contacts_from_recording(rec.rec, {}, ForceSource::Auto);
+  const TappingResult r = contacts_from_recording(rec.rec, {}, ForceSource::kAuto);
   EXPECT_TRUE(r.contacts.empty());
   ASSERT_FALSE(r.notes.empty());
   EXPECT_NE(r.notes.back().find("no contact found"), std::string::npos);

@@ -15,7 +15,7 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/synthetic.hpp"
 
-namespace inhap::dd::test {
+namespace inhap::datadriven::test {
 
 /// In-contact samples of a synthetic recording; `truth` receives the noise-free forces.
 inline TrainingSet synthetic_set(std::uint64_t seed, std::size_t samples,
@@ -130,4 +130,4 @@ inline ForceModel expect_same_force_after_save(const ForceModel& m, const Vec3& 
   return back;
 }
 
-}  // namespace inhap::dd::test
+}  // namespace inhap::datadriven::test

@@ -18,7 +18,7 @@
 #include "inhap/datadriven/synthetic.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 // A synthetic recording pushed deep enough that its forces reach about 10 N and more.
@@ -138,4 +138,4 @@ TEST(AboveRange, ModelTrainReportsTenNewtonPushes) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

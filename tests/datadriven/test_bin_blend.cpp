@@ -9,7 +9,7 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 const ForceModel& hard_model() {
@@ -77,4 +77,4 @@ TEST(BinBlend, SurvivesSaveAndLoadBitForBit) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

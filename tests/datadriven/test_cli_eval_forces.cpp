@@ -9,7 +9,7 @@
 #include "inhap/core/atomic_file.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 TEST(CliEvalForces, QuickReportHasAllFieldsAndTheProxyHelpsOnSliding) {
@@ -44,4 +44,4 @@ TEST(CliEvalForces, QuickReportHasAllFieldsAndTheProxyHelpsOnSliding) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -9,7 +9,7 @@
 #include "inhap/datadriven/synthetic.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 int run(const std::string& args, const std::string& log) {
@@ -176,4 +176,4 @@ TEST(CliModel, MissingProxyColumnsIsAnError) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -7,7 +7,7 @@
 #include "inhap/datadriven/coverage.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 // Proxies along the x axis from 0 to 30 mm (one every 0.1 mm) with |f| = x / 10 N.
@@ -58,9 +58,9 @@ TEST(Coverage, FileRoundTripAndBadInput) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 TEST(Coverage, GapsAreTheLargestUnvisitedAreasLargestFirst) {
@@ -86,4 +86,4 @@ TEST(Coverage, GapsAreTheLargestUnvisitedAreasLargestFirst) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -12,7 +12,7 @@
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/model_io.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 // A law that stiffens with depth (not a power law): f = 0.4 d + 0.15 d^2 + 0.02 d^3, N.
@@ -125,4 +125,4 @@ TEST(Fallback, FarFromTheTrainingProxiesTheModelRendersTheRecordingsLaw) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

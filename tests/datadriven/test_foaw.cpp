@@ -7,7 +7,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/foaw.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 double quantise(double y, double q) {
@@ -25,13 +25,13 @@ SineRun run_sine(double amp, double hz, double q, const FoawParams& prm) {
   double sf = 0, sd = 0, prev = 0;
   int n = 0;
   for (int k = 0; k < 5000; ++k) {
-    const double t = k * prm.dt;
+    const double t = k * prm.dt_s;
     const double y = quantise(amp * std::sin(w * t), q);
     const Vec3 v = foaw_step(prm, st, Vec3(y, 0, 0));
     const double truth = amp * w * std::cos(w * t);
     if (k >= 100) {  // after the window has filled
       sf += (v.x() - truth) * (v.x() - truth);
-      const double fd = (y - prev) / prm.dt;
+      const double fd = (y - prev) / prm.dt_s;
       sd += (fd - truth) * (fd - truth);
       ++n;
     }
@@ -42,9 +42,9 @@ SineRun run_sine(double amp, double hz, double q, const FoawParams& prm) {
 
 TEST(Foaw, QuantisedSineWithinFivePercentOfVelocityAmplitude) {
   FoawParams prm;
-  prm.dt = 1e-3;
+  prm.dt_s = 1e-3;
   prm.max_window = 16;
-  prm.noise_bound = 0.01;
+  prm.noise_bound_mm = 0.01;
   for (double hz : {0.5, 1.0, 2.0, 4.0}) {  // 10 mm amplitude: 31 to 251 mm/s peak velocity
     const SineRun r = run_sine(10.0, hz, 0.01, prm);
     SCOPED_TRACE(hz);
@@ -59,11 +59,11 @@ TEST(Foaw, QuantisedSineWithinFivePercentOfVelocityAmplitude) {
 TEST(Foaw, ConstantVelocityIsExactAndUsesTheLongestWindow) {
   FoawParams prm;
   prm.max_window = 20;
-  prm.noise_bound = 1e-9;
+  prm.noise_bound_mm = 1e-9;
   FoawState st;
   const Vec3 v0(12.5, -3.0, 0.25);  // mm/s
   Vec3 v = Vec3::Zero();
-  for (int k = 0; k < 50; ++k) v = foaw_step(prm, st, Vec3(1, 2, 3) + v0 * (k * prm.dt));
+  for (int k = 0; k < 50; ++k) v = foaw_step(prm, st, Vec3(1, 2, 3) + v0 * (k * prm.dt_s));
   EXPECT_NEAR((v - v0).norm(), 0.0, 1e-6);
   for (int a = 0; a < 3; ++a) EXPECT_EQ(st.window[static_cast<std::size_t>(a)], 20);
 }
@@ -71,12 +71,12 @@ TEST(Foaw, ConstantVelocityIsExactAndUsesTheLongestWindow) {
 TEST(Foaw, WindowShrinksAtAVelocityStep) {
   FoawParams prm;
   prm.max_window = 30;
-  prm.noise_bound = 1e-6;
+  prm.noise_bound_mm = 1e-6;
   FoawState st;
   double y = 0;
   Vec3 v;
   for (int k = 0; k < 60; ++k) {  // 10 mm/s, then 50 mm/s from sample 40
-    y += (k < 40 ? 10.0 : 50.0) * prm.dt;
+    y += (k < 40 ? 10.0 : 50.0) * prm.dt_s;
     v = foaw_step(prm, st, Vec3(y, 0, 0));
     if (k == 45) {
       EXPECT_NEAR(v.x(), 50.0, 1e-3);  // only the post-step samples fit a line
@@ -101,13 +101,13 @@ TEST(Foaw, ValidateRejectsBadParameters) {
   p.max_window = kFoawMaxWindow;
   EXPECT_THROW(p.validate(), Error);
   p = FoawParams{};
-  p.dt = 0;
+  p.dt_s = 0;
   EXPECT_THROW(p.validate(), Error);
   p = FoawParams{};
-  p.noise_bound = -1;
+  p.noise_bound_mm = -1;
   EXPECT_THROW(p.validate(), Error);
   EXPECT_NO_THROW(FoawParams{}.validate());
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

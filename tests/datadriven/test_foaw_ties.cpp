@@ -4,7 +4,7 @@
 
 #include "inhap/datadriven/foaw.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 // Pushes y0, y1, y2 along x (1 kHz) and returns the state after the last one.
@@ -19,28 +19,28 @@ FoawState three_samples(double y0, double y1, double y2, const FoawParams& prm) 
 // (y_k - y_{k-1}) / T.
 TEST(FoawTies, DeviationEqualToTheBoundEndsTheWindow) {
   FoawParams prm;
-  prm.noise_bound = 0.01;
+  prm.noise_bound_mm = 0.01;
   const FoawState st = three_samples(0.0, 0.01, 0.0, prm);
   EXPECT_EQ(st.window[0], 1);
-  EXPECT_NEAR(st.velocity.x(), -0.01 / prm.dt, 1e-9);
+  EXPECT_NEAR(st.velocity.x(), -0.01 / prm.dt_s, 1e-9);
 }
 
 TEST(FoawTies, TieOfQuantisedPositionsAwayFromZeroEndsTheWindow) {
   // 5.01 - 5.00 is 0.00999999999999979 in doubles: still a tie with d = 0.01.
   FoawParams prm;
-  prm.noise_bound = 0.01;
+  prm.noise_bound_mm = 0.01;
   const FoawState st = three_samples(5.00, 5.01, 5.00, prm);
   EXPECT_EQ(st.window[0], 1);
-  EXPECT_NEAR(st.velocity.x(), -0.01 / prm.dt, 1e-6);
+  EXPECT_NEAR(st.velocity.x(), -0.01 / prm.dt_s, 1e-6);
 }
 
 TEST(FoawTies, DeviationBelowTheBoundKeepsTheWindow) {
   FoawParams prm;
-  prm.noise_bound = 0.01;
+  prm.noise_bound_mm = 0.01;
   const FoawState st = three_samples(0.0, 0.0099, 0.0, prm);
   EXPECT_EQ(st.window[0], 2);
   EXPECT_NEAR(st.velocity.x(), 0.0, 1e-9);
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

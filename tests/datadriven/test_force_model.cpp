@@ -10,7 +10,7 @@
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/datadriven/model_io.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 struct HeldOut {
@@ -177,7 +177,7 @@ TEST(ForceModel, GuardsNonFiniteAndLargeInputs) {
   for (double s : {50.0, 1e3, 1e6}) {
     const Vec3 f = model_force(m, Vec3(s, -s, -s), Vec3(s, s, s), Vec3(-s, s, 0));
     EXPECT_TRUE(f.allFinite());
-    EXPECT_LE(f.norm(), m.force_limit + 1e-12);
+    EXPECT_LE(f.norm(), m.force_limit_n + 1e-12);
   }
 }
 
@@ -196,4 +196,4 @@ TEST(ForceModel, RejectsBadParametersAndData) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

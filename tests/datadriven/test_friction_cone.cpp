@@ -13,7 +13,7 @@
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/model_io.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 using test::friction_law;
@@ -72,4 +72,4 @@ TEST(FrictionCone, NeedsLocalFeatures) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -7,7 +7,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/kmeans.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 TEST(KMeans, OneDimensionalTwoClusters) {
@@ -95,4 +95,4 @@ TEST(KMeans, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -10,7 +10,7 @@
 #include "inhap/datadriven/lasso.hpp"
 #include "inhap/datadriven/rbf.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 Eigen::MatrixXd random_matrix(int rows, int cols, Rng& rng) {
@@ -201,4 +201,4 @@ TEST(Lasso, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -7,7 +7,7 @@
 #include "dd_fixtures.hpp"
 #include "inhap/datadriven/model_io.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 ForceModel trained(L1Solver solver) {
@@ -58,4 +58,4 @@ TEST(LassoModel, FileKeepsTheStatisticsAndOldFilesLoad) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

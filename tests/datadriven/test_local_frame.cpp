@@ -11,7 +11,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/servo.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 TEST(LocalFrame, SurfaceFrameIsOrthonormalRightHandedAndKeepsTheNormal) {
@@ -120,4 +120,4 @@ TEST(LocalFrame, TrainingWithoutNormalsIsRejected) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -6,7 +6,7 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/metrics.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 TEST(Metrics, AbsoluteAndRelativeErrorUseTheMaxDenominator) {
@@ -69,4 +69,4 @@ TEST(Metrics, RejectsMismatchedInput) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

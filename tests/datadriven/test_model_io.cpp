@@ -12,7 +12,7 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "support/temp_dir.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 const ForceModel& model() {
@@ -127,4 +127,4 @@ TEST(ModelIo, FileDigestIsFnv1a) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

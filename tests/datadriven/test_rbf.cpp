@@ -6,7 +6,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/rbf.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 Eigen::MatrixXd random_points(int n, int d, std::uint64_t seed) {
@@ -69,4 +69,4 @@ TEST(Rbf, EvalMatchesMatrixProduct) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

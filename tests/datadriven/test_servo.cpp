@@ -11,7 +11,7 @@
 #include "inhap/datadriven/servo.hpp"
 #include "support/alloc_counter.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 const ForceModel& model() {
@@ -56,7 +56,7 @@ TEST(Servo, BoundedFarOutsideTheTrainingRange) {
     const Vec3 q = p + Vec3(rng.uniform(-80, 80), rng.uniform(-80, 80), rng.uniform(0, 80));
     const Vec3 f = servo_step(model(), st, p, q, true);  // also absurd velocities
     ASSERT_TRUE(f.allFinite());
-    ASSERT_LE(f.norm(), model().force_limit + 1e-12);
+    ASSERT_LE(f.norm(), model().force_limit_n + 1e-12);
   }
 }
 
@@ -108,4 +108,4 @@ TEST(Servo, EntryProxyHoldsTheContactOnsetPoint) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

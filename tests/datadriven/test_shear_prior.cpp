@@ -13,7 +13,7 @@
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/model_io.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 const Vec3 kSoft(-6.0, 3.0, 0.0);  // centre of the soft spot
@@ -118,4 +118,4 @@ TEST(ShearPrior, NeedsLocalFeaturesAndValidParameters) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

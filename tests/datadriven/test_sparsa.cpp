@@ -10,7 +10,7 @@
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/sparsa.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 Eigen::MatrixXd gaussian(int m, int n, std::uint64_t seed) {
@@ -187,4 +187,4 @@ TEST(CgDebias, ReachesTheOptimumOnAnRbfSupport) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

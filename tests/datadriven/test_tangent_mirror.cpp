@@ -15,7 +15,7 @@
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 using test::friction_law;  // k = 0.4 N/mm^1.5, mu = 0.8
@@ -88,4 +88,4 @@ TEST(SupportCheck, ExcessIsTheDistanceBeyondTheTrainingRangeInUnitsOfIt) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

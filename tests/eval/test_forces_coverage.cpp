@@ -11,7 +11,7 @@
 namespace inhap::eval {
 namespace {
 
-void add(lab::LabRecording& rec, dd::ProxyTrack& track, const Vec3& q, double f, bool contact) {
+void add(lab::LabRecording& rec, datadriven::ProxyTrack& track, const Vec3& q, double f, bool contact) {
   rec.rec.t.push_back(static_cast<double>(rec.rec.t.size()) * 1e-3);
   rec.rec.p.push_back(q);
   rec.rec.f.push_back(Vec3(0, 0, f));
@@ -30,7 +30,7 @@ TEST(ForcesCoverage, ShareOfTestSamplesOutsideTheTrainingPatch) {
   }
   const ForceCoverage c = training_coverage(d);
   EXPECT_DOUBLE_EQ(c.outside, 0.5);
-  EXPECT_DOUBLE_EQ(c.cell_mm, dd::CoverageParams{}.cell_mm);
+  EXPECT_DOUBLE_EQ(c.cell_mm, datadriven::CoverageParams{}.cell_mm);
   EXPECT_LE(c.gaps.size(), 5u);
 
   // A force far above what the patch saw is outside too, even on the patch.

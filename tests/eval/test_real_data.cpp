@@ -12,7 +12,7 @@
 #include "inhap/geometry/volume.hpp"
 #include "inhap/rendering/real_data.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 namespace {
 
 namespace fs = std::filesystem;
@@ -113,4 +113,4 @@ TEST(Simplify, ReachesTheTargetAndCarriesPropertiesOver) {
 }
 
 }  // namespace
-}  // namespace inhap::render
+}  // namespace inhap::rendering

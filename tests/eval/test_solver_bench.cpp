@@ -32,7 +32,7 @@ TEST(SolverBench, NormalisedProblemHasTheSameShapeAndUnknownNamesAreRejected) {
   SolverBenchOptions o;
   o.points = 300;
   o.centres = 30;
-  const dd::L1Problem p = make_l1_problem("r3_cube_normalised", o);
+  const datadriven::L1Problem p = make_l1_problem("r3_cube_normalised", o);
   EXPECT_EQ(p.a.rows(), 300);
   EXPECT_EQ(p.a.cols(), 30);
   EXPECT_THROW(make_l1_problem("r4_sphere", o), Error);

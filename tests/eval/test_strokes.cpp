@@ -14,13 +14,13 @@ namespace {
 
 constexpr double kHard = 1.0, kSoft = 0.25, kRadius = 10.0, kCentre = 30.0, kForce = 1.0;
 
-render::Model disc_model() {
+rendering::Model disc_model() {
   const int n = 61;  // 60 x 60 mm, 1 mm spacing
   Grid h(n, n, 0.0), k(n, n, kHard);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x)
       if (std::hypot(x - kCentre, y - kCentre) <= kRadius) k.at(x, y) = kSoft;
-  return render::Model(grid_to_mesh(h, 1.0, &k));
+  return rendering::Model(grid_to_mesh(h, 1.0, &k));
 }
 
 struct StrokeResult {
@@ -28,13 +28,13 @@ struct StrokeResult {
   StrokeMetrics metrics;
 };
 
-StrokeResult stroke(const render::Model& model, render::Algorithm a, double speed = 20.0) {
-  render::StrokeOptions o;
+StrokeResult stroke(const rendering::Model& model, rendering::Algorithm a, double speed = 20.0) {
+  rendering::StrokeOptions o;
   o.from = Vec2(5, kCentre);
   o.to = Vec2(55, kCentre);
   o.force_n = kForce;
   o.speed_mm_s = speed;
-  const auto s = render::simulate_stroke(model, a, o);
+  const auto s = rendering::simulate_stroke(model, a, o);
   StrokeResult r;
   r.trace = surface_trace(model, s, o.from, o.to);
   r.metrics = stroke_metrics(r.trace);
@@ -56,16 +56,16 @@ double mean_offset(const SurfaceTrace& t, double lo, double hi, bool before_only
 }
 
 TEST(StrokeMetric, OffsetIsPenetrationAgainstTheOriginalSurface) {
-  const render::Model m = disc_model();
-  const StrokeResult cba = stroke(m, render::Algorithm::kCBA);
+  const rendering::Model m = disc_model();
+  const StrokeResult cba = stroke(m, rendering::Algorithm::kCBA);
   // On the hard part, force constancy: the HIP sits f / k_hard below the surface.
   EXPECT_NEAR(mean_offset(cba.trace, kRadius + 5, 100), -kForce / kHard, 0.05);
   EXPECT_NEAR(mean_offset(cba.trace, 0, kRadius - 5), -kForce / kSoft, 0.1);
 }
 
 TEST(StrokeMetric, CbaDipIsTheForceConstancyDifference) {
-  const render::Model m = disc_model();
-  const StrokeResult cba = stroke(m, render::Algorithm::kCBA);
+  const rendering::Model m = disc_model();
+  const StrokeResult cba = stroke(m, rendering::Algorithm::kCBA);
   const double expected = kForce / kSoft - kForce / kHard;
   const double dip =
       mean_offset(cba.trace, kRadius + 5, 100) - mean_offset(cba.trace, 0, kRadius - 5);
@@ -78,9 +78,9 @@ TEST(StrokeMetric, CbaDipIsTheForceConstancyDifference) {
 }
 
 TEST(StrokeMetric, TcaDriftIsLimitedByTheRestorationSlope) {
-  const render::Model m = disc_model();
+  const rendering::Model m = disc_model();
   const double a_s = m.params().a_s;
-  const StrokeResult tca = stroke(m, render::Algorithm::kTCA);
+  const StrokeResult tca = stroke(m, rendering::Algorithm::kTCA);
   const double before = mean_offset(tca.trace, kRadius + 5, 100, true);
   const double dip_limit = kForce / kSoft - kForce / kHard;
   // Over the disc the HIP may sink at most a_s per mm travelled since the rim (eq. 5.11).
@@ -95,17 +95,17 @@ TEST(StrokeMetric, TcaDriftIsLimitedByTheRestorationSlope) {
   // Jumps at the rim: a_s over the window plus the hand's regulation, far below CBA's dip.
   EXPECT_LE(tca.metrics.max_jump_mm, a_s * 2.0 + 0.15);
   EXPECT_LT(tca.metrics.max_jump_mm, 0.2 * dip_limit);
-  const StrokeResult cba = stroke(m, render::Algorithm::kCBA);
+  const StrokeResult cba = stroke(m, rendering::Algorithm::kCBA);
   EXPECT_LE(tca.metrics.distortion_rms_mm, cba.metrics.distortion_rms_mm / 2);
 }
 
 TEST(StrokeMetric, UniformSurfaceHasNoBoundaryAndNoDistortion) {
   Grid h(41, 41, 0.0), k(41, 41, 0.5);
-  const render::Model m(grid_to_mesh(h, 1.0, &k));
-  render::StrokeOptions o;
+  const rendering::Model m(grid_to_mesh(h, 1.0, &k));
+  rendering::StrokeOptions o;
   o.from = Vec2(5, 20);
   o.to = Vec2(35, 20);
-  const auto s = render::simulate_stroke(m, render::Algorithm::kCBA, o);
+  const auto s = rendering::simulate_stroke(m, rendering::Algorithm::kCBA, o);
   const StrokeMetrics r = stroke_metrics(surface_trace(m, s, o.from, o.to));
   EXPECT_EQ(r.boundary_windows, 0);
   EXPECT_EQ(r.max_jump_mm, 0.0);

@@ -14,8 +14,8 @@
 namespace inhap::eval {
 namespace {
 
-using render::Algorithm;
-using render::Task;
+using rendering::Algorithm;
+using rendering::Task;
 
 TEST(TcaStudy, ReducedStudyReproducesTheThesisPatternWithAnyThreadCount) {
   TcaStudyOptions o;
@@ -41,7 +41,7 @@ TEST(TcaStudy, ReducedStudyReproducesTheThesisPatternWithAnyThreadCount) {
   EXPECT_GE(tca.mean, 24.0);  // thesis: 24.4 of 25
   EXPECT_LE(cba.mean, 15.0);  // thesis: 17.0; the virtual participant misses all 12
   const auto confused = one.summary.misjudged_models(Algorithm::kCBA, Task::kShape);
-  for (int m : render::thesis_cba_confusions())
+  for (int m : rendering::thesis_cba_confusions())
     EXPECT_NE(std::find(confused.begin(), confused.end(), m), confused.end()) << "M" << m;
 
   o.threads = 2;
@@ -65,7 +65,7 @@ TEST(TcaStudy, TimingSurfaceIsThe257GridAndTheProbeStrokesItInContact) {
   EXPECT_EQ(tca_timing_surface(1, "").num_triangles(), 2u * 256u * 256u);
   // A flat 40 x 40 mm plate: 4 rows (y = 5, 15, 25, 35) of (40 - 4) / 0.04 = 900 steps.
   const Grid h(41, 41), k(41, 41, 0.5);  // height 0, stiffness 0.5 N/mm
-  const render::Model model(grid_to_mesh(h, 1.0, &k));
+  const rendering::Model model(grid_to_mesh(h, 1.0, &k));
   for (Algorithm a : {Algorithm::kCBA, Algorithm::kTCA}) {
     const StepTiming t = time_servo_steps(model, a);
     EXPECT_NEAR(double(t.steps), 4 * 900.0, 4.0);

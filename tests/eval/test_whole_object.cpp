@@ -95,7 +95,7 @@ TEST(WholeObject, HemisphereIsTappedAllOverAtAPersonsPace) {
   const lab::Scene scene = lab::builtin_scene("silicone-hemisphere");
   lab::TapOptions tap;
   tap.whole_object = true;
-  const lab::LabRecording rec = record_taps(scene, 300, 7, {}, lab::Physics::builtin, tap);
+  const lab::LabRecording rec = record_taps(scene, 300, 7, {}, lab::Physics::kBuiltin, tap);
   EXPECT_GE(taps_per_minute(rec), 60.0);
   std::vector<Vec3> taps;
   long last = -1;

@@ -85,7 +85,7 @@ TEST(CyclesFrame, MeasurementTimeIsWrittenReadAndChecked) {
   const auto& c = palpated();
   // The protocol measures 90 ms into the plateau, on the first servo tick at or after it.
   for (const CycleRecord& r : c)
-    if (r.status == CycleStatus::ok) {
+    if (r.status == CycleStatus::kOk) {
       EXPECT_GE(r.t_measurement_s, 0.09 - 1e-9);
       EXPECT_LE(r.t_measurement_s, 0.09 + 1e-3 + 1e-9);
     }
@@ -133,9 +133,9 @@ TEST(CyclesFrame, FitUsesTheMeasurementNearestTheProtocolTime) {
   // own p_c and release point stay, they give u^p).
   int swapped = 0;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c[i].t_plateau > short_tp + 1e-9 || c[i].status != CycleStatus::ok) continue;
+    if (c[i].t_plateau > short_tp + 1e-9 || c[i].status != CycleStatus::kOk) continue;
     for (CycleRecord& l : late_short)
-      if (l.t_plateau > short_tp + 1e-9 && l.status == CycleStatus::ok && l.point == c[i].point &&
+      if (l.t_plateau > short_tp + 1e-9 && l.status == CycleStatus::kOk && l.point == c[i].point &&
           l.direction == c[i].direction && l.f_normal == c[i].f_normal &&
           l.f_tangential == c[i].f_tangential) {
         l.u_meas = c[i].u_meas, l.f_meas = c[i].f_meas, l.nc = c[i].nc;

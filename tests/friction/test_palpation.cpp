@@ -81,7 +81,7 @@ TEST(Palpation, SingleElasticCycleMeasuresTheKnownSpring) {
   ASSERT_EQ(proto.cycles().size(), 1u);
   const CycleRecord& c = proto.cycles()[0];
   EXPECT_EQ(c.point, 4);
-  EXPECT_EQ(c.status, CycleStatus::ok);
+  EXPECT_EQ(c.status, CycleStatus::kOk);
   EXPECT_NEAR(c.pc.z(), 0.0, 0.1);  // touched the plane
   EXPECT_NEAR(c.pc.x(), 0.0, 0.1);
   // Loaded 1 N into the plane and 0.3 N along t_0 = x: known spring answers.
@@ -119,7 +119,7 @@ TEST(Palpation, NoSurfaceFailsCleanly) {
   EXPECT_TRUE(proto.done());
   EXPECT_TRUE(proto.failed());
   ASSERT_EQ(proto.cycles().size(), 1u);
-  EXPECT_EQ(proto.cycles()[0].status, CycleStatus::no_contact);
+  EXPECT_EQ(proto.cycles()[0].status, CycleStatus::kNoContact);
 }
 
 TEST(Palpation, NanReadingStops) {

@@ -252,9 +252,9 @@ TEST(MeshFuzz, SeededMutationsEitherReadValidMeshesOrThrowInhapError) {
   const TriMesh base = test::awkward_mesh();
   std::string obj = format_obj(base) + "vn 0 0 1\nvt 0 1\nf 1/1/1 2//1 -1/1\ng x\nf -4 -3 -2 -1\n";
   const std::vector<std::pair<std::string, bool>> files = {
-      {format_ply(base, {PlyFormat::binary_little_endian}), true},
-      {format_ply(base, {PlyFormat::binary_big_endian}), true},
-      {format_ply(base, {PlyFormat::ascii}), true},
+      {format_ply(base, {PlyFormat::kBinaryLittleEndian}), true},
+      {format_ply(base, {PlyFormat::kBinaryBigEndian}), true},
+      {format_ply(base, {PlyFormat::kAscii}), true},
       {obj, false},
   };
   int ok = 0, errors = 0;

@@ -18,8 +18,8 @@ using inhap::test::Bytes;
 namespace {
 
 const char* format_line(PlyFormat f) {
-  return f == PlyFormat::ascii                  ? "format ascii 1.0\n"
-         : f == PlyFormat::binary_little_endian ? "format binary_little_endian 1.0\n"
+  return f == PlyFormat::kAscii                  ? "format ascii 1.0\n"
+         : f == PlyFormat::kBinaryLittleEndian ? "format binary_little_endian 1.0\n"
                                                 : "format binary_big_endian 1.0\n";
 }
 
@@ -67,11 +67,11 @@ TEST_P(PlyRoundTrip, IsBitExactWithNormalsAndProperties) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, PlyRoundTrip,
-                         ::testing::Values(PlyFormat::ascii, PlyFormat::binary_little_endian,
-                                           PlyFormat::binary_big_endian),
+                         ::testing::Values(PlyFormat::kAscii, PlyFormat::kBinaryLittleEndian,
+                                           PlyFormat::kBinaryBigEndian),
                          [](const auto& param_info) {
-                           return std::string(param_info.param == PlyFormat::ascii ? "ascii"
-                                              : param_info.param == PlyFormat::binary_little_endian
+                           return std::string(param_info.param == PlyFormat::kAscii ? "ascii"
+                                              : param_info.param == PlyFormat::kBinaryLittleEndian
                                                   ? "binary_le"
                                                   : "binary_be");
                          });

@@ -1,6 +1,6 @@
 // The common servo interface: the composed data-driven step gives the forces of the pieces run
-// by hand (proxy_track, then dd::replay) on a lab recording, allocates nothing, and the mesh
-// adapters give what render::step gives. Units: s, mm, N.
+// by hand (proxy_track, then datadriven::replay) on a lab recording, allocates nothing, and the mesh
+// adapters give what rendering::step gives. Units: s, mm, N.
 // (This file includes support/alloc_counter.hpp for the whole test_haptics program.)
 #include <gtest/gtest.h>
 
@@ -28,8 +28,8 @@ struct LabServo {
   lab::LabRecording lab;
   friction::SysModel sys;
   std::unique_ptr<friction::PlaneShape> plane;
-  dd::ForceModel force;
-  dd::ProxyTrack track;  // the pieces by hand: proxy_track -> ProxyTrack
+  datadriven::ForceModel force;
+  datadriven::ProxyTrack track;  // the pieces by hand: proxy_track -> ProxyTrack
 
   LabServo() {
     lab::RecordSpec spec;
@@ -53,9 +53,9 @@ struct LabServo {
       track.q[i] = track.contact[i] ? c.q[i] : lab.rec.p[i];
       if (track.contact[i]) track.n[i] = c.n[i];
     }
-    dd::TrainParams p = dd::test::small_params();
-    p.features = dd::FeatureSet::kLocalFrame;
-    force = dd::train_force_model(dd::make_training_set(lab.rec, track, dd::FoawParams{}), p);
+    datadriven::TrainParams p = datadriven::test::small_params();
+    p.features = datadriven::FeatureSet::kLocalFrame;
+    force = datadriven::train_force_model(datadriven::make_training_set(lab.rec, track, datadriven::FoawParams{}), p);
   }
 };
 
@@ -74,7 +74,7 @@ ServoInput input_at(const Recording& rec, std::size_t i) {
 TEST(DataDrivenServo, SameForcesAsThePiecesByHand) {
   const LabServo& s = setup();
   const Recording& rec = s.lab.rec;
-  const std::vector<Vec3> by_hand = dd::replay(s.force, rec, s.track);
+  const std::vector<Vec3> by_hand = datadriven::replay(s.force, rec, s.track);
   const DataDrivenModel model(s.sys, *s.plane, s.force);
   DataDrivenState st;
   std::size_t contact = 0, pushing = 0;
@@ -98,7 +98,7 @@ TEST(DataDrivenServo, RendererInterfaceAndResetRepeatTheRun) {
   const DataDrivenModel model(s.sys, *s.plane, s.force);
   DataDrivenRenderer r(model);
   std::unique_ptr<Renderer> again = std::make_unique<DataDrivenRenderer>(model);
-  const std::vector<Vec3> by_hand = dd::replay(s.force, rec, s.track);
+  const std::vector<Vec3> by_hand = datadriven::replay(s.force, rec, s.track);
   for (std::size_t i = 0; i < rec.size(); ++i)
     ASSERT_EQ(r.step(input_at(rec, i)).force_n, by_hand[i]);
   r.reset();
@@ -149,9 +149,9 @@ TEST(MeshServo, AdaptersGiveWhatRenderStepGives) {
       40, 40, 0.5, -10, -10,
       [](double x, double y) { return 0.5 * std::sin(0.4 * x) * std::cos(0.3 * y); },
       [](double x, double) { return x < 0 ? 1.0 : 0.3; });
-  const render::Model m(mesh);
-  for (render::Algorithm a : {render::Algorithm::kCBA, render::Algorithm::kTCA}) {
-    render::State ref;
+  const rendering::Model m(mesh);
+  for (rendering::Algorithm a : {rendering::Algorithm::kCBA, rendering::Algorithm::kTCA}) {
+    rendering::State ref;
     MeshRenderer r(m, a);
     Renderer& any = r;
     long contact = 0, differs = 0;
@@ -162,7 +162,7 @@ TEST(MeshServo, AdaptersGiveWhatRenderStepGives) {
       in.t_s = i * 1e-3;
       in.p_mm = Vec3(8 * std::sin(ph), 7 * std::cos(1.3 * ph), -0.6 + 0.8 * std::sin(i * 0.03));
       const ServoOutput o = any.step(in);
-      const Vec3 f = render::step(m, ref, in.p_mm, a);
+      const Vec3 f = rendering::step(m, ref, in.p_mm, a);
       ASSERT_EQ(o.force_n, f);
       ASSERT_EQ(o.contact, ref.collision);
       if (ref.collision) {
@@ -176,10 +176,10 @@ TEST(MeshServo, AdaptersGiveWhatRenderStepGives) {
     }
     EXPECT_EQ(test::heap_allocations() - before, 0);
     EXPECT_GT(contact, 100);
-    if (a == render::Algorithm::kTCA) {
+    if (a == rendering::Algorithm::kTCA) {
       EXPECT_GT(differs, 0);  // TCA compensates: CIHIP != IHIP
     }
-    EXPECT_STREQ(any.name(), a == render::Algorithm::kTCA ? "tca-mesh" : "cba");
+    EXPECT_STREQ(any.name(), a == rendering::Algorithm::kTCA ? "tca-mesh" : "cba");
   }
 }
 

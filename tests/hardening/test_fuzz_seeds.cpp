@@ -33,7 +33,7 @@ TEST(FuzzSeeds, EverySeedIsAValidInput) {
          const friction::PlaneShape plane(Vec3::Zero(), Vec3::UnitZ());
          friction::read_cycles_csv(p, {&plane, Vec3::UnitX(), 5.0});
        }},
-      {"model", [](const std::string& p) { dd::load_force_model(p); }},
+      {"model", [](const std::string& p) { datadriven::load_force_model(p); }},
       {"sys", [](const std::string& p) { friction::read_sys_json(p); }},
       {"scene", [](const std::string& p) { lab::load_scene(p); }},
       {"nrrd", [](const std::string& p) { read_nrrd(p); }},

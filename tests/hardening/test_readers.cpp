@@ -86,7 +86,7 @@ TEST(Readers, NrrdUnknownSpacingIsAnErrorNotOneMillimetre) {
 TEST(Readers, JsonNumberOverflowIsAParseErrorNamingTheFile) {
   test::TempDir dir;
   write_file_atomic(dir.path("m.json"), "{\"format\": 1e999}");
-  EXPECT_TRUE(has(error_of([&] { dd::load_force_model(dir.path("m.json")); }), "m.json"));
+  EXPECT_TRUE(has(error_of([&] { datadriven::load_force_model(dir.path("m.json")); }), "m.json"));
   write_file_atomic(dir.path("s.json"), "{\"format\": \"inhap-sys\", \"version\": 1e999}");
   EXPECT_TRUE(has(error_of([&] { friction::read_sys_json(dir.path("s.json")); }), "s.json"));
   write_file_atomic(dir.path("scene.json"), "{\"name\": -1e999}");
@@ -102,7 +102,7 @@ TEST(Readers, HugeQuotedInputIsCutInTheMessage) {
   test::TempDir dir;
   const std::string big(20u << 20, 'x');
   write_file_atomic(dir.path("m.json"), "{\"format\": \"" + big + "\"}");
-  const std::string w = error_of([&] { dd::load_force_model(dir.path("m.json")); });
+  const std::string w = error_of([&] { datadriven::load_force_model(dir.path("m.json")); });
   EXPECT_TRUE(has(w, "m.json")) << w.substr(0, 200);
   EXPECT_LT(w.size(), 1000u);
   EXPECT_FALSE(has(w, "\n"));

@@ -13,19 +13,19 @@ namespace inhap {
 namespace {
 
 /// A flat 60 x 60 mm map, stiffness from k0 (x = 0) to k1 (x = 60) N/mm.
-render::Model flat_map(double k0, double k1) {
+rendering::Model flat_map(double k0, double k1) {
   TriMesh m = test::make_grid_mesh(31, 31, 2.0);
   std::vector<double> k;
   for (const Vec3& p : m.positions) k.push_back(k0 + (k1 - k0) * p.x() / 60.0);
   m.set_property("stiffness", k);
-  return render::Model(std::move(m));
+  return rendering::Model(std::move(m));
 }
 
 /// Mean and largest |error| of the force in the stroke phase's middle half.
 struct Held {
   double mean = 0, worst = 0;
 };
-Held held_force(const std::vector<render::StrokeSample>& s, double target) {
+Held held_force(const std::vector<rendering::StrokeSample>& s, double target) {
   // The stroke is the contact span; take its middle half (settled, before the lift-off).
   std::size_t first = s.size(), last = 0;
   for (std::size_t i = 0; i < s.size(); ++i)
@@ -40,8 +40,8 @@ Held held_force(const std::vector<render::StrokeSample>& s, double target) {
   return h;
 }
 
-render::StrokeOptions stroke(double force) {
-  render::StrokeOptions o;
+rendering::StrokeOptions stroke(double force) {
+  rendering::StrokeOptions o;
   o.from = Vec2(10, 30);
   o.to = Vec2(50, 30);
   o.force_n = force;
@@ -50,24 +50,24 @@ render::StrokeOptions stroke(double force) {
 }
 
 TEST(StrokeHand, FinishesOnSoftMapsAtHighForces) {
-  for (auto alg : {render::Algorithm::kTCA, render::Algorithm::kCBA}) {
-    const render::Model soft = flat_map(0.2, 1.0);
+  for (auto alg : {rendering::Algorithm::kTCA, rendering::Algorithm::kCBA}) {
+    const rendering::Model soft = flat_map(0.2, 1.0);
     for (double f : {4.5, 6.0, kDeviceForceLimitN}) {
-      const auto s = render::simulate_stroke(soft, alg, stroke(f));
+      const auto s = rendering::simulate_stroke(soft, alg, stroke(f));
       ASSERT_FALSE(s.empty());
       EXPECT_FALSE(s.back().contact) << f << " N: the hand did not lift off";
       EXPECT_NEAR(held_force(s, f).mean, f, 0.05 * f) << f << " N";
     }
-    const render::Model softer = flat_map(0.1, 0.1);
-    const auto s = render::simulate_stroke(softer, alg, stroke(1.5));
+    const rendering::Model softer = flat_map(0.1, 0.1);
+    const auto s = rendering::simulate_stroke(softer, alg, stroke(1.5));
     EXPECT_NEAR(held_force(s, 1.5).mean, 1.5, 0.05 * 1.5);
   }
 }
 
 TEST(StrokeHand, StableOnAVeryStiffMap) {
-  for (auto alg : {render::Algorithm::kTCA, render::Algorithm::kCBA}) {
-    const render::Model stiff = flat_map(1e5, 1e5);
-    const auto s = render::simulate_stroke(stiff, alg, stroke(2.0));
+  for (auto alg : {rendering::Algorithm::kTCA, rendering::Algorithm::kCBA}) {
+    const rendering::Model stiff = flat_map(1e5, 1e5);
+    const auto s = rendering::simulate_stroke(stiff, alg, stroke(2.0));
     const Held h = held_force(s, 2.0);
     EXPECT_NEAR(h.mean, 2.0, 0.1) << "mean force while stroking";
     EXPECT_LT(h.worst, 1.0) << "the force loop oscillates";

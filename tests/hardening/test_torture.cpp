@@ -18,17 +18,17 @@ void expect_clean(const test::TortureResult& r, const char* what) {
 }
 
 TEST(Torture, Cba) {
-  const render::Model m(test::torture_mesh());
-  expect_clean(test::torture_renderer(m, render::Algorithm::kCBA, kSteps, 1), "CBA");
+  const rendering::Model m(test::torture_mesh());
+  expect_clean(test::torture_renderer(m, rendering::Algorithm::kCBA, kSteps, 1), "CBA");
 }
 
 TEST(Torture, TcaMesh) {
-  const render::Model m(test::torture_mesh());
-  expect_clean(test::torture_renderer(m, render::Algorithm::kTCA, kSteps, 2), "TCA-MESH");
+  const rendering::Model m(test::torture_mesh());
+  expect_clean(test::torture_renderer(m, rendering::Algorithm::kTCA, kSteps, 2), "TCA-MESH");
 }
 
 TEST(Torture, DataDriven) {
-  const dd::ForceModel m = test::torture_dd_model();
+  const datadriven::ForceModel m = test::torture_dd_model();
   expect_clean(test::torture_data_driven(m, kSteps, 3), "data-driven");
 }
 

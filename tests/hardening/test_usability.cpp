@@ -30,9 +30,9 @@ double rmse_z(const std::string& eval_json) {
 // object (surface z = 0, normal +z).
 TEST(Usability, ModelMeshPathFromTheModelsFolderAndTheErrorWhenMissing) {
   test::TempDir dir;
-  dd::SyntheticParams sp;
+  datadriven::SyntheticParams sp;
   sp.samples = 6000;
-  Recording train = dd::synthetic_recording(sp);
+  Recording train = datadriven::synthetic_recording(sp);
   write_recording(dir.path("plain.csv"), train);  // no normal columns: the model needs the mesh
   train.set_extra("nx", std::vector<double>(train.size(), 0.0));
   train.set_extra("ny", std::vector<double>(train.size(), 0.0));
@@ -85,10 +85,10 @@ double contact_seconds(const Recording& rec) {
 // Training warns when the recording holds less than 30 s of contact, with the amount it found.
 TEST(Usability, ShortTrainingDataIsWarnedAbout) {
   test::TempDir dir;
-  dd::SyntheticParams sp;
+  datadriven::SyntheticParams sp;
   for (const std::size_t samples : {5000u, 60000u}) {
     sp.samples = samples;
-    const Recording rec = dd::synthetic_recording(sp);
+    const Recording rec = datadriven::synthetic_recording(sp);
     const double contact_s = contact_seconds(rec);
     write_recording(dir.path("rec.csv"), rec);
     const auto r = test::run_cli(

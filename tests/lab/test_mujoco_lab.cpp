@@ -31,7 +31,7 @@ SoftObject planar() {
 
 DeviceParams mujoco_device() {
   DeviceParams dp;
-  dp.physics = Physics::mujoco;
+  dp.physics = Physics::kMujoco;
   dp.noise = false;
   dp.max_force_n = 20;  // a lab device strong enough for the 8 N indentation
   return dp;
@@ -177,7 +177,7 @@ TEST(MujocoLab, RecordsTheDomeWithTruthAndRejectsShapesItCannotRepresent) {
   REQUIRE_MUJOCO();
   RecordSpec spec;
   spec.seconds = 4;
-  spec.physics = Physics::mujoco;
+  spec.physics = Physics::kMujoco;
   const LabRecording lab = record_scene(builtin_scene("dome"), spec);
   ASSERT_EQ(lab.rec.size(), 4000u);
   std::size_t contact = 0;
@@ -193,7 +193,7 @@ TEST(MujocoLab, RecordsTheDomeWithTruthAndRejectsShapesItCannotRepresent) {
   EXPECT_GT(fmax, 1.0);
   EXPECT_NE(lab.comments.front().find("physics mujoco"), std::string::npos);
   DeviceParams dp;
-  dp.physics = Physics::mujoco;
+  dp.physics = Physics::kMujoco;
   EXPECT_THROW(SimDevice(builtin_scene("ridged-silicone").object, dp), Error);
 }
 

@@ -11,7 +11,7 @@
 #include "inhap/rendering/experiment.hpp"
 
 using namespace inhap;
-using namespace inhap::render;
+using namespace inhap::rendering;
 using inhap::lab::ParticipantProfile;
 using inhap::lab::VirtualParticipant;
 

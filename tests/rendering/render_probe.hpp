@@ -12,15 +12,15 @@ namespace inhap::test {
 /// `force_n` along +z in this tick, then commits that tick. The force is affine in z (one tick,
 /// same triangle), so two trial ticks on copies of the state give z exactly (secant).
 /// Returns the committed z.
-inline double press_exact(const render::Model& m, render::State& st, double x, double y,
-                          double force_n, double z_guess, render::Algorithm alg) {
+inline double press_exact(const rendering::Model& m, rendering::State& st, double x, double y,
+                          double force_n, double z_guess, rendering::Algorithm alg) {
   const double dz = 1e-3;
-  render::State a = st, b = st;
-  const double fa = render::step(m, a, Vec3(x, y, z_guess), alg).z();
-  const double fb = render::step(m, b, Vec3(x, y, z_guess - dz), alg).z();
+  rendering::State a = st, b = st;
+  const double fa = rendering::step(m, a, Vec3(x, y, z_guess), alg).z();
+  const double fb = rendering::step(m, b, Vec3(x, y, z_guess - dz), alg).z();
   double z = z_guess;
   if (std::abs(fb - fa) > 1e-12) z = z_guess - dz * (force_n - fa) / (fb - fa);
-  render::step(m, st, Vec3(x, y, z), alg);
+  rendering::step(m, st, Vec3(x, y, z), alg);
   return z;
 }
 

@@ -12,7 +12,7 @@
 #include "inhap/rendering/datasets.hpp"
 
 using namespace inhap;
-using namespace inhap::render;
+using namespace inhap::rendering;
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "inhap/rendering/experiment.hpp"
 
 using namespace inhap;
-using namespace inhap::render;
+using namespace inhap::rendering;
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include "support/alloc_counter.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 TEST(RendererAlloc, StepNeverAllocates) {
   // Bumpy heightmap with a stiffness map, plus a box corner: every branch of step() runs
@@ -22,9 +22,9 @@ TEST(RendererAlloc, StepNeverAllocates) {
       60, 60, 0.5, -15, -15,
       [](double x, double y) { return std::sin(0.4 * x) * std::cos(0.3 * y); },
       [](double x, double) { return x < 0 ? 1.0 : 0.2; });
-  render::Model m(mesh);
+  rendering::Model m(mesh);
   for (Algorithm a : {Algorithm::kCBA, Algorithm::kTCA}) {
-    render::State st;
+    rendering::State st;
     long ticks = 0, contact = 0, touches = 0, clamped = 0;
     bool was = false;
     const long before = test::heap_allocations();
@@ -36,7 +36,7 @@ TEST(RendererAlloc, StepNeverAllocates) {
       if (i == 1000) p.x() = std::numeric_limits<double>::quiet_NaN();
       if (i == 2000) p.z() += 100;                                             // jump
       if (i % 1000 >= 500 && i % 1000 < 700) p.z() -= 0.1 * (i % 1000 - 500);  // deep push: clamp
-      const Vec3 f = render::step(m, st, p, a);
+      const Vec3 f = rendering::step(m, st, p, a);
       ++ticks;
       contact += st.collision;
       touches += st.collision && !was;

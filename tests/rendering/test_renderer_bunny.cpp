@@ -14,7 +14,7 @@
 #include "support/temp_dir.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 TEST(RendererBunny, StrokesKeepTheProxyOnTheSurfaceWithBoundedForce) {
   const std::string path = test::shared_data("bunny/bun_zipper.ply");
@@ -26,20 +26,20 @@ TEST(RendererBunny, StrokesKeepTheProxyOnTheSurfaceWithBoundedForce) {
   const double kmax = *std::max_element(k.begin(), k.end());
   for (auto& v : k) v = std::max(0.05, v / kmax);  // N/mm
   mesh.set_property("stiffness", k);
-  render::Model m(std::move(mesh));
+  rendering::Model m(std::move(mesh));
   ASSERT_EQ(m.mesh().num_triangles(), 69451u);
 
   // Strokes across the body seen from +z.
   const Vec2 ends[][2] = {{{-25, -10}, {25, 10}}, {{-5, -30}, {5, 30}}, {{-30, 15}, {20, -15}}};
   for (Algorithm a : {Algorithm::kCBA, Algorithm::kTCA})
     for (const auto& e : ends) {
-      render::StrokeOptions o;
+      rendering::StrokeOptions o;
       o.from = e[0];
       o.to = e[1];
       o.force_n = 1.5;
       o.speed_mm_s = 40;
       o.tremor_n = 0.05;
-      const auto run = render::simulate_stroke(m, a, o);
+      const auto run = rendering::simulate_stroke(m, a, o);
       std::size_t contact = 0;
       for (const auto& s : run) {
         ASSERT_TRUE(s.force.allFinite());

@@ -10,15 +10,15 @@
 #include "support/meshes.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 namespace {
 
 // Moves the HIP from `from` to `to` in `n` equal ticks; returns the last force.
-Vec3 move(const render::Model& m, render::State& st, const Vec3& from, const Vec3& to, int n,
+Vec3 move(const rendering::Model& m, rendering::State& st, const Vec3& from, const Vec3& to, int n,
           Algorithm alg = Algorithm::kCBA) {
   Vec3 f = Vec3::Zero();
-  for (int i = 1; i <= n; ++i) f = render::step(m, st, from + (double(i) / n) * (to - from), alg);
+  for (int i = 1; i <= n; ++i) f = rendering::step(m, st, from + (double(i) / n) * (to - from), alg);
   return f;
 }
 
@@ -30,7 +30,7 @@ TEST(RendererModel, InterpolatesStiffnessAndNormalBarycentrically) {
   mesh.triangles = {{0, 1, 2}};
   mesh.set_property("stiffness", {0.2, 0.6, 1.0});
   mesh.normals = {Vec3(0, 0, 1), Vec3(1, 0, 1).normalized(), Vec3(0, 1, 1).normalized()};
-  render::Model m(mesh);
+  rendering::Model m(mesh);
   SurfacePoint q;
   q.triangle = 0;
   q.bary = {0.5, 0.25, 0.25};
@@ -39,43 +39,43 @@ TEST(RendererModel, InterpolatesStiffnessAndNormalBarycentrically) {
       (0.5 * Vec3(0, 0, 1) + 0.25 * Vec3(1, 0, 1).normalized() + 0.25 * Vec3(0, 1, 1).normalized())
           .normalized();
   EXPECT_NEAR((m.normal(q) - expect).norm(), 0, 1e-12);
-  render::Params flat;
+  rendering::Params flat;
   flat.force_shading = false;
-  render::Model mf(mesh, flat);
+  rendering::Model mf(mesh, flat);
   EXPECT_NEAR((mf.normal(q) - Vec3::UnitZ()).norm(), 0, 1e-12);
   // Floor: k never below min_stiffness.
   mesh.set_property("stiffness", {-1.0, 0.0, 0.0});
-  render::Model m0(mesh);
-  EXPECT_DOUBLE_EQ(m0.stiffness(q), render::Params{}.min_stiffness);
+  rendering::Model m0(mesh);
+  EXPECT_DOUBLE_EQ(m0.stiffness(q), rendering::Params{}.min_stiffness);
 }
 
 TEST(RendererModel, RejectsEmptyMeshAndBadParams) {
-  EXPECT_THROW(render::Model(TriMesh{}), Error);
-  render::Params bad;
+  EXPECT_THROW(rendering::Model(TriMesh{}), Error);
+  rendering::Params bad;
   bad.force_limit_n = -1;
-  EXPECT_THROW(render::Model(test::flat_plane(2, 2, 1, 0, 0), bad), Error);
-  render::Params nan;
+  EXPECT_THROW(rendering::Model(test::flat_plane(2, 2, 1, 0, 0), bad), Error);
+  rendering::Params nan;
   nan.a_s = std::nan("");
-  EXPECT_THROW(render::Model(test::flat_plane(2, 2, 1, 0, 0), nan), Error);
+  EXPECT_THROW(rendering::Model(test::flat_plane(2, 2, 1, 0, 0), nan), Error);
 }
 
 // The model's spatial index follows Params::index: no seed grid by default (the renderer's
 // queries are segments and local walks), one when asked for; a bad shell is refused.
 TEST(RendererModel, IndexOptionsReachTheSpatialIndex) {
   const TriMesh plane = test::make_grid_mesh(81, 81, 0.25);  // 12,800 triangles
-  EXPECT_EQ(render::Model(plane).index().seed_grid_info().cells, 0);
-  render::Params seeded;
+  EXPECT_EQ(rendering::Model(plane).index().seed_grid_info().cells, 0);
+  rendering::Params seeded;
   seeded.index.seed_shell = 2.0;
-  EXPECT_GT(render::Model(plane, seeded).index().seed_grid_info().covered, 0);
-  render::Params bad;
+  EXPECT_GT(rendering::Model(plane, seeded).index().seed_grid_info().covered, 0);
+  rendering::Params bad;
   bad.index.seed_shell = -1;
-  EXPECT_THROW(render::Model(plane, bad), Error);
+  EXPECT_THROW(rendering::Model(plane, bad), Error);
 }
 
 TEST(RendererCba, PlaneProxyIsFootOfPerpendicularAndForceIsKTimesDepth) {
   const double k = 0.5;
-  render::Model m(test::flat_plane(20, 20, 1.0, -10, -10, k));
-  render::State st;
+  rendering::Model m(test::flat_plane(20, 20, 1.0, -10, -10, k));
+  rendering::State st;
   Vec3 f = move(m, st, Vec3(0.3, 0.2, 5), Vec3(0.3, 0.2, -2.0), 70);
   ASSERT_TRUE(st.collision);
   EXPECT_NEAR((st.ihip.point - Vec3(0.3, 0.2, 0)).norm(), 0, 1e-9);
@@ -108,14 +108,14 @@ TEST(RendererCba, SphereProxyIsClosestPointAndForceIsRadialKTimesDepth) {
   }
   ASSERT_LT(sag, 0.01);
   ASSERT_LT(alpha, 0.03);
-  render::Params ps;
+  rendering::Params ps;
   ps.default_stiffness = k;
-  render::Model mk(mesh, ps);
+  rendering::Model mk(mesh, ps);
   Rng rng(7);
   for (int trial = 0; trial < 40; ++trial) {
     const Vec3 dir = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
     const double depth = rng.uniform(0.5, 4.0);
-    render::State st;
+    rendering::State st;
     const Vec3 f = move(mk, st, (R + 3) * dir, (R - depth) * dir, 60);
     ASSERT_TRUE(st.collision) << trial;
     const Vec3 p = (R - depth) * dir;
@@ -148,16 +148,16 @@ TEST(RendererCba, TorusProxyAndForceMatchTheAnalyticTubeIncludingTheSaddleSide) 
       alpha = std::max(alpha, std::acos(std::min(1.0, mesh.face_normal(f).dot(n))));
     }
   ASSERT_LT(alpha, 0.06);
-  render::Params ps;
+  rendering::Params ps;
   ps.default_stiffness = k;
-  render::Model m(mesh, ps);
+  rendering::Model m(mesh, ps);
   Rng rng(21);
   for (int trial = 0; trial < 60; ++trial) {
     const double u = rng.uniform(0, 2 * M_PI), v = rng.uniform(0, 2 * M_PI);  // v = pi: saddle
     const Vec3 radial(std::cos(u), std::sin(u), 0);
     const Vec3 c = R * radial, dir = std::cos(v) * radial + std::sin(v) * Vec3::UnitZ();
     const double depth = rng.uniform(0.3, 2.5);
-    render::State st;
+    rendering::State st;
     const Vec3 f = move(m, st, c + (r + 2) * dir, c + (r - depth) * dir, 60);
     ASSERT_TRUE(st.collision) << trial;
     Vec3 n;
@@ -170,10 +170,10 @@ TEST(RendererCba, TorusProxyAndForceMatchTheAnalyticTubeIncludingTheSaddleSide) 
 
 TEST(RendererCba, ConcaveCornerKeepsProxyOnSurfaceWithForceOutOfTheCorner) {
   for (bool shading : {true, false}) {
-    render::Params ps;
+    rendering::Params ps;
     ps.force_shading = shading;  // (the 6.2 N clamp scales the force, its direction stays)
-    render::Model m(test::concave_corner(10.0, 8), ps);
-    render::State st;
+    rendering::Model m(test::concave_corner(10.0, 8), ps);
+    rendering::State st;
     // Come down onto the floor, slide into the corner and push into it.
     move(m, st, Vec3(5, 5, 3), Vec3(5, 5, -0.5), 35);
     ASSERT_TRUE(st.collision);
@@ -201,7 +201,7 @@ TEST(RendererCba, ConcaveCornerKeepsProxyOnSurfaceWithForceOutOfTheCorner) {
     for (int i = 0; i < 300; ++i) {
       const Vec3 next(rng.uniform(-1.5, 4), rng.uniform(-1.5, 4), rng.uniform(-1.5, 4));
       const Vec3 goal = p + 0.3 * (next - p).normalized();
-      render::step(m, st, goal, Algorithm::kCBA);
+      rendering::step(m, st, goal, Algorithm::kCBA);
       p = goal;
       const bool inside = p.minCoeff() < 0;
       ASSERT_EQ(st.collision, inside) << i << " shading " << shading;

@@ -10,45 +10,45 @@
 #include "rendering/render_fixtures.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 namespace {
 
 const Algorithm kBoth[] = {Algorithm::kCBA, Algorithm::kTCA};
 
 // Touch a plane z = 0 from above and press to `depth`.
-void touch(const render::Model& m, render::State& st, double x, double y, double depth,
+void touch(const rendering::Model& m, rendering::State& st, double x, double y, double depth,
            Algorithm a) {
-  render::step(m, st, Vec3(x, y, 1), a);
-  for (int i = 1; i <= 20; ++i) render::step(m, st, Vec3(x, y, 1 - (1 + depth) * i / 20.0), a);
+  rendering::step(m, st, Vec3(x, y, 1), a);
+  for (int i = 1; i <= 20; ++i) rendering::step(m, st, Vec3(x, y, 1 - (1 + depth) * i / 20.0), a);
 }
 
 }  // namespace
 
 TEST(RendererSafety, NonFiniteOrAbsurdInputGivesZeroForceAndResets) {
-  render::Model m(test::flat_plane(20, 20, 1, -10, -10));
+  rendering::Model m(test::flat_plane(20, 20, 1, -10, -10));
   const double bad[] = {std::nan(""), std::numeric_limits<double>::infinity(),
                         -std::numeric_limits<double>::infinity(), 1e9};
   for (Algorithm a : kBoth)
     for (double b : bad)
       for (int axis = 0; axis < 3; ++axis) {
-        render::State st;
+        rendering::State st;
         touch(m, st, 1, 2, 1.0, a);
         ASSERT_TRUE(st.collision);
         ASSERT_GT(st.force.z(), 0);
         Vec3 p(1, 2, -1);
         p[axis] = b;
-        const Vec3 f = render::step(m, st, p, a);
+        const Vec3 f = rendering::step(m, st, p, a);
         EXPECT_EQ(f, Vec3::Zero());
         EXPECT_FALSE(st.collision);
         EXPECT_EQ(st.resets, 1u);
         EXPECT_EQ(st.force, Vec3::Zero());
         EXPECT_EQ(st.t, Vec3::Zero());
         // Recovers: the probe is inside, so it is felt again only after leaving and coming back.
-        EXPECT_EQ(render::step(m, st, Vec3(1, 2, -1), a), Vec3::Zero());
-        EXPECT_EQ(render::step(m, st, Vec3(1, 2, -0.5), a), Vec3::Zero());
-        render::step(m, st, Vec3(1, 2, 0.5), a);
-        const Vec3 g = render::step(m, st, Vec3(1, 2, -0.5), a);
+        EXPECT_EQ(rendering::step(m, st, Vec3(1, 2, -1), a), Vec3::Zero());
+        EXPECT_EQ(rendering::step(m, st, Vec3(1, 2, -0.5), a), Vec3::Zero());
+        rendering::step(m, st, Vec3(1, 2, 0.5), a);
+        const Vec3 g = rendering::step(m, st, Vec3(1, 2, -0.5), a);
         EXPECT_TRUE(st.collision);
         EXPECT_NEAR((g - Vec3(0, 0, 0.5)).norm(), 0, 1e-9);
       }
@@ -56,15 +56,15 @@ TEST(RendererSafety, NonFiniteOrAbsurdInputGivesZeroForceAndResets) {
 
 TEST(RendererSafety, ForceIsClampedToTheDeviceLimit) {
   for (Algorithm a : kBoth) {
-    render::Model m(test::flat_plane(20, 20, 1, -10, -10, 1.0));
-    render::State st;
+    rendering::Model m(test::flat_plane(20, 20, 1, -10, -10, 1.0));
+    rendering::State st;
     touch(m, st, 0.5, 0.5, 20.0, a);
     ASSERT_TRUE(st.collision);
     EXPECT_NEAR((st.force - Vec3(0, 0, 6.2)).norm(), 0, 1e-12);
-    render::Params p3;
+    rendering::Params p3;
     p3.force_limit_n = 3.0;
-    render::Model m3(test::flat_plane(20, 20, 1, -10, -10, 1.0), p3);
-    render::State s3;
+    rendering::Model m3(test::flat_plane(20, 20, 1, -10, -10, 1.0), p3);
+    rendering::State s3;
     touch(m3, s3, 0.5, 0.5, 4.0, a);
     EXPECT_NEAR((s3.force - Vec3(0, 0, 3.0)).norm(), 0, 1e-12);
     // The proxy stays on the surface even though the force saturates.
@@ -74,17 +74,17 @@ TEST(RendererSafety, ForceIsClampedToTheDeviceLimit) {
 
 TEST(RendererSafety, HugeJumpNeverLeavesTheProxyStuckInside) {
   // An 80 x 80 x 60 mm box: jumps of 50-60 mm land deep inside it, longer ones beyond it.
-  render::Model m(test::closed_box(Vec3(-40, -40, -60), Vec3(40, 40, 0), 4));
+  rendering::Model m(test::closed_box(Vec3(-40, -40, -60), Vec3(40, 40, 0), 4));
   for (Algorithm a : kBoth)
     for (double jump : {50.0, 60.0, 200.0, 5000.0}) {
-      render::State st;
+      rendering::State st;
       touch(m, st, 1, 1, 1.0, a);
       ASSERT_TRUE(st.collision);
       // Jump (a tracking glitch) from the top face to deep inside the cube or far away.
       const double dz = 0.8 * jump;
       const Vec3 target = jump < 100 ? Vec3(1, 1 + 0.6 * jump, -1 - dz) : Vec3(jump, 0, -10);
       ASSERT_GE((target - Vec3(1, 1, -1)).norm(), 50.0);
-      const Vec3 f = render::step(m, st, target, a);
+      const Vec3 f = rendering::step(m, st, target, a);
       EXPECT_EQ(f, Vec3::Zero()) << jump;
       EXPECT_FALSE(st.collision);
       EXPECT_EQ(st.resets, 1u);
@@ -93,19 +93,19 @@ TEST(RendererSafety, HugeJumpNeverLeavesTheProxyStuckInside) {
       if (jump < 100) {
         for (int i = 0; i < 30; ++i) {
           p += Vec3(0.1, 0, -0.3);
-          EXPECT_EQ(render::step(m, st, p, a), Vec3::Zero());
+          EXPECT_EQ(rendering::step(m, st, p, a), Vec3::Zero());
         }
         // ... leaving through the top face and coming back is detected normally.
         while (p.z() < 2) {
           p.z() += 0.9;
-          EXPECT_EQ(render::step(m, st, p, a), Vec3::Zero()) << p.z();
+          EXPECT_EQ(rendering::step(m, st, p, a), Vec3::Zero()) << p.z();
         }
       } else {
         p = Vec3(3, 3, 2);
-        for (int i = 0; i < 3; ++i) render::step(m, st, p + Vec3(0, 0, i * 0.1), a);  // settle
+        for (int i = 0; i < 3; ++i) rendering::step(m, st, p + Vec3(0, 0, i * 0.1), a);  // settle
         p = p + Vec3(0, 0, 0.2);
       }
-      while (!st.collision && p.z() > -5) render::step(m, st, p += Vec3(0, 0, -0.1), a);
+      while (!st.collision && p.z() > -5) rendering::step(m, st, p += Vec3(0, 0, -0.1), a);
       ASSERT_TRUE(st.collision) << jump;
       EXPECT_NEAR(st.ihip.point.z(), 0, 1e-9);
       EXPECT_GT(st.force.z(), 0);
@@ -114,11 +114,11 @@ TEST(RendererSafety, HugeJumpNeverLeavesTheProxyStuckInside) {
 
 TEST(RendererSafety, JumpBelowThresholdFromOutsideIsDetectedAtTheEntryFace) {
   // 15 mm in one tick from above the cube to its inside: the sweep finds the top face.
-  render::Model m(test::closed_box(Vec3(-20, -20, -40), Vec3(20, 20, 0), 4));
+  rendering::Model m(test::closed_box(Vec3(-20, -20, -40), Vec3(20, 20, 0), 4));
   for (Algorithm a : kBoth) {
-    render::State st;
-    render::step(m, st, Vec3(0, 0, 5), a);
-    const Vec3 f = render::step(m, st, Vec3(0, 0, -10), a);
+    rendering::State st;
+    rendering::step(m, st, Vec3(0, 0, 5), a);
+    const Vec3 f = rendering::step(m, st, Vec3(0, 0, -10), a);
     EXPECT_TRUE(st.collision);
     EXPECT_NEAR(st.ihip.point.z(), 0, 1e-9);
     EXPECT_NEAR((f - Vec3(0, 0, 6.2)).norm(), 0, 1e-9);  // 10 N at 1 N/mm, clamped
@@ -130,18 +130,18 @@ TEST(RendererSafety, FastMotionNeverTunnelsThroughASingleSheet) {
   TriMesh sheet;
   sheet.positions = {{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}};
   sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
-  render::Model m(sheet);
+  rendering::Model m(sheet);
   Rng rng(5);
   for (Algorithm a : kBoth)
     for (int trial = 0; trial < 20; ++trial) {
-      render::State st;
+      rendering::State st;
       Vec3 p(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(0.01, 3));
       const Vec3 dir = Vec3(rng.uniform(-0.7, 0.7), rng.uniform(-0.7, 0.7), -1).normalized();
-      render::step(m, st, p, a);
+      rendering::step(m, st, p, a);
       bool touched = false;
       for (int i = 0; i < 25; ++i) {
         p += dir;  // 1 mm per tick
-        const Vec3 f = render::step(m, st, p, a);
+        const Vec3 f = rendering::step(m, st, p, a);
         if (p.z() < 0) {
           touched = true;
           ASSERT_TRUE(st.collision) << trial << " tick " << i;
@@ -152,26 +152,26 @@ TEST(RendererSafety, FastMotionNeverTunnelsThroughASingleSheet) {
       }
       EXPECT_TRUE(touched);
       // From behind, a one-sided sheet is not felt (documented behaviour).
-      render::State back;
-      render::step(m, back, Vec3(0, 0, -5), a);
+      rendering::State back;
+      rendering::step(m, back, Vec3(0, 0, -5), a);
       for (int i = 0; i < 10; ++i)
-        EXPECT_EQ(render::step(m, back, Vec3(0, 0, -4.5 + i), a), Vec3::Zero());
+        EXPECT_EQ(rendering::step(m, back, Vec3(0, 0, -4.5 + i), a), Vec3::Zero());
     }
 }
 
 TEST(RendererSafety, FastMotionNeverTunnelsThroughAThinClosedBox) {
   // A 0.5 mm thick plate (closed box): the probe crosses it in one tick.
-  render::Model m(test::closed_box(Vec3(-30, -30, -0.5), Vec3(30, 30, 0), 6));
+  rendering::Model m(test::closed_box(Vec3(-30, -30, -0.5), Vec3(30, 30, 0), 6));
   Rng rng(9);
   for (Algorithm a : kBoth)
     for (int trial = 0; trial < 20; ++trial) {
-      render::State st;
+      rendering::State st;
       Vec3 p(rng.uniform(-10, 10), rng.uniform(-10, 10), rng.uniform(0.01, 1.0));
       const Vec3 dir = Vec3(rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), -1).normalized();
-      render::step(m, st, p, a);
+      rendering::step(m, st, p, a);
       for (int i = 0; i < 12; ++i) {
         p += dir;
-        const Vec3 f = render::step(m, st, p, a);
+        const Vec3 f = rendering::step(m, st, p, a);
         if (p.z() < 0) {
           // Pushed up by the top face, never down by the bottom one.
           ASSERT_TRUE(st.collision) << trial << " tick " << i;
@@ -187,14 +187,14 @@ TEST(RendererSafety, FinelyTessellatedWavySurfaceNeverLosesContactAtOneMetrePerS
   // strokes 0.5 mm below the surface at 1 mm per tick, i.e. across ~40 triangles per tick.
   const double h = 0.05;
   auto height = [](double x, double) { return 0.5 * std::sin(2 * M_PI * x / 6.0); };
-  render::Model m(test::grid_mesh(int(40 / h), int(2 / h), h, 0, -1, height,
+  rendering::Model m(test::grid_mesh(int(40 / h), int(2 / h), h, 0, -1, height,
                                   [](double, double) { return 1.0; }));
   for (Algorithm a : kBoth) {
-    render::State st;
+    rendering::State st;
     Vec3 p(1.0, 0.01, height(1.0, 0) + 1);
-    render::step(m, st, p, a);
+    rendering::step(m, st, p, a);
     p.z() = height(1.0, 0) - 0.5;
-    render::step(m, st, p, a);
+    rendering::step(m, st, p, a);
     ASSERT_TRUE(st.collision);
     std::uint32_t max_steps = 0;
     for (int i = 0; i < 240; ++i) {
@@ -203,7 +203,7 @@ TEST(RendererSafety, FinelyTessellatedWavySurfaceNeverLosesContactAtOneMetrePerS
       const double y = 0.6 * std::sin(i * 0.37);
       const Vec3 next(x, y, height(x, y) - 0.5);
       p = next;
-      const Vec3 f = render::step(m, st, p, a);
+      const Vec3 f = rendering::step(m, st, p, a);
       ASSERT_TRUE(st.collision) << "tick " << i;
       // The proxy keeps up: it is (nearly) the surface point nearest to p. On a polyhedral
       // surface seen from inside, every face whose foot point lies inside it is a local minimum
@@ -228,18 +228,18 @@ TEST(RendererSafety, FinelyTessellatedSphereKeepsContactAtOneMetrePerSecond) {
   // Icosphere of radius 3 mm with ~0.05 mm edges (82k triangles); the probe circles it 0.3 mm
   // inside at 1 mm per tick.
   const double R = 3.0, depth = 0.3;
-  render::Model m(test::icosphere(R, 6));
+  rendering::Model m(test::icosphere(R, 6));
   for (Algorithm a : kBoth) {
-    render::State st;
-    render::step(m, st, Vec3(R + 1, 0, 0), a);
-    render::step(m, st, Vec3(R - depth, 0, 0), a);
+    rendering::State st;
+    rendering::step(m, st, Vec3(R + 1, 0, 0), a);
+    rendering::step(m, st, Vec3(R - depth, 0, 0), a);
     ASSERT_TRUE(st.collision);
     for (int i = 1; i <= 60; ++i) {
       const double phi = i * 1.0 / (R - depth);  // 1 mm of arc per tick
       const Vec3 p = (R - depth) * Vec3(std::cos(phi), std::sin(phi) * std::cos(0.3 * phi),
                                         std::sin(phi) * std::sin(0.3 * phi))
                                        .normalized();
-      const Vec3 f = render::step(m, st, p, a);
+      const Vec3 f = rendering::step(m, st, p, a);
       ASSERT_TRUE(st.collision) << i;
       EXPECT_NEAR((st.ihip.point - st.t).norm(), R, 0.01) << i;
       EXPECT_GT(f.normalized().dot(p.normalized()), 0.99) << i;
@@ -250,16 +250,16 @@ TEST(RendererSafety, FinelyTessellatedSphereKeepsContactAtOneMetrePerSecond) {
 
 TEST(RendererSafety, GlobalFallbackHelpsAWalkOutOfBudgetButNeverCrossesAThinWall) {
   // Budget of 1 triangle move per tick: on a plane the global closest point takes over.
-  render::Params tight;
+  rendering::Params tight;
   tight.max_walk_steps = 1;
-  render::Model plane(test::flat_plane(100, 100, 0.1, -5, -5), tight);
+  rendering::Model plane(test::flat_plane(100, 100, 0.1, -5, -5), tight);
   for (Algorithm a : kBoth) {
-    render::State st;
+    rendering::State st;
     touch(plane, st, -4, -4, 0.5, a);
     ASSERT_TRUE(st.collision);
     for (int i = 1; i <= 8; ++i) {
       const Vec3 p(-4 + i, -4 + 0.7 * i, -0.5);  // ~12 cells per tick
-      const Vec3 f = render::step(plane, st, p, a);
+      const Vec3 f = rendering::step(plane, st, p, a);
       ASSERT_TRUE(st.collision);
       EXPECT_NEAR((st.ihip.point - Vec3(p.x(), p.y(), 0)).norm(), 0, 1e-9) << i;
       EXPECT_NEAR((f - Vec3(0, 0, 0.5)).norm(), 0, 1e-9);
@@ -269,16 +269,16 @@ TEST(RendererSafety, GlobalFallbackHelpsAWalkOutOfBudgetButNeverCrossesAThinWall
   // A 0.5 mm plate pressed 2 mm deep (the HIP is below the bottom face, i.e. outside the plate
   // as seen from the bottom): the global closest point is on the bottom face and disagrees on
   // inside/outside, so it is refused and the push stays upward.
-  render::Params none;
+  rendering::Params none;
   none.max_walk_steps = 0;
-  render::Model plate(test::closed_box(Vec3(-30, -30, -0.5), Vec3(30, 30, 0), 6), none);
+  rendering::Model plate(test::closed_box(Vec3(-30, -30, -0.5), Vec3(30, 30, 0), 6), none);
   for (Algorithm a : kBoth) {
-    render::State st;
-    render::step(plate, st, Vec3(1, 1, 1), a);
-    render::step(plate, st, Vec3(1, 1, -2), a);
+    rendering::State st;
+    rendering::step(plate, st, Vec3(1, 1, 1), a);
+    rendering::step(plate, st, Vec3(1, 1, -2), a);
     ASSERT_TRUE(st.collision);
     for (int i = 1; i <= 20; ++i) {
-      const Vec3 f = render::step(plate, st, Vec3(1 + i, 1 + 0.5 * i, -2), a);
+      const Vec3 f = rendering::step(plate, st, Vec3(1 + i, 1 + 0.5 * i, -2), a);
       ASSERT_TRUE(st.collision) << i;
       EXPECT_NEAR(st.ihip.point.z(), 0, 1e-12) << i;
       EXPECT_GT(f.z(), 0) << i;

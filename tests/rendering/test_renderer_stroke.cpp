@@ -9,7 +9,7 @@
 #include "rendering/render_fixtures.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 namespace {
 
@@ -19,7 +19,7 @@ TriMesh halves(double k1, double k2) {
       [=](double x, double) { return x < -1e-9 ? k1 : k2; });
 }
 
-double mean_hip_z(const std::vector<render::StrokeSample>& s, double lo, double hi) {
+double mean_hip_z(const std::vector<rendering::StrokeSample>& s, double lo, double hi) {
   double sum = 0;
   int n = 0;
   for (const auto& e : s)
@@ -34,14 +34,14 @@ double mean_hip_z(const std::vector<render::StrokeSample>& s, double lo, double 
 
 TEST(RendererStroke, HandHoldsForceAndShowsTheCbaDipButNotTheTcaOne) {
   const double k1 = 1.0, k2 = 0.25, F = 1.5;
-  render::Model m(halves(k1, k2));
-  render::StrokeOptions o;
+  rendering::Model m(halves(k1, k2));
+  rendering::StrokeOptions o;
   o.from = {-20, 0};
   o.to = {20, 0};
   o.force_n = F;
   o.speed_mm_s = 20;
-  const auto cba = render::simulate_stroke(m, Algorithm::kCBA, o);
-  const auto tca = render::simulate_stroke(m, Algorithm::kTCA, o);
+  const auto cba = rendering::simulate_stroke(m, Algorithm::kCBA, o);
+  const auto tca = rendering::simulate_stroke(m, Algorithm::kTCA, o);
   // Descends, strokes 40 mm at 20 mm/s (2 s) and lifts off.
   ASSERT_GT(cba.size(), 2000u);
   EXPECT_FALSE(cba.back().contact);
@@ -64,32 +64,32 @@ TEST(RendererStroke, HandHoldsForceAndShowsTheCbaDipButNotTheTcaOne) {
 }
 
 TEST(RendererStroke, TremorIsSeededAndOptionsAreChecked) {
-  render::Model m(halves(1.0, 1.0));
-  render::StrokeOptions o;
+  rendering::Model m(halves(1.0, 1.0));
+  rendering::StrokeOptions o;
   o.from = {-5, 0};
   o.to = {5, 0};
   o.tremor_n = 0.1;
   o.seed = 3;
-  const auto a = render::simulate_stroke(m, Algorithm::kTCA, o);
-  const auto b = render::simulate_stroke(m, Algorithm::kTCA, o);
+  const auto a = rendering::simulate_stroke(m, Algorithm::kTCA, o);
+  const auto b = rendering::simulate_stroke(m, Algorithm::kTCA, o);
   o.seed = 4;
-  const auto c = render::simulate_stroke(m, Algorithm::kTCA, o);
+  const auto c = rendering::simulate_stroke(m, Algorithm::kTCA, o);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i].hip, b[i].hip);
   bool differs = a.size() != c.size();
   for (std::size_t i = 0; !differs && i < a.size(); ++i) differs = a[i].hip != c[i].hip;
   EXPECT_TRUE(differs);
 
-  render::StrokeOptions bad;
+  rendering::StrokeOptions bad;
   bad.force_n = 10;  // above the 6.2 N limit
-  EXPECT_THROW(render::simulate_stroke(m, Algorithm::kCBA, bad), Error);
+  EXPECT_THROW(rendering::simulate_stroke(m, Algorithm::kCBA, bad), Error);
   bad = {};
   bad.speed_mm_s = 0;
-  EXPECT_THROW(render::simulate_stroke(m, Algorithm::kCBA, bad), Error);
+  EXPECT_THROW(rendering::simulate_stroke(m, Algorithm::kCBA, bad), Error);
   bad = {};
   bad.from = {100, 100};  // no surface below
   try {
-    render::simulate_stroke(m, Algorithm::kCBA, bad);
+    rendering::simulate_stroke(m, Algorithm::kCBA, bad);
     ADD_FAILURE() << "expected Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no surface below"), std::string::npos) << e.what();

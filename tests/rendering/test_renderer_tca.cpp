@@ -11,7 +11,7 @@
 #include "rendering/render_probe.hpp"
 
 using namespace inhap;
-using render::Algorithm;
+using rendering::Algorithm;
 
 namespace {
 
@@ -30,17 +30,17 @@ TriMesh two_halves(double k1, double k2, double h = 0.5) {
 // Touches down at x0 and strokes along +x to x1 at `dx` mm per tick with constant normal force:
 // exactly (press_exact), or with a one-tick lag (the height is corrected after each tick by
 // (f_z - F) / k from the force just felt, a quasi-static force-tracking hand).
-std::vector<Sample> stroke(const render::Model& m, render::State& st, Algorithm alg, double F,
+std::vector<Sample> stroke(const rendering::Model& m, rendering::State& st, Algorithm alg, double F,
                            double x0, double x1, double dx, double y = 0.13, bool lagged = false) {
-  render::step(m, st, Vec3(x0, y, 1.0), alg);
-  render::step(m, st, Vec3(x0, y, -0.2), alg);
+  rendering::step(m, st, Vec3(x0, y, 1.0), alg);
+  rendering::step(m, st, Vec3(x0, y, -0.2), alg);
   EXPECT_TRUE(st.collision);
   double z = -0.2;
   for (int i = 0; i < 50; ++i) z = test::press_exact(m, st, x0, y, F, z, alg);  // settle
   std::vector<Sample> out;
   for (double x = x0 + dx; x <= x1 + 1e-9; x += dx) {
     if (lagged) {
-      const Vec3 f = render::step(m, st, Vec3(x, y, z), alg);
+      const Vec3 f = rendering::step(m, st, Vec3(x, y, z), alg);
       out.push_back({x, z});
       z += (f.z() - F) / st.k;
     } else {
@@ -84,9 +84,9 @@ class StiffnessBorder : public ::testing::TestWithParam<bool> {};
 TEST_P(StiffnessBorder, CbaStepsByForceOverStiffnessTcaDoesNotAndRestoresAtSlopeAs) {
   const bool lagged = GetParam();
   const double k1 = 1.0, k2 = 0.25, F = 1.0;
-  render::Params params;  // a_s = 0.05
-  render::Model m(two_halves(k1, k2), params);
-  render::State cba_st, tca_st;
+  rendering::Params params;  // a_s = 0.05
+  rendering::Model m(two_halves(k1, k2), params);
+  rendering::State cba_st, tca_st;
   const auto cba = stroke(m, cba_st, Algorithm::kCBA, F, -30, 75, 0.1, 0.13, lagged);
   const auto tca = stroke(m, tca_st, Algorithm::kTCA, F, -30, 75, 0.1, 0.13, lagged);
 
@@ -140,9 +140,9 @@ TEST(RendererTca, Lemma1DeltaSIsMinusHeightDistortionOnRandomStiffness) {
   TriMesh mesh = test::grid_mesh(
       nx, ny, h, x0, y0, [](double, double) { return 0.0; }, [](double, double) { return 1.0; });
   mesh.set_property("stiffness", kv);
-  render::Params params;
+  rendering::Params params;
   params.a_s = 0;
-  render::Model m(mesh, params);
+  rendering::Model m(mesh, params);
   // Independent barycentric interpolation of the vertex stiffness at (x, y) on this grid.
   auto k_at = [&](double x, double y) {
     const int i = int(std::floor((x - x0) / h)), j = int(std::floor((y - y0) / h));
@@ -152,9 +152,9 @@ TEST(RendererTca, Lemma1DeltaSIsMinusHeightDistortionOnRandomStiffness) {
   };
 
   const double y = 0.37;
-  render::State st;
-  render::step(m, st, Vec3(-9, y, 1), Algorithm::kTCA);
-  render::step(m, st, Vec3(-9, y, -0.1), Algorithm::kTCA);
+  rendering::State st;
+  rendering::step(m, st, Vec3(-9, y, 1), Algorithm::kTCA);
+  rendering::step(m, st, Vec3(-9, y, -0.1), Algorithm::kTCA);
   ASSERT_TRUE(st.collision);
   // The first contact tick is not force-controlled; from the next tick on the user holds F.
   double z = test::press_exact(m, st, -9, y, F, -0.1, Algorithm::kTCA);
@@ -182,9 +182,9 @@ TEST(RendererTca, Lemma1DeltaSIsMinusHeightDistortionOnRandomStiffness) {
 
 TEST(RendererTca, MeshRestorationAfterReleaseShrinksTByAtTimesStep) {
   const double k1 = 1.0, k2 = 0.25, F = 1.0;
-  render::Params params;  // a_t = 0.5
-  render::Model m(two_halves(k1, k2), params);
-  render::State st;
+  rendering::Params params;  // a_t = 0.5
+  rendering::Model m(two_halves(k1, k2), params);
+  rendering::State st;
   const auto tr = stroke(m, st, Algorithm::kTCA, F, -10, 5, 0.1);
   ASSERT_GT(st.s, 2.0);  // compensation built up by the soft half
   // Lift straight up: no lateral motion, so neither Δs nor Δr_s changes s until release.
@@ -193,7 +193,7 @@ TEST(RendererTca, MeshRestorationAfterReleaseShrinksTByAtTimesStep) {
   int guard = 0;
   while (st.collision && guard++ < 10000) {
     z += 0.01;
-    render::step(m, st, Vec3(5, 0.13, z), Algorithm::kTCA);
+    rendering::step(m, st, Vec3(5, 0.13, z), Algorithm::kTCA);
   }
   ASSERT_FALSE(st.collision);
   // t(n+1) = t(n) + s(n) n(n): the mesh keeps the compensated height (normal = +z).
@@ -206,7 +206,7 @@ TEST(RendererTca, MeshRestorationAfterReleaseShrinksTByAtTimesStep) {
   while (st.t.norm() > 0) {
     const double before = st.t.norm();
     p += dp;
-    render::step(m, st, p, Algorithm::kTCA);
+    rendering::step(m, st, p, Algorithm::kTCA);
     ASSERT_FALSE(st.collision);
     EXPECT_NEAR(st.t.norm(), std::max(0.0, before - params.a_t * dp.norm()), 1e-12);
     if (st.t.norm() > 0) {
@@ -219,8 +219,8 @@ TEST(RendererTca, MeshRestorationAfterReleaseShrinksTByAtTimesStep) {
 
 TEST(RendererTca, RecontactRightAfterReleaseMeetsTheTranslatedSurface) {
   const double k1 = 1.0, k2 = 0.25, F = 1.0;
-  render::Model m(two_halves(k1, k2));
-  render::State st;
+  rendering::Model m(two_halves(k1, k2));
+  rendering::State st;
   const auto tr = stroke(m, st, Algorithm::kTCA, F, -10, 5, 0.1);
   double z = tr.back().z;
   // Lift off, hover up a little and come straight back down slowly, summing the HIP path
@@ -228,7 +228,7 @@ TEST(RendererTca, RecontactRightAfterReleaseMeetsTheTranslatedSurface) {
   double path = 0;
   auto tick = [&](double znew) {
     const bool was_free = !st.collision;
-    render::step(m, st, Vec3(5, 0.13, znew), Algorithm::kTCA);
+    rendering::step(m, st, Vec3(5, 0.13, znew), Algorithm::kTCA);
     if (was_free && !st.collision) path += std::abs(znew - z);
     z = znew;
   };
@@ -243,13 +243,13 @@ TEST(RendererTca, RecontactRightAfterReleaseMeetsTheTranslatedSurface) {
   // Contact is made on M^t(n) (where the surface was felt, minus the restoration so far), not
   // on the original z = 0 plane.
   const double t_contact = st.t.z();
-  EXPECT_NEAR(t_contact, t_release - render::Params{}.a_t * path, 1e-9);
+  EXPECT_NEAR(t_contact, t_release - rendering::Params{}.a_t * path, 1e-9);
   EXPECT_NEAR(st.ihip.point.z(), t_contact, 1e-9);
   EXPECT_GT(z, t_contact - 0.005 - 1e-9);
   EXPECT_LE(z, t_contact);
   EXPECT_GT(z, 1.0);  // far above the untranslated surface
   // The mesh is not restored while in contact.
-  for (int i = 0; i < 10; ++i) render::step(m, st, Vec3(5, 0.13, z -= 0.01), Algorithm::kTCA);
+  for (int i = 0; i < 10; ++i) rendering::step(m, st, Vec3(5, 0.13, z -= 0.01), Algorithm::kTCA);
   EXPECT_NEAR(st.t.z(), t_contact, 1e-12);
 }
 
@@ -259,27 +259,27 @@ TEST(RendererTca, RestoringMeshCannotJumpOverAHoveringProbe) {
   // above it. The contact sweep uses the motion relative to the mesh, so the rising surface is
   // caught the tick it reaches the probe.
   const double F = 1.0;
-  render::Model m(two_halves(0.25, 1.0));
-  render::State st;
+  rendering::Model m(two_halves(0.25, 1.0));
+  rendering::State st;
   const auto tr = stroke(m, st, Algorithm::kTCA, F, -10, 1, 0.1);
   ASSERT_LT(st.s, -2.5);
   double z = tr.back().z;
-  while (st.collision) render::step(m, st, Vec3(1, 0.13, z += 0.01), Algorithm::kTCA);
+  while (st.collision) rendering::step(m, st, Vec3(1, 0.13, z += 0.01), Algorithm::kTCA);
   const double t0 = st.t.z();
   ASSERT_LT(t0, -2.5);
   // Hover 0.2 mm above the translated surface (small vertical moves restore it a little too).
   Vec3 p(1, 0.13, z);
-  while (p.z() > st.t.z() + 0.2) render::step(m, st, p += Vec3(0, 0, -0.01), Algorithm::kTCA);
+  while (p.z() > st.t.z() + 0.2) rendering::step(m, st, p += Vec3(0, 0, -0.01), Algorithm::kTCA);
   ASSERT_FALSE(st.collision);
   const double gap = p.z() - st.t.z();
   ASSERT_GT(gap, 0.0);
   ASSERT_LT(gap, 0.21);
   // One lateral millimetre raises the mesh by a_t * 1 = 0.5 mm > gap (applied to t(n+1), eq.
   // 5.17), so the next tick finds the probe inside M^t: contact.
-  render::step(m, st, p += Vec3(1, 0, 0), Algorithm::kTCA);
+  rendering::step(m, st, p += Vec3(1, 0, 0), Algorithm::kTCA);
   EXPECT_FALSE(st.collision);
   EXPECT_NEAR(st.t.z() - p.z(), 0.5 - gap, 1e-9);
-  render::step(m, st, p += Vec3(0.01, 0, 0), Algorithm::kTCA);
+  rendering::step(m, st, p += Vec3(0.01, 0, 0), Algorithm::kTCA);
   EXPECT_TRUE(st.collision);
   EXPECT_GT(st.force.z(), 0);
   EXPECT_NEAR(st.ihip.point.z(), st.t.z(), 1e-9);

@@ -109,7 +109,7 @@ TEST(StudioSession, MalformedMessagesChangeNothing) {
 TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
   // Truth from Table 5.1 via the library; answers written as the Experiment view writes them.
   inhap::test::TempDir tmp;
-  const auto truth = [](int m) { return int(inhap::render::true_shape_class(m)); };
+  const auto truth = [](int m) { return int(inhap::rendering::true_shape_class(m)); };
   std::string csv =
       "# comment\nparticipant,session,trial,algorithm,task,layout_seed,cell,model,label,truth,"
       "correct,t\n";
@@ -124,7 +124,7 @@ TEST(StudioExperiment, SavedAnswersAreScoredByTheLibrary) {
   EXPECT_EQ(s["trials"], 2);
   ASSERT_EQ(s["conditions"].size(), 1u);
   const json& c = s["conditions"][0];
-  EXPECT_EQ(c["algorithm"], inhap::render::to_string(inhap::render::Algorithm::kTCA));
+  EXPECT_EQ(c["algorithm"], inhap::rendering::to_string(inhap::rendering::Algorithm::kTCA));
   EXPECT_DOUBLE_EQ(c["mean"].get<double>(), (3 + 1) / 2.0);  // 3 then 1 correct of 25
   EXPECT_DOUBLE_EQ(c["model_ratio"][0].get<double>(), 0.5);  // right in trial 0 only
   EXPECT_DOUBLE_EQ(c["model_ratio"][3].get<double>(), 0.0);

@@ -87,21 +87,21 @@ inline TriMesh torture_mesh() {
   return m;
 }
 
-inline TortureResult torture_renderer(const render::Model& model, render::Algorithm alg,
+inline TortureResult torture_renderer(const rendering::Model& model, rendering::Algorithm alg,
                                       std::uint64_t steps, std::uint64_t seed) {
   TortureResult r;
   const double limit = effective_force_limit(model.params().force_limit_n);
   Rng rng(seed);
-  render::State st;
+  rendering::State st;
   Vec3 p(20, 20, 10);
   for (std::uint64_t i = 0; i < steps; ++i) {
     p = torture_point(rng, p);
-    count_force(r, render::step(model, st, p, alg), limit);
+    count_force(r, rendering::step(model, st, p, alg), limit);
   }
-  render::State fresh;
+  rendering::State fresh;
   r.fresh_after = true;
   for (const Vec3& q : legal_trajectory()) {
-    const Vec3 a = render::step(model, st, q, alg), b = render::step(model, fresh, q, alg);
+    const Vec3 a = rendering::step(model, st, q, alg), b = rendering::step(model, fresh, q, alg);
     count_force(r, a, limit);
     if (!(a == b)) r.fresh_after = false;
   }
@@ -109,27 +109,27 @@ inline TortureResult torture_renderer(const render::Model& model, render::Algori
 }
 
 /// A small data-driven model trained on the synthetic recording (seconds of work).
-inline dd::ForceModel torture_dd_model() {
-  dd::SyntheticParams sp;
+inline datadriven::ForceModel torture_dd_model() {
+  datadriven::SyntheticParams sp;
   sp.samples = 8000;
   sp.seed = 2;
-  const Recording rec = dd::synthetic_recording(sp);
-  const dd::ProxyTrack track = dd::proxy_from_columns(rec, "synthetic");
-  const dd::TrainingSet s = dd::make_training_set(rec, track, dd::FoawParams{});
-  dd::TrainParams p;
+  const Recording rec = datadriven::synthetic_recording(sp);
+  const datadriven::ProxyTrack track = datadriven::proxy_from_columns(rec, "synthetic");
+  const datadriven::TrainingSet s = datadriven::make_training_set(rec, track, datadriven::FoawParams{});
+  datadriven::TrainParams p;
   p.bins = 3;
   p.centers = 60;
   p.seed = 5;
-  p.design = dd::Design::kRegression;
-  return dd::train_force_model(s, p);
+  p.design = datadriven::Design::kRegression;
+  return datadriven::train_force_model(s, p);
 }
 
-inline TortureResult torture_data_driven(const dd::ForceModel& model, std::uint64_t steps,
+inline TortureResult torture_data_driven(const datadriven::ForceModel& model, std::uint64_t steps,
                                          std::uint64_t seed) {
   TortureResult r;
-  const double limit = effective_force_limit(model.force_limit);
+  const double limit = effective_force_limit(model.force_limit_n);
   Rng rng(seed);
-  dd::ServoState st;
+  datadriven::ServoState st;
   Vec3 p(0, 0, 1);
   for (std::uint64_t i = 0; i < steps; ++i) {
     p = torture_point(rng, p);
@@ -138,16 +138,16 @@ inline TortureResult torture_data_driven(const dd::ForceModel& model, std::uint6
     Vec3 q = p + Vec3(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(0, 5));
     if (u < 0.05) q = Vec3(1e9, 0, 0);
     if (u > 0.95) q.x() = std::numeric_limits<double>::quiet_NaN();
-    count_force(r, dd::servo_step(model, st, p, q, rng.uniform(0, 1) < 0.7), limit);
+    count_force(r, datadriven::servo_step(model, st, p, q, rng.uniform(0, 1) < 0.7), limit);
   }
-  dd::ServoState fresh;
-  dd::EntryProxyState ea, eb;
+  datadriven::ServoState fresh;
+  datadriven::EntryProxyState ea, eb;
   r.fresh_after = true;
   for (const Vec3& t : legal_trajectory()) {
     const Vec3 x = t - Vec3(20, 20, 0);
     const bool contact = x.z() < 0;
-    const Vec3 a = dd::servo_step(model, st, x, dd::entry_proxy(ea, x, contact), contact);
-    const Vec3 b = dd::servo_step(model, fresh, x, dd::entry_proxy(eb, x, contact), contact);
+    const Vec3 a = datadriven::servo_step(model, st, x, datadriven::entry_proxy(ea, x, contact), contact);
+    const Vec3 b = datadriven::servo_step(model, fresh, x, datadriven::entry_proxy(eb, x, contact), contact);
     count_force(r, a, limit);
     if (!(a == b)) r.fresh_after = false;
   }

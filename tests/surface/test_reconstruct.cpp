@@ -46,7 +46,7 @@ TEST(Reconstruct, SolidModeOnCosphericalPointsToo) {
   const double r = 40.0;
   const auto pts = test::fibonacci_sphere(2000, r);
   ReconstructOptions o;
-  o.mode = SurfaceMode::Solid;
+  o.mode = SurfaceMode::kSolid;
   ReconstructReport rep;
   const TriMesh m = reconstruct_surface(pts, o, &rep);
   EXPECT_TRUE(topology(m).watertight());
@@ -76,7 +76,7 @@ TEST(Reconstruct, ShellModeKeepsAPartialSamplingOpenWithoutABase) {
   EXPECT_EQ(topology(undirected).boundary_loops, 1u);
   EXPECT_LT(test::max_radial_error(undirected, r), 0.2);
   ReconstructOptions solid;
-  solid.mode = SurfaceMode::Solid;
+  solid.mode = SurfaceMode::kSolid;
   EXPECT_GT(test::max_radial_error(reconstruct_surface(cap, solid), r), 5.0);
 }
 
@@ -104,7 +104,7 @@ TEST(Reconstruct, ShellModeKeepsGroovesThatTheSolidFills) {
   for (const Vec3& p : shell.positions) deepest = std::min(deepest, p.z());
   EXPECT_LT(deepest, -3.0);  // the groove is there
   ReconstructOptions solid;
-  solid.mode = SurfaceMode::Solid;
+  solid.mode = SurfaceMode::kSolid;
   EXPECT_GT(worst(reconstruct_surface(pts, solid)), 2.0);
 }
 

@@ -38,7 +38,7 @@
 namespace inhap::cli {
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 using namespace inhap::eval;
 using json = nlohmann::ordered_json;
 

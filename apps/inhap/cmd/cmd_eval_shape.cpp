@@ -195,7 +195,7 @@ void run_eval_shape(const EvalShapeArgs& a) {
                                                    .string())
                                  : lab::builtin_scene(t.name);
     const lab::Physics physics = lab::physics_from_string(a.physics);
-    if (physics == lab::Physics::mujoco && !lab::mujoco_represents(scene.object.shape())) {
+    if (physics == lab::Physics::kMujoco && !lab::mujoco_represents(scene.object.shape())) {
       fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", t.name,
                  scene.object.shape().type_name());
       continue;

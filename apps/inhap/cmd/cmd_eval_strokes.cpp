@@ -38,13 +38,13 @@ void run_eval_strokes(EvalStrokesOptions o) {
   cfg.seed = o.seed;
   for (double v : cfg.speeds_mm_s)
     if (!(v > 0)) throw Error(fmt::format("--speeds: expected speeds > 0 mm/s, got {}", v));
-  const std::vector<render::RealDataset> sets = render::load_real_datasets(dir);
+  const std::vector<rendering::RealDataset> sets = rendering::load_real_datasets(dir);
   std::vector<eval::DatasetResult> results;
   fmt::print("{:<8} {:>9} {:>7}  {:>19}  {:>19}  {:>15}\n", "data set", "triangles", "strokes",
              "distortion TCA/CBA", "max jump TCA/CBA", "step p50/p99");
   for (const auto& ds : sets) {
     progress("eval strokes: " + ds.name, double(results.size()) / double(sets.size()), 0);
-    const render::Model model(ds.mesh, cfg.params);
+    const rendering::Model model(ds.mesh, cfg.params);
     results.push_back(eval::run_dataset(model, ds, cfg));
     const auto& r = results.back();
     fmt::print("{:<8} {:>9} {:>7}  {:>8.3f} / {:<8.3f}  {:>8.3f} / {:<8.3f}  {:>6.1f} / {:<6.1f}\n",

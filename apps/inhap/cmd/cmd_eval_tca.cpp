@@ -15,8 +15,8 @@
 namespace inhap::cli {
 namespace {
 
-using render::Algorithm;
-using render::Task;
+using rendering::Algorithm;
+using rendering::Task;
 
 struct EvalTcaOptions {
   std::uint64_t seed = 1;
@@ -25,7 +25,7 @@ struct EvalTcaOptions {
   std::string json, afm;
 };
 
-nlohmann::json condition_json(const render::ConditionSummary& c) {
+nlohmann::json condition_json(const rendering::ConditionSummary& c) {
   nlohmann::json j;
   j["trials"] = c.trials;
   j["mean"] = c.mean;
@@ -76,7 +76,7 @@ void print_report(const EvalTcaOptions& o, const EvalReport& r) {
   fmt::print("TCA confused models:               {}\n",
              tca_confused.empty() ? "none" : fmt::format("{}", fmt::join(tca_confused, " ")));
   fmt::print("per-model shape ratio (TCA / CBA) for the 12 predicted models:\n");
-  for (int m : render::thesis_cba_confusions())
+  for (int m : rendering::thesis_cba_confusions())
     fmt::print("  M{:<2} {:.2f} / {:.2f}\n", m, ts.model_ratio[m], cs.model_ratio[m]);
   fmt::print(
       "servo step on {} triangles ({} steps, {:.0f} % in contact): CBA p50 {:.2f} us p99 {:.2f} "
@@ -103,7 +103,7 @@ nlohmann::json report_json(const EvalTcaOptions& o, const EvalReport& r) {
   j["stiffness_correct_sd"] = {{"tca", tk.sd_participants}, {"cba", ck.sd_participants}};
   j["cba_confused_models"] = s.misjudged_models(Algorithm::kCBA, Task::kShape);
   j["tca_confused_models"] = s.misjudged_models(Algorithm::kTCA, Task::kShape);
-  j["thesis_cba_confusions"] = render::thesis_cba_confusions();
+  j["thesis_cba_confusions"] = rendering::thesis_cba_confusions();
   j["distortion_rms_mm"] = {{"tca", ts.distortion_rms_mm}, {"cba", cs.distortion_rms_mm}};
   j["step_us"] = {{"p50", std::max(r.cba_t.p50, r.tca_t.p50)},
                   {"p99", std::max(r.cba_t.p99, r.tca_t.p99)},
@@ -129,10 +129,10 @@ void run_eval_tca(EvalTcaOptions o) {
   so.threads = o.threads;
   so.progress = [](const std::string&, double f, double eta) { progress("eval tca", f, eta); };
   r.study = eval::run_tca_study(so);
-  r.study_triangles = render::StudySurface(render::DatasetParams{}, render::identity_layout())
+  r.study_triangles = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout())
                           .mesh()
                           .num_triangles();
-  const render::Model timing_model(eval::tca_timing_surface(o.seed, o.afm));
+  const rendering::Model timing_model(eval::tca_timing_surface(o.seed, o.afm));
   r.timing_triangles = timing_model.mesh().num_triangles();
   r.cba_t = eval::time_servo_steps(timing_model, Algorithm::kCBA);
   r.tca_t = eval::time_servo_steps(timing_model, Algorithm::kTCA);

@@ -25,7 +25,7 @@
 namespace inhap::cli {
 namespace {
 
-using namespace inhap::dd;
+using namespace inhap::datadriven;
 
 constexpr double kFewContactSeconds = 30.0;  // less contact than this gets a warning
 
@@ -79,7 +79,7 @@ struct TrainOptions {
   std::string design = to_string(preset_params("best").design), features = "local";
   TrainParams params = preset_params("best");
   FoawParams foaw;
-  double force_limit = kDeviceForceLimitN;
+  double force_limit_n = kDeviceForceLimitN;
   ProxyOptions proxy;
   bool verbose = false;
   std::set<std::string> given;  ///< long names of the options given on the command line
@@ -134,7 +134,7 @@ TrainParams resolve_params(TrainOptions& o, bool have_normals) {
 }
 
 /// One line on the forces above the modeling range and above the render clamp (never silent).
-void report_range(const ForceModel& m, const TrainingSet& set, double force_limit) {
+void report_range(const ForceModel& m, const TrainingSet& set, double force_limit_n) {
   const TrainStats& s = m.stats;
   const TrainParams& p = m.params;
   if (s.above_range == 0) {
@@ -153,7 +153,7 @@ void report_range(const ForceModel& m, const TrainingSet& set, double force_limi
              p.above_range == AboveRange::kKeep ? "kept" : "excluded",
              p.above_range == AboveRange::kKeep ? "--above-range exclude leaves them out"
                                                 : "--above-range keep trains on them",
-             count_above(set.f, force_limit), force_limit);
+             count_above(set.f, force_limit_n), force_limit_n);
 }
 
 /// Writes where the recording covered the object beside the model and says it in one line.
@@ -189,11 +189,11 @@ void run_train(TrainOptions o) {
       (rec.find_extra("nx") && rec.find_extra("ny") && rec.find_extra("nz")) || !o.mesh.empty();
   o.params = resolve_params(o, have_normals);
   if (o.params.features == FeatureSet::kLocalFrame) add_normals(track, rec, o.recording, o.mesh);
-  o.foaw.dt = median_dt(rec);
+  o.foaw.dt_s = median_dt(rec);
   const TrainingSet set = make_training_set(rec, track, o.foaw);
   fmt::print(stderr, "inhap: {} samples, {} in contact ({}), proxy from {}\n", rec.size(),
              set.size(), track.contact_source, track.proxy_source);
-  const double contact_s = static_cast<double>(set.size()) * o.foaw.dt;
+  const double contact_s = static_cast<double>(set.size()) * o.foaw.dt_s;
   if (contact_s < kFewContactSeconds)
     fmt::print(stderr,
                "inhap: warning: only {:.1f} s of contact to train on; a model needs about {:.0f} s "
@@ -205,7 +205,7 @@ void run_train(TrainOptions o) {
     progress("train", frac, frac > 0 ? el * (1 - frac) / frac : 0);
   };
   ForceModel m = train_force_model(set, o.params, o.foaw);
-  m.force_limit = o.force_limit;
+  m.force_limit_n = o.force_limit_n;
   m.proxy_source = track.proxy_source;
   if (!o.sys.empty()) {
     m.sys_path = o.sys;
@@ -216,7 +216,7 @@ void run_train(TrainOptions o) {
     m.mesh_digest = file_digest(o.mesh);
   }
   save_force_model(o.out, m);
-  report_range(m, set, o.force_limit);
+  report_range(m, set, o.force_limit_n);
   report_coverage(set, coverage_path_for(o.out));
   fmt::print("trained {} samples in {:.1f} s: features {}, {} bins, design {}, non-zeros per axis",
              m.stats.samples, m.stats.seconds, to_string(m.features), m.bins.size(),
@@ -342,8 +342,8 @@ void run_eval(const ReplayOptions& o) {
   j["units"] = {{"force", "N"}};
   // Measured forces above the model's render clamp: the rendered force is capped there (the
   // device limit), so the errors on those samples include the clamp. Said, not hidden.
-  const std::size_t above = count_above(measured, m.force_limit);
-  j["force_limit_n"] = m.force_limit;
+  const std::size_t above = count_above(measured, m.force_limit_n);
+  j["force_limit_n"] = m.force_limit_n;
   j["measured_above_force_limit"] = above;
   if (cov.known)
     j["coverage"] = {{"file", cov.file},
@@ -361,7 +361,7 @@ void run_eval(const ReplayOptions& o) {
     fmt::print(
         "{} contact samples measured above the {:.2f} N render clamp (device limit): the "
         "rendered force is capped there\n",
-        above, m.force_limit);
+        above, m.force_limit_n);
 }
 
 void run_render(const ReplayOptions& o) {
@@ -461,10 +461,10 @@ void register_model(CLI::App& app) {
   ct->add_option("--foaw-window", tr->foaw.max_window, "FOAW window cap, samples")
       ->capture_default_str()
       ->check(CLI::Range(1, kFoawMaxWindow - 1));
-  ct->add_option("--foaw-noise", tr->foaw.noise_bound, "FOAW noise bound d, mm")
+  ct->add_option("--foaw-noise", tr->foaw.noise_bound_mm, "FOAW noise bound d, mm")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  ct->add_option("--force-limit", tr->force_limit,
+  ct->add_option("--force-limit", tr->force_limit_n,
                  fmt::format("Rendered force clamp, N (may lower the device's {} N, never raise "
                              "it; the training data "
                              "are not clipped)",

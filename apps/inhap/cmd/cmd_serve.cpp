@@ -72,8 +72,8 @@ std::string read_key(const ServeArgs& a) {
 
 // Everything the chosen renderer needs, kept alive for the loop.
 struct RenderSetup {
-  std::unique_ptr<render::Model> mesh_model;
-  std::unique_ptr<dd::ForceModel> force;
+  std::unique_ptr<rendering::Model> mesh_model;
+  std::unique_ptr<datadriven::ForceModel> force;
   std::unique_ptr<friction::SysModel> sys;
   std::unique_ptr<friction::MeshSurface> shape;
   std::unique_ptr<haptics::DataDrivenModel> dd_model;
@@ -88,16 +88,16 @@ RenderSetup make_renderer(const ServeArgs& a) {
   }
   if (a.render == "tca" || a.render == "cba") {
     if (a.mesh.empty()) throw Error("--render " + a.render + " needs --mesh MESH.ply");
-    render::Params params;
-    s.mesh_model = std::make_unique<render::Model>(read_mesh(a.mesh), params);
+    rendering::Params params;
+    s.mesh_model = std::make_unique<rendering::Model>(read_mesh(a.mesh), params);
     s.renderer = std::make_unique<haptics::MeshRenderer>(
-        *s.mesh_model, a.render == "tca" ? render::Algorithm::kTCA : render::Algorithm::kCBA);
+        *s.mesh_model, a.render == "tca" ? rendering::Algorithm::kTCA : rendering::Algorithm::kCBA);
     return s;
   }
   if (a.render == "model") {
     if (a.model.empty() || a.sys.empty() || a.shape.empty())
       throw Error("--render model needs --model MODEL.json, --sys SYS.json and --shape MESH.ply");
-    s.force = std::make_unique<dd::ForceModel>(dd::load_force_model(a.model));
+    s.force = std::make_unique<datadriven::ForceModel>(datadriven::load_force_model(a.model));
     s.sys = std::make_unique<friction::SysModel>(friction::read_sys_json(a.sys));
     s.shape = std::make_unique<friction::MeshSurface>(read_mesh(a.shape), a.probe_radius);
     s.dd_model = std::make_unique<haptics::DataDrivenModel>(*s.sys, *s.shape, *s.force);

@@ -31,15 +31,15 @@ struct ContactsArgs {
 
 void run_contacts(const ContactsArgs& a) {
   ContactOptions o;
-  o.method = a.method == "threshold" ? ContactMethod::Threshold : ContactMethod::Estimate;
+  o.method = a.method == "threshold" ? ContactMethod::kThreshold : ContactMethod::kEstimate;
   o.eps_f = a.eps;
   o.window = a.window;
   o.post = a.post;
   o.min_contact = a.min_contact;
   o.refine = !a.no_refine;
-  const ForceSource source = a.force == "raw"        ? ForceSource::Raw
-                             : a.force == "recorded" ? ForceSource::Recorded
-                                                     : ForceSource::Auto;
+  const ForceSource source = a.force == "raw"        ? ForceSource::kRaw
+                             : a.force == "recorded" ? ForceSource::kRecorded
+                                                     : ForceSource::kAuto;
   check_output_path(a.out);
   if (!a.csv.empty()) check_output_path(a.csv);
   const Recording rec = read_recording(a.rec);
@@ -52,7 +52,7 @@ void run_contacts(const ContactsArgs& a) {
   std::size_t estimated = 0;
   for (const auto& c : res.contacts) estimated += c.estimated;
   const std::string force =
-      res.source == ForceSource::Raw
+      res.source == ForceSource::kRaw
           ? fmt::format("raw sensor compensated offline (tool mass {:.4f} kg, offset {:.3f} N)",
                         res.compensation.mass_kg, res.compensation.offset.norm())
           : std::string("recorded contact force");
@@ -76,7 +76,7 @@ void run_reconstruct(const ReconstructArgs& a) {
       throw Error(fmt::format("--alpha: expected auto or a radius in mm > 0, got '{}'", a.alpha));
     o.alpha = v;
   }
-  o.mode = a.mode == "solid" ? SurfaceMode::Solid : SurfaceMode::Shell;
+  o.mode = a.mode == "solid" ? SurfaceMode::kSolid : SurfaceMode::kShell;
   o.taubin_iterations = a.taubin;
   o.taubin_lambda = a.lambda;
   o.taubin_mu = a.mu;
@@ -99,7 +99,7 @@ void run_reconstruct(const ReconstructArgs& a) {
       "{} points ({} outliers removed), {} mode{}, alpha {:.3f} mm{}\n"
       "mesh: {} vertices, {} faces{}\nwrote {}\n",
       rep.points_in, rep.outliers, a.mode,
-      o.mode == SurfaceMode::Shell
+      o.mode == SurfaceMode::kShell
           ? fmt::format(" (shell depth {:.3f} mm, normals oriented by {})", rep.shell_depth,
                         use_dirs ? "contact directions" : "the alpha solid")
           : std::string(),

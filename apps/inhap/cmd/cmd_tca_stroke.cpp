@@ -18,8 +18,8 @@ namespace {
 struct StrokeArgs {
   std::string mesh, algorithm = "tca", from, to, out;
   double force = 1.0, speed = 20.0, tremor = 0.0;
-  double a_s = render::Params{}.a_s, a_t = render::Params{}.a_t;
-  double stiffness = render::Params{}.default_stiffness;
+  double a_s = rendering::Params{}.a_s, a_t = rendering::Params{}.a_t;
+  double stiffness = rendering::Params{}.default_stiffness;
   bool no_shading = false;
   std::uint64_t seed = 1;
 };
@@ -35,27 +35,27 @@ Vec2 parse_xy(const std::string& flag, const std::string& text) {
 }
 
 void run_stroke(const StrokeArgs& a) {
-  render::Algorithm alg;
+  rendering::Algorithm alg;
   if (a.algorithm == "tca")
-    alg = render::Algorithm::kTCA;
+    alg = rendering::Algorithm::kTCA;
   else if (a.algorithm == "cba")
-    alg = render::Algorithm::kCBA;
+    alg = rendering::Algorithm::kCBA;
   else
     throw Error(fmt::format("--algorithm: expected tca or cba, got {}", quote_token(a.algorithm)));
-  render::StrokeOptions o;
+  rendering::StrokeOptions o;
   o.from = parse_xy("--from", a.from);
   o.to = parse_xy("--to", a.to);
   o.force_n = a.force;
   o.speed_mm_s = a.speed;
   o.tremor_n = a.tremor;
   o.seed = a.seed;
-  render::Params params;
+  rendering::Params params;
   params.a_s = a.a_s;
   params.a_t = a.a_t;
   params.default_stiffness = a.stiffness;
   params.force_shading = !a.no_shading;
-  const render::Model model(read_mesh(a.mesh), params);
-  const auto samples = render::simulate_stroke(model, alg, o);
+  const rendering::Model model(read_mesh(a.mesh), params);
+  const auto samples = rendering::simulate_stroke(model, alg, o);
 
   const std::vector<std::string> comments = {
       fmt::format(

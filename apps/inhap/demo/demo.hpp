@@ -24,7 +24,7 @@ struct Options {
   std::uint64_t seed = 1;
   /// Contact physics of the lab steps (tap, contacts, shape, palpation, explore, force-model);
   /// the stroke, study and data steps render with inhap's own renderers and do not use it.
-  lab::Physics physics = lab::Physics::builtin;
+  lab::Physics physics = lab::Physics::kBuiltin;
 };
 
 /// One line of the summary table.

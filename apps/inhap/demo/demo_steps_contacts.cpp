@@ -41,7 +41,7 @@ StepResult step_contacts(const Context& c) {
   std::vector<std::string> skipped;
   for (std::size_t i = 0; i < names.size(); ++i) {
     const lab::Scene scene = lab::builtin_scene(names[i]);
-    if (c.options.physics == lab::Physics::mujoco &&
+    if (c.options.physics == lab::Physics::kMujoco &&
         !lab::mujoco_represents(scene.object.shape())) {
       skipped.push_back(names[i]);
       continue;

@@ -61,7 +61,7 @@ std::string find_data_dir(const std::string& given) {
 namespace {
 
 // The thesis' marked points (A-D) as labelled markers just above the original surface.
-nlohmann::json marks_trace(const render::DataStroke& line, const std::vector<double>& u,
+nlohmann::json marks_trace(const rendering::DataStroke& line, const std::vector<double>& u,
                            const std::vector<double>& h) {
   nlohmann::json mx = nlohmann::json::array(), my = nlohmann::json::array(),
                  mt = nlohmann::json::array();
@@ -88,9 +88,9 @@ nlohmann::json marks_trace(const render::DataStroke& line, const std::vector<dou
 
 // Fig. 5.7: heights along the stroke of the original surface and of HIP, IHIP, CIHIP for both
 // algorithms, the stiffness under the stroke (right axis) and the thesis' marked points.
-Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
+Figure profile_figure(const rendering::Model& model, const rendering::RealDataset& ds,
                       const eval::StrokeRun& run, const std::string& id) {
-  const render::DataStroke& line = run.line;
+  const rendering::DataStroke& line = run.line;
   const double len = (line.to - line.from).norm();
   const Vec2 dir = (line.to - line.from) / len;
   const Box3 b = model.index().bounds();
@@ -106,7 +106,7 @@ Figure profile_figure(const render::Model& model, const render::RealDataset& ds,
   }
   nlohmann::json data = nlohmann::json::array();
   data.push_back(line_trace(series(u), series(h), "original surface", "#000000", 2.5));
-  auto add = [&](const std::vector<render::StrokeSample>& s, int which, const std::string& name,
+  auto add = [&](const std::vector<rendering::StrokeSample>& s, int which, const std::string& name,
                  const std::string& colour, const std::string& dash) {
     std::vector<double> x, z;
     std::size_t m = 0;
@@ -209,12 +209,12 @@ StepResult step_data_strokes(const Context& c) {
   for (std::size_t i = 0; i < count; ++i) {
     c.progress(double(i) / double(count), "loading " + names[i]);
     const fs::path d(dir);
-    render::RealDataset ds =
-        i == 0   ? render::load_afm((d / "afm-topography" / "sample_0.top").string())
-        : i == 1 ? render::load_bunny((d / "bunny" / "bun_zipper.ply").string())
-                 : render::load_head((d / "headsq" / "quarter.nhdr").string());
+    rendering::RealDataset ds =
+        i == 0   ? rendering::load_afm((d / "afm-topography" / "sample_0.top").string())
+        : i == 1 ? rendering::load_bunny((d / "bunny" / "bun_zipper.ply").string())
+                 : rendering::load_head((d / "headsq" / "quarter.nhdr").string());
     if (c.options.quick) ds.strokes.resize(1);
-    const render::Model model(ds.mesh, cfg.params);
+    const rendering::Model model(ds.mesh, cfg.params);
     c.progress((double(i) + 0.3) / double(count), "strokes on " + names[i]);
     eval::DatasetResult res = eval::run_dataset(model, ds, cfg);
     // Fig. 5.7 profile: the first stroke at 20 mm/s (or the first speed).

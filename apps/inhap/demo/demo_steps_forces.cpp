@@ -101,7 +101,7 @@ Figure magnitude_figure(const std::vector<eval::ForceLabResult>& all, bool basel
   const char* colours[] = {"#1f77b4", "#d62728"};
   for (std::size_t s = 0; s < all.size(); ++s) {
     for (int v = 0; v < (baselines ? 2 : 1); ++v) {
-      const dd::ForceErrors& e = v == 0 ? all[s].proxy.all : all[s].no_proxy.all;
+      const datadriven::ForceErrors& e = v == 0 ? all[s].proxy.all : all[s].no_proxy.all;
       std::vector<double> x, y;
       for (const auto& b : e.re_by_magnitude)
         if (b.n >= 20) {
@@ -123,7 +123,7 @@ Figure magnitude_figure(const std::vector<eval::ForceLabResult>& all, bool basel
   return f;
 }
 
-nlohmann::json box(const dd::BoxStats& b, const std::string& x, const std::string& name,
+nlohmann::json box(const datadriven::BoxStats& b, const std::string& x, const std::string& name,
                    const std::string& colour, bool legend) {
   return {{"type", "box"},
           {"name", name},
@@ -153,7 +153,7 @@ Figure box_figure(const std::vector<eval::ForceLabResult>& all, bool baselines) 
   const char* colours[] = {"#1f77b4", "#aec7e8", "#d62728", "#ff9896"};
   for (std::size_t s = 0; s < all.size(); ++s)
     for (int v = 0; v < (baselines ? 2 : 1); ++v) {
-      const dd::ForceErrors& e = v == 0 ? all[s].proxy.all : all[s].no_proxy.all;
+      const datadriven::ForceErrors& e = v == 0 ? all[s].proxy.all : all[s].no_proxy.all;
       const std::string name =
           fmt::format("{}, {}", all[s].name, v == 0 ? "with proxy" : "without proxy");
       const std::string colour = colours[(2 * s + v) % 4];
@@ -203,7 +203,7 @@ Figure coverage_figure(const std::vector<eval::ForceLabResult>& all,
   for (std::size_t s = 0; s < all.size(); ++s) {
     const eval::ForceCoverage& cov = coverages[s];
     std::map<std::pair<int, int>, double> column;
-    for (const dd::CoverageCell& cell : cov.map.cells())
+    for (const datadriven::CoverageCell& cell : cov.map.cells())
       column[{cell.index[0], cell.index[1]}] += static_cast<double>(cell.samples);
     nlohmann::json x = nlohmann::json::array(), y = x, z = x;
     for (const auto& [ij, n] : column) {
@@ -227,7 +227,7 @@ Figure coverage_figure(const std::vector<eval::ForceLabResult>& all,
                                 {"showscale", s == 0},
                                 {"colorbar", {{"title", {{"text", "log10 samples"}}}}}}}});
     nlohmann::json gx = nlohmann::json::array(), gy = gx, gt = gx;
-    for (const dd::CoverageGap& g : cov.gaps) {
+    for (const datadriven::CoverageGap& g : cov.gaps) {
       gx.push_back(g.x_mm);
       gy.push_back(g.y_mm);
       gt.push_back(
@@ -288,7 +288,7 @@ StepResult step_force_model(const Context& c) {
       all.push_back(eval::evaluate_forces_on_lab(fo));
     }
     const eval::ForceLabResult& d = all.back();
-    const dd::ForceErrors& e = d.proxy.all;
+    const datadriven::ForceErrors& e = d.proxy.all;
     write_series(c.file(r, fmt::format("forces_{}_test.csv", t.name)), d);
     r.rows.push_back({fmt::format("{}: force RMSE x / y / z (N)", t.name),
                       fmt::format("{:.2f} / {:.2f} / {:.2f}", e.rmse[0], e.rmse[1], e.rmse[2]),

@@ -152,7 +152,7 @@ StepResult step_shape(const Context& c) {
   std::vector<std::string> skipped;
   std::erase_if(targets, [&](const ShapeTarget& t) {
     const bool skip =
-        c.options.physics == lab::Physics::mujoco &&
+        c.options.physics == lab::Physics::kMujoco &&
         (t.name == "bunny" || !lab::mujoco_represents(lab::builtin_scene(t.name).object.shape()));
     if (skip) skipped.push_back(t.name);
     return skip;

@@ -15,8 +15,8 @@
 namespace inhap::demo {
 namespace {
 
-using render::Algorithm;
-using render::Task;
+using rendering::Algorithm;
+using rendering::Task;
 
 nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>& y,
                    const std::vector<double>& err, const std::string& name,
@@ -27,13 +27,13 @@ nlohmann::json bar(const std::vector<std::string>& x, const std::vector<double>&
   return j;
 }
 
-nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySummary& s) {
+nlohmann::json study_json(const rendering::StudyConfig& cfg, const rendering::StudySummary& s) {
   const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   nlohmann::json j;
   j["participants"] = cfg.participants;
   j["trials_per_session"] = cfg.trials;
   j["seed"] = cfg.seed;
-  auto cond = [](const render::ConditionSummary& x) {
+  auto cond = [](const rendering::ConditionSummary& x) {
     return nlohmann::json{{"mean", x.mean},
                           {"sd_participants", x.sd_participants},
                           {"per_participant", x.per_participant},
@@ -45,11 +45,11 @@ nlohmann::json study_json(const render::StudyConfig& cfg, const render::StudySum
   j["stiffness"] = {{"tca", cond(tk)}, {"cba", cond(ck)}};
   j["thesis"] = {{"shape", {{"tca", 24.4}, {"cba", 17.0}}},
                  {"stiffness", {{"tca", 22.7}, {"cba", 22.7}}},
-                 {"cba_confusions", render::thesis_cba_confusions()}};
+                 {"cba_confusions", rendering::thesis_cba_confusions()}};
   return j;
 }
 
-Figure fig_5_10(const render::StudyConfig& cfg, const render::StudySummary& s) {
+Figure fig_5_10(const rendering::StudyConfig& cfg, const rendering::StudySummary& s) {
   const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
   const std::vector<std::string> tasks = {"shape", "stiffness"};
   Figure f10{"fig5_10",
@@ -82,18 +82,18 @@ Figure fig_5_10(const render::StudyConfig& cfg, const render::StudySummary& s) {
   return f10;
 }
 
-Figure fig_5_11(const render::StudySummary& s) {
+Figure fig_5_11(const rendering::StudySummary& s) {
   const auto& ts = s.get(Algorithm::kTCA, Task::kShape);
   const auto& cs = s.get(Algorithm::kCBA, Task::kShape);
   std::vector<std::string> models;
   std::vector<double> rt, rc;
-  for (int m = 0; m < render::kNumModels; ++m) {
+  for (int m = 0; m < rendering::kNumModels; ++m) {
     models.push_back(fmt::format("M{}", m));
     rt.push_back(ts.model_ratio[m]);
     rc.push_back(cs.model_ratio[m]);
   }
   nlohmann::json confusions = nlohmann::json::array();
-  for (int m : render::thesis_cba_confusions()) confusions.push_back(fmt::format("M{}", m));
+  for (int m : rendering::thesis_cba_confusions()) confusions.push_back(fmt::format("M{}", m));
   Figure f11{"fig5_11",
              "Per-model correct ratio, shape task (fig. 5.11)",
              "Fraction of trials in which each model's shape was classified correctly. Triangles "
@@ -124,15 +124,15 @@ StepResult step_study(const Context& c) {
   so.seed = c.options.seed;
   so.progress = [&c](const std::string& what, double f, double) { c.progress(f, what); };
   const eval::TcaStudyResult study = eval::run_tca_study(so);
-  const render::StudyConfig& cfg = study.config;
-  const render::StudySummary& s = study.summary;
+  const rendering::StudyConfig& cfg = study.config;
+  const rendering::StudySummary& s = study.summary;
   const auto [ts, cs, tk, ck] = eval::tca_conditions(s);
 
   write_file_atomic(c.file(r, "study.json"), study_json(cfg, s).dump(2) + "\n");
   r.figures.push_back(fig_5_10(cfg, s));
   r.figures.push_back(fig_5_11(s));
 
-  auto pm = [](const render::ConditionSummary& x) {
+  auto pm = [](const rendering::ConditionSummary& x) {
     return fmt::format("{:.1f} +- {:.1f}", x.mean, x.sd_participants);
   };
   r.rows.push_back({"shape correct of 25, TCA-MESH", pm(ts), "24.4 +- 1.1"});
@@ -150,8 +150,8 @@ StepResult step_study(const Context& c) {
 
 StepResult step_strokes(const Context& c) {
   StepResult r;
-  const render::StudySurface surface(render::DatasetParams{}, render::identity_layout());
-  const render::Model model(surface.mesh());
+  const rendering::StudySurface surface(rendering::DatasetParams{}, rendering::identity_layout());
+  const rendering::Model model(surface.mesh());
   // Models the thesis reports CBA to confuse (M1, M3 flat with a softer / harder centre; M6
   // bump, M18 hole with inhomogeneous stiffness) and M5, a bump of constant stiffness.
   std::vector<int> ids =

@@ -18,7 +18,7 @@ double along(const StrokeCase& sc, const Vec3& p) {
   return (Vec2(p.x(), p.y()) - sc.from).dot(d);
 }
 
-double distortion(const StrokeCase& sc, const std::vector<render::StrokeSample>& s) {
+double distortion(const StrokeCase& sc, const std::vector<rendering::StrokeSample>& s) {
   const double len = (sc.to - sc.from).norm();
   std::vector<double> e;
   for (const auto& x : s) {
@@ -43,7 +43,7 @@ nlohmann::json trace(const std::vector<double>& u, const std::vector<double>& z,
 }
 
 // Heights of one point kind along the sliding part, thinned to about 600 points.
-void path(const StrokeCase& sc, const std::vector<render::StrokeSample>& s, int which,
+void path(const StrokeCase& sc, const std::vector<rendering::StrokeSample>& s, int which,
           std::vector<double>& u, std::vector<double>& z) {
   const double len = (sc.to - sc.from).norm();
   std::size_t n = 0;
@@ -70,15 +70,15 @@ std::array<double, 3> ramp(double v) {
 
 }  // namespace
 
-StrokePair run_stroke_pair(const render::Model& model, const StrokeCase& sc, std::uint64_t seed) {
-  render::StrokeOptions o;
+StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc, std::uint64_t seed) {
+  rendering::StrokeOptions o;
   o.from = sc.from;
   o.to = sc.to;
   o.force_n = sc.force_n;
   o.seed = seed;
   StrokePair p;
-  p.tca = render::simulate_stroke(model, render::Algorithm::kTCA, o);
-  p.cba = render::simulate_stroke(model, render::Algorithm::kCBA, o);
+  p.tca = rendering::simulate_stroke(model, rendering::Algorithm::kTCA, o);
+  p.cba = rendering::simulate_stroke(model, rendering::Algorithm::kCBA, o);
   p.distortion_tca = distortion(sc, p.tca);
   p.distortion_cba = distortion(sc, p.cba);
   return p;

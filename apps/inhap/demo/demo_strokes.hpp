@@ -21,13 +21,13 @@ struct StrokeCase {
 };
 
 struct StrokePair {
-  std::vector<render::StrokeSample> tca, cba;
+  std::vector<rendering::StrokeSample> tca, cba;
   /// RMS of HIP height minus the reference over the sliding part, each stroke's mean removed, mm.
   double distortion_tca = 0, distortion_cba = 0;
 };
 
 struct StrokeLine {
-  std::vector<render::StrokeSample> samples;
+  std::vector<rendering::StrokeSample> samples;
   std::string color;
 };
 
@@ -36,7 +36,7 @@ struct StrokeLine {
 /// working directory; empty when none is found.
 std::string find_data_dir(const std::string& given);
 
-StrokePair run_stroke_pair(const render::Model& model, const StrokeCase& sc, std::uint64_t seed);
+StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc, std::uint64_t seed);
 /// HIP / IHIP / CIHIP heights along the stroke for both algorithms (and the true surface).
 Figure stroke_figure(const StrokeCase& sc, const StrokePair& p, const std::string& id,
                      const std::string& title);

@@ -14,12 +14,12 @@
 namespace inhap {
 
 enum class ContactMethod {
-  Estimate,   ///< knee fit over [t_d - N, t_d]: the thesis' true contact estimation
-  Threshold,  ///< p(t_d): the first sample with ||f|| > eps_f (plain thresholding)
+  kEstimate,   ///< knee fit over [t_d - N, t_d]: the thesis' true contact estimation
+  kThreshold,  ///< p(t_d): the first sample with ||f|| > eps_f (plain thresholding)
 };
 
 struct ContactOptions {
-  ContactMethod method = ContactMethod::Estimate;
+  ContactMethod method = ContactMethod::kEstimate;
   double eps_f = 0.2;             ///< contact threshold on ||f||, N
   std::size_t window = 100;       ///< N: samples before the detection used by the knee fit
   std::size_t post = 0;           ///< extra samples after the detection added to the fit window

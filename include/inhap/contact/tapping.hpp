@@ -12,19 +12,19 @@
 namespace inhap {
 
 enum class ForceSource {
-  Auto,      ///< Raw when the recording has rfx,rfy,rfz columns, else Recorded
-  Recorded,  ///< the fx,fy,fz columns as the contact force (already compensated)
-  Raw,       ///< rfx,rfy,rfz compensated offline (offline_compensation.hpp); Error if absent
+  kAuto,      ///< Raw when the recording has rfx,rfy,rfz columns, else Recorded
+  kRecorded,  ///< the fx,fy,fz columns as the contact force (already compensated)
+  kRaw,       ///< rfx,rfy,rfz compensated offline (offline_compensation.hpp); Error if absent
 };
 
 struct TappingResult {
   std::vector<Contact> contacts;
   std::vector<std::string> notes;              ///< skipped taps, fallbacks, "no contact found"
-  ForceSource source = ForceSource::Recorded;  ///< what was used
+  ForceSource source = ForceSource::kRecorded;  ///< what was used
   OfflineCompensation compensation;            ///< when source == Raw
 };
 
 TappingResult contacts_from_recording(const Recording& rec, const ContactOptions& options,
-                                      ForceSource source = ForceSource::Auto);
+                                      ForceSource source = ForceSource::kAuto);
 
 }  // namespace inhap

@@ -17,7 +17,7 @@
 
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct CoverageParams {
   double cell_mm = 3.0;
@@ -72,4 +72,4 @@ void write_coverage(const std::string& path, const CoverageMap& map);
 /// Reads write_coverage's file; throws inhap::ParseError naming the file and line.
 CoverageMap read_coverage(const std::string& path);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

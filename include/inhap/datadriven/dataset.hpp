@@ -15,7 +15,7 @@
 #include "inhap/core/csv.hpp"
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct ProxyTrack {
   std::vector<Vec3> q;        ///< mm (meaningful where contact)
@@ -60,4 +60,4 @@ TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
 std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const ProxyTrack& proxy,
                          std::vector<double>* step_us = nullptr);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -27,7 +27,7 @@
 
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 /// Monotone depth-force law f_n(d): knots (depth mm, force N), increasing depth, non-decreasing
 /// force, then a straight line of `slope_n_per_mm` beyond the last knot.
@@ -80,4 +80,4 @@ struct Fallback {
 /// `where`.
 void validate_fallback(const Fallback& f, const std::string& where);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -20,16 +20,16 @@
 
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 /// Largest window the state can hold (samples); FoawParams::max_window must not exceed it.
 inline constexpr int kFoawMaxWindow = 64;
 
 struct FoawParams {
-  double dt = 1e-3;           ///< sample period, s
+  double dt_s = 1e-3;           ///< sample period, s
   int max_window = 16;        ///< window cap n_max (samples, 1..kFoawMaxWindow-1)
-  double noise_bound = 0.01;  ///< d: allowed deviation of a sample from the fitted line, mm
-  /// Throws inhap::Error when dt <= 0, max_window out of range or noise_bound < 0.
+  double noise_bound_mm = 0.01;  ///< d: allowed deviation of a sample from the fitted line, mm
+  /// Throws inhap::Error when dt_s <= 0, max_window out of range or noise_bound_mm < 0.
   void validate() const;
 };
 
@@ -47,4 +47,4 @@ struct FoawState {
 /// zero. A non-finite `p` resets the state and returns zero.
 Vec3 foaw_step(const FoawParams& params, FoawState& state, const Vec3& p);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

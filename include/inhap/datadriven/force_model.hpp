@@ -33,10 +33,10 @@
 #include "inhap/datadriven/lasso.hpp"
 #include "inhap/datadriven/rbf.hpp"
 #include "inhap/datadriven/sparsa.hpp"
-#include "inhap/datadriven/stiffness_map.hpp"
+#include "inhap/datadriven/stiffness_prior.hpp"
 #include "inhap/geometry/surface_frame.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 inline constexpr int kFeatureDim = 9;
 /// Normal force below which the friction-cone guard uses this value instead, N.
@@ -149,7 +149,7 @@ struct TrainParams {
   /// see stiffness_map.hpp) to all training samples first; the RBFs learn the rest and the prior
   /// is added back when rendering, so the stiffness seen at shallow depth carries to deep pushes.
   bool stiffness_prior = false;
-  StiffnessMapParams stiffness;  ///< settings of the prior's fit
+  StiffnessPriorParams stiffness;  ///< settings of the prior's fit
   /// Local-frame features only: fit a local shear prior f_t = -k_t(q) |u_t|^(beta - 1) u_t
   /// (u_t = tangential part of p - q, mm; k_t in N/mm^beta; the same map fit as the stiffness
   /// prior, on |f_t| against |u_t| of the samples whose tangential force opposes u_t) first;
@@ -158,7 +158,7 @@ struct TrainParams {
   bool shear_prior = false;
   /// Settings of the shear prior's fit (min_depth = the smallest |u_t| fitted, mm; min_force =
   /// the smallest |f_t|, N).
-  StiffnessMapParams shear{.min_depth = 0.2, .min_force = 0.1};
+  StiffnessPriorParams shear{.min_depth = 0.2, .min_force = 0.1};
   /// Local-frame features only: keep the rendered force inside the friction cone seen in
   /// training, |f_t| <= c max(f_n, 0.3 N) with c the 99.5 % quantile of |f_t| / f_n over the
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
@@ -226,15 +226,15 @@ struct ForceModel {
   std::vector<double> edges;  ///< bins-1 increasing thresholds on ||q - p||, mm
   std::vector<BinModel> bins;
   FoawParams foaw;           ///< velocity filter used for training; the renderer uses the same
-  double force_limit = 6.2;  ///< output clamp, N (device limit)
+  double force_limit_n = 6.2;  ///< output clamp, N (device limit)
   double bin_blend = 0.0;    ///< mm; see TrainParams::bin_blend
   TrainParams params;        ///< as trained (progress callback not kept)
   TrainStats stats;
   std::string sys_path, mesh_path;       ///< references (may be empty)
   std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
   std::string proxy_source = "columns";  ///< where q came from when training
-  StiffnessMap prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
-  StiffnessMap shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
+  StiffnessPrior prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
+  StiffnessPrior shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
   Fallback fallback;         ///< outside the training support (empty: none)
 
@@ -265,7 +265,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
 void finalize_model(ForceModel& model);
 
 /// Model force for one input, N: bin by ||q - p||, normalise, clamp to the bin's box, evaluate
-/// the three expansions, clamp the magnitude to force_limit. Non-finite input gives zero.
+/// the three expansions, clamp the magnitude to force_limit_n. Non-finite input gives zero.
 /// Servo-safe: no allocation, no exceptions.
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
 /// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame).
@@ -288,4 +288,4 @@ SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v
 /// naming what is wrong, prefixed with `where`.
 void validate_model(const ForceModel& model, const std::string& where);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

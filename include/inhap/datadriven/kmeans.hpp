@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct KMeansParams {
   int k = 300;               ///< number of clusters (clamped to the number of samples)
@@ -39,4 +39,4 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const KMeansParams& params);
 /// k-means++ seeding alone: indices of the k rows chosen as initial centres.
 std::vector<int> kmeanspp_seed(const Eigen::MatrixXd& x, int k, std::uint64_t seed);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

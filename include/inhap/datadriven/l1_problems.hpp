@@ -4,7 +4,7 @@
 //     lambda = 0.001 ||A^T f||_inf (issue 19's problem);
 //   - "r3_cube_normalised": the same with unit-norm columns (how the force model solves it);
 //   - "force_model": one bin of the force model as it is trained by default: the in-contact
-//     samples of a synthetic recording (dd::synthetic_recording), features (q - p, q, pdot)
+//     samples of a synthetic recording (datadriven::synthetic_recording), features (q - p, q, pdot)
 //     standardised with weights 1, 3, 0.5, k-means rows as centres (regression design),
 //     unit-norm columns, target = f_z minus its linear-tail fit, lambda = 0.001 ||A^T f||_inf.
 // Units: dimensionless (unit cube, standardised features); the force model's target is in N.
@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <string>
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct L1Problem {
   std::string name;
@@ -33,4 +33,4 @@ void normalise_columns(L1Problem& p, double ratio = 0.001);
 /// One force-model bin from `samples` synthetic 1 kHz samples with m k-means centres.
 L1Problem force_model_problem(int samples = 65000, int m = 300, std::uint64_t seed = 1);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

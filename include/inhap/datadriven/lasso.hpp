@@ -30,7 +30,7 @@
 
 #include "inhap/datadriven/sparsa.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 /// Which l1 solver the force model uses.
 enum class L1Solver {
@@ -103,4 +103,4 @@ std::vector<L1Fit> solve_l1(L1Solver solver, const Eigen::MatrixXd& a, const Eig
                             const std::vector<double>& lambda, const SparsaParams& sparsa,
                             const LassoParams& lasso);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

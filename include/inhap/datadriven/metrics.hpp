@@ -21,7 +21,7 @@
 
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 double absolute_error(const Vec3& rendered, const Vec3& measured);  ///< eq. 4.27
 double relative_error(const Vec3& rendered, const Vec3& measured);  ///< eq. 4.28
@@ -67,4 +67,4 @@ ForceErrors force_errors(const std::vector<Vec3>& rendered, const std::vector<Ve
 /// "re_box": {...}, "re_axis_box": {"x": {...}, ...}, "re_by_magnitude": [...]}.
 std::string force_errors_json(const ForceErrors& e);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

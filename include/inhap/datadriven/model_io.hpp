@@ -14,7 +14,7 @@
 
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 inline constexpr int kForceModelVersion = 1;
 
@@ -30,4 +30,4 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
 /// FNV-1a 64-bit digest of a file's bytes as 16 hex digits. Throws IoError.
 std::string file_digest(const std::string& path);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

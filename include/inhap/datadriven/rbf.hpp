@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <cmath>
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 inline double psi(double r) {
   return r * r * r;
@@ -40,4 +40,4 @@ struct RbfExpansion {
 RbfExpansion rbf_interpolate(const Eigen::MatrixXd& centres, const Eigen::VectorXd& values,
                              bool linear_tail);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

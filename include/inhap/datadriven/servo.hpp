@@ -1,7 +1,7 @@
 // Servo-rate rendering of a data-driven force model (thesis sec. 4.4-4.5).
 //
 // Units: positions mm, velocities mm/s, forces N, time s (one step = one servo period,
-// model.foaw.dt, 1 ms at 1 kHz).
+// model.foaw.dt_s, 1 ms at 1 kHz).
 //
 // Model/state split: the ForceModel is immutable and shared; ServoState holds the FOAW buffer
 // and the contact/proxy bookkeeping of one device. servo_step() is the servo call: no heap
@@ -18,7 +18,7 @@
 #include "inhap/datadriven/foaw.hpp"
 #include "inhap/datadriven/force_model.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct ServoState {
   FoawState foaw;                ///< velocity filter buffer
@@ -46,7 +46,7 @@ inline constexpr double kMaxJumpMm = 20.0;
 /// Zero force out of contact; the FOAW filter is updated every tick. Non-finite or absurd p or
 /// q gives zero force and a state reset, as does a jump of p by kMaxJumpMm or more in one tick
 /// (the tick after it renders as from a fresh state). The force is always finite and clamped
-/// to model.force_limit, itself capped by the device's limit (kDeviceForceLimitN).
+/// to model.force_limit_n, itself capped by the device's limit (kDeviceForceLimitN).
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 bool contact);
 /// The same with the outward surface normal at q (the proxy estimator's frame; needed by
@@ -66,4 +66,4 @@ inline Vec3 entry_proxy(EntryProxyState& s, const Vec3& p, bool contact) {
   return contact ? s.entry : p;
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

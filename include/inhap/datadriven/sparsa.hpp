@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 /// What ends a continuation stage.
 enum class SparsaStop {
@@ -80,4 +80,4 @@ CgResult cg_least_squares(const Eigen::MatrixXd& b, const Eigen::VectorXd& f,
                           const Eigen::VectorXd& x0, double tolerance = 1e-9,
                           int max_iterations = 0 /* 0 = 50 * columns + 100 */, double ridge = 0);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -18,7 +18,7 @@
 #include "inhap/core/csv.hpp"
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
 struct SyntheticObject {
   double k0 = 0.35, k1 = 0.45;                       ///< N/mm^e
@@ -50,4 +50,4 @@ struct SyntheticParams {
 /// tfx,tfy,tfz (noise-free force).
 Recording synthetic_recording(const SyntheticParams& params, const SyntheticObject& object = {});
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

@@ -42,7 +42,7 @@ struct ContactObjectOptions {
   std::uint64_t seed = 1;
   double eps = 0.2;          ///< contact threshold, N
   std::size_t window = 100;  ///< knee-fit window, samples
-  lab::Physics physics = lab::Physics::builtin;
+  lab::Physics physics = lab::Physics::kBuiltin;
   Progress progress;  ///< while recording ("taps")
 };
 

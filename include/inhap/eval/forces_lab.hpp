@@ -24,14 +24,14 @@ namespace inhap::eval {
 /// Model settings measured best on the lab (docs/force-model.md): the training preset "best"
 /// (local-frame features, location weight 5, bins blended over +-1 mm, tangentially mirrored
 /// samples, stiffness and shear priors, friction-cone guard, the l1 fit to its certified optimum).
-inline dd::TrainParams lab_train_params() {
-  return dd::preset_params("best");
+inline datadriven::TrainParams lab_train_params() {
+  return datadriven::preset_params("best");
 }
 
 struct ForceLabOptions {
   std::string scene;  ///< built-in lab scene (planar, dome, ...)
   std::uint64_t train_seed = 1, test_seed = 2;
-  dd::TrainParams params = lab_train_params();  ///< training settings (design included)
+  datadriven::TrainParams params = lab_train_params();  ///< training settings (design included)
   bool quick = false;                           ///< recordings 2x shorter (smoke test)
   bool baselines = true;                        ///< also train the no-proxy and onset-proxy models
   std::string keep;                             ///< folder for recordings and models ("": none)
@@ -44,7 +44,7 @@ struct ForceLabOptions {
   /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
   /// "random" (the ordinary random exploration, as the test run).
   std::string train_operator = "coverage";
-  lab::Physics physics = lab::Physics::builtin;  ///< contact physics of the lab device
+  lab::Physics physics = lab::Physics::kBuiltin;  ///< contact physics of the lab device
   double coverage_share = 0.65;   ///< lab::ExploreOptions::coverage_share of the training run
   double seconds_per_spot = 1.5;  ///< lab::ExploreOptions::seconds_per_spot
   /// lab::ExploreOptions::coverage_force_min/max (slides between spots and strokes), N
@@ -60,10 +60,10 @@ struct ForceReplay {
 
 /// One model variant (with proxy, without, onset anchor): trained, replayed, scored.
 struct ForceVariant {
-  dd::ForceModel model;
+  datadriven::ForceModel model;
   ForceReplay replay;
   std::size_t train_contact = 0;
-  dd::ForceErrors all, sliding;
+  datadriven::ForceErrors all, sliding;
 };
 
 /// How well the training run spans the test run (with-proxy model, scored test samples).
@@ -84,13 +84,13 @@ struct ForceSupport {
 struct ForceLabResult {
   std::string name;
   lab::LabRecording train, test;
-  dd::ProxyTrack train_track, test_track;
+  datadriven::ProxyTrack train_track, test_track;
   double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
   ForceVariant proxy;
   ForceVariant no_proxy, onset;  ///< empty models when !baselines
-  dd::ForceErrors covered;       ///< proxy model on test samples the training run covered
+  datadriven::ForceErrors covered;       ///< proxy model on test samples the training run covered
   ForceSupport support;          ///< training vs test ranges
-  std::vector<dd::SupportCheck> test_support;  ///< per test sample (bin -1: not checked)
+  std::vector<datadriven::SupportCheck> test_support;  ///< per test sample (bin -1: not checked)
   double palpation_s = 0;                      ///< wall time of the palpation (estimated proxy), s
   std::size_t reference_points = 0;            ///< palpated reference points (estimated proxy)
   /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
@@ -102,14 +102,14 @@ struct ForceLabResult {
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
 
 /// The training run's support as `model train` writes and `model eval` reports it: a
-/// dd::CoverageMap of the training run's in-contact proxies and forces, the share of the
+/// datadriven::CoverageMap of the training run's in-contact proxies and forces, the share of the
 /// in-contact test samples outside it, and where the training run left the largest unvisited
 /// areas (x, y projection: explore there).
 struct ForceCoverage {
   double outside = 0;  ///< share of the in-contact test samples outside the training support
-  std::vector<dd::CoverageGap> gaps;
+  std::vector<datadriven::CoverageGap> gaps;
   double cell_mm = 0;   ///< cell size of the map (a gap's area is cells * cell_mm^2)
-  dd::CoverageMap map;  ///< the training recording's cells (proxy positions x largest |f|)
+  datadriven::CoverageMap map;  ///< the training recording's cells (proxy positions x largest |f|)
 };
 ForceCoverage training_coverage(const ForceLabResult& d);
 

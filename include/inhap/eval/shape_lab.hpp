@@ -57,7 +57,7 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& rec, const lab:
 /// operator keeps missing.
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
                               const std::function<void(double)>& progress,
-                              lab::Physics physics = lab::Physics::builtin,
+                              lab::Physics physics = lab::Physics::kBuiltin,
                               const lab::TapOptions& tap = {});
 
 /// True taps (contact episodes) per simulated minute of a recording.

@@ -16,7 +16,7 @@ namespace inhap::eval {
 struct ShapeObjectOptions {
   std::size_t taps = 200;
   std::uint64_t seed = 1;
-  lab::Physics physics = lab::Physics::builtin;
+  lab::Physics physics = lab::Physics::kBuiltin;
   lab::TapOptions tap;  ///< tap.whole_object: taps all over what a stylus reaches
   /// Comparison settings; `reachable_reference` is set by run_shape_object() when
   /// `score_reachable_part` (the reference -> reconstruction side then uses only the reference's

@@ -41,7 +41,7 @@ struct SolverBenchResult {
 
 /// The problem `name`: "r3_cube", "r3_cube_normalised" or "force_model". Throws inhap::Error
 /// for another name.
-dd::L1Problem make_l1_problem(const std::string& name, const SolverBenchOptions& options);
+datadriven::L1Problem make_l1_problem(const std::string& name, const SolverBenchOptions& options);
 
 /// Solves problem `name` to its certified optimum, then times cd and SpaRSA on it.
 SolverBenchResult bench_l1_solver(const std::string& name, const SolverBenchOptions& options);

@@ -38,8 +38,8 @@ struct SurfaceTrace {
 
 /// Offsets of the HIPs of `samples` (a stroke from `from` to `to`) from `model`'s own,
 /// untranslated surface: in contact and at least margin_mm from both ends.
-SurfaceTrace surface_trace(const render::Model& model,
-                           const std::vector<render::StrokeSample>& samples, const Vec2& from,
+SurfaceTrace surface_trace(const rendering::Model& model,
+                           const std::vector<rendering::StrokeSample>& samples, const Vec2& from,
                            const Vec2& to, const MetricOptions& options = {});
 
 struct StrokeMetrics {
@@ -55,8 +55,8 @@ StrokeMetrics stroke_metrics(const SurfaceTrace& trace, const MetricOptions& opt
 struct StrokeRun {
   std::string stroke;
   double speed_mm_s = 0;
-  render::DataStroke line;
-  std::vector<render::StrokeSample> samples_tca, samples_cba;  ///< only with keep_samples
+  rendering::DataStroke line;
+  std::vector<rendering::StrokeSample> samples_tca, samples_cba;  ///< only with keep_samples
   SurfaceTrace trace_tca, trace_cba;
   StrokeMetrics tca, cba;
 };
@@ -66,7 +66,7 @@ struct StrokesConfig {
   double force_n = 1.0;
   std::uint64_t seed = 1;
   MetricOptions metric;
-  render::Params params;  ///< a_s = 0.05, a_t = 0.5 as in the thesis
+  rendering::Params params;  ///< a_s = 0.05, a_t = 0.5 as in the thesis
   bool keep_samples = false;
 };
 
@@ -83,8 +83,8 @@ struct DatasetResult {
 };
 
 /// Every stroke of the data set at every speed with both algorithms; the servo step is timed by
-/// replaying each stroke's HIP sequence through render::step (both algorithms).
-DatasetResult run_dataset(const render::Model& model, const render::RealDataset& dataset,
+/// replaying each stroke's HIP sequence through rendering::step (both algorithms).
+DatasetResult run_dataset(const rendering::Model& model, const rendering::RealDataset& dataset,
                           const StrokesConfig& config = {});
 
 /// {"datasets": [{"name", "triangles", "strokes", "distortion_rms_mm": {"tca", "cba"},

@@ -25,9 +25,9 @@ struct TcaStudyOptions {
 };
 
 struct TcaStudyResult {
-  render::StudyConfig config;
-  std::vector<render::TrialResult> trials;  ///< participant by participant, in schedule order
-  render::StudySummary summary;
+  rendering::StudyConfig config;
+  std::vector<rendering::TrialResult> trials;  ///< participant by participant, in schedule order
+  rendering::StudySummary summary;
   long incomplete = 0;  ///< trials that ended before every model was labelled
   double study_s = 0;   ///< wall time of the study, s
 };
@@ -37,11 +37,11 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& options);
 
 /// The study's four conditions (algorithm x task). Throws inhap::Error when one was not run.
 struct TcaConditions {
-  const render::ConditionSummary &tca_shape, &cba_shape, &tca_stiffness, &cba_stiffness;
+  const rendering::ConditionSummary &tca_shape, &cba_shape, &tca_stiffness, &cba_stiffness;
 };
-TcaConditions tca_conditions(const render::StudySummary& summary);
+TcaConditions tca_conditions(const rendering::StudySummary& summary);
 
-/// Servo-step timing of one algorithm (microseconds per render::step call).
+/// Servo-step timing of one algorithm (microseconds per rendering::step call).
 struct StepTiming {
   double p50 = 0, p99 = 0, max = 0;
   long steps = 0, contact_steps = 0;
@@ -53,8 +53,8 @@ struct StepTiming {
 /// for timing only, the file has no stiffness channel.
 TriMesh tca_timing_surface(std::uint64_t seed, const std::string& afm);
 
-/// Times render::step call by call while a force-regulated probe (1.5 N) strokes rows 10 mm
+/// Times rendering::step call by call while a force-regulated probe (1.5 N) strokes rows 10 mm
 /// apart across the model at 40 mm/s (1 kHz).
-StepTiming time_servo_steps(const render::Model& model, render::Algorithm algorithm);
+StepTiming time_servo_steps(const rendering::Model& model, rendering::Algorithm algorithm);
 
 }  // namespace inhap::eval

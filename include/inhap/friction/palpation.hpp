@@ -43,12 +43,12 @@ namespace inhap::friction {
 Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle);
 
 enum class CycleStatus : int {
-  ok = 0,
-  no_contact = 1,   ///< the approach found no surface
-  saturated = 2,    ///< the commanded load exceeded the device's force limit
-  unsettled = 3,    ///< the probe had not come to rest when the release point was taken
-  bad_input = 4,    ///< non-finite readings
-  slip_capped = 5,  ///< slid past max_slip: unloaded early (the plateau growth is a lower bound)
+  kOk = 0,
+  kNoContact = 1,   ///< the approach found no surface
+  kSaturated = 2,    ///< the commanded load exceeded the device's force limit
+  kUnsettled = 3,    ///< the probe had not come to rest when the release point was taken
+  kBadInput = 4,    ///< non-finite readings
+  kSlipCapped = 5,  ///< slid past max_slip: unloaded early (the plateau growth is a lower bound)
 };
 const char* to_string(CycleStatus s);
 
@@ -71,7 +71,7 @@ struct CycleRecord {
   /// When f_meas and u_meas were taken, s after the start of the plateau (negative: during the
   /// loading ramps, e.g. a slip-capped cycle). Default: the protocol's 90 ms.
   double t_measurement_s = 0.09;
-  CycleStatus status = CycleStatus::ok;
+  CycleStatus status = CycleStatus::kOk;
 
   Vec3 up() const { return pr - pc; }  ///< plastic displacement u^p, eq. 4.24
   /// Norm of the tangential part of u^p (component in the tangent plane of n_c), mm.
@@ -190,7 +190,7 @@ class PalpationProtocol final : public TickProtocol {
   PalpationProtocol& operator=(const PalpationProtocol&) = delete;
 
   Vec3 step(double time, const Vec3& position, const Vec3& sensor_force) override;
-  bool done() const override { return phase_ == Phase::done; }
+  bool done() const override { return phase_ == Phase::kDone; }
 
   const std::vector<CycleRecord>& cycles() const { return cycles_; }
   /// True when the sweep stopped on an error (no contact, bad input); see error().
@@ -202,7 +202,7 @@ class PalpationProtocol final : public TickProtocol {
   double progress() const { return done() ? 1.0 : schedule_.progress(); }
 
  private:
-  enum class Phase { start, lift, travel, tare, approach, drop, load, release, done };
+  enum class Phase { kStart, kLift, kTravel, kTare, kApproach, kDrop, kLoad, kRelease, kDone };
   void begin_cycle(double time, const Vec3& position);
   void begin_lift(double time, const Vec3& position);
   void begin_move(double time, const Vec3& from, const Vec3& to, double speed);
@@ -233,7 +233,7 @@ class PalpationProtocol final : public TickProtocol {
   bool finishing_ = false, failed_ = false;
   const char* error_ = "";
 
-  Phase phase_ = Phase::start;
+  Phase phase_ = Phase::kStart;
   double phase_t0_ = 0, last_time_ = 0;
   Vec3 last_p_ = Vec3::Zero(), vel_ = Vec3::Zero(), integral_ = Vec3::Zero();
   bool have_last_ = false;

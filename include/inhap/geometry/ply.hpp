@@ -17,10 +17,10 @@
 
 namespace inhap {
 
-enum class PlyFormat { ascii, binary_little_endian, binary_big_endian };
+enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 
 struct PlyWriteOptions {
-  PlyFormat format = PlyFormat::binary_little_endian;
+  PlyFormat format = PlyFormat::kBinaryLittleEndian;
 };
 
 /// Reads a PLY file (whole file read into memory once). Calls validate(path) and computes

@@ -1,13 +1,13 @@
 // The data-driven renderer of thesis 4.4-4.5 composed in one servo step: probe position p ->
 // FOAW velocity -> sliding-yield-surface proxy q (friction::proxy_step, with creep) -> RBF force
-// g(p, pdot, q) (dd::servo_step).
+// g(p, pdot, q) (datadriven::servo_step).
 //
 // Units: time s, positions mm, velocities mm/s, forces N.
 //
 // Model = {sliding yield surfaces, shape, force model} (+ the proxy estimator's options), all
 // immutable and not owned: they must outlive the model. State = {proxy state, FOAW/servo state,
 // previous time stamp}. step() gives exactly the forces of the pieces run by hand in the same
-// order (friction::proxy_track, then dd::replay with that track), tick for tick; it allocates
+// order (friction::proxy_track, then datadriven::replay with that track), tick for tick; it allocates
 // nothing, throws nothing and does no I/O.
 #pragma once
 
@@ -21,17 +21,17 @@ struct DataDrivenModel {
   /// Sliding yield surfaces and shape (friction::ProxyModel::sys, ::shape) and the return
   /// mapping's options (creep on by default, as in the evaluations).
   friction::ProxyModel proxy;
-  const dd::ForceModel* force = nullptr;  ///< RBF force model (not owned)
+  const datadriven::ForceModel* force = nullptr;  ///< RBF force model (not owned)
 
   DataDrivenModel() = default;
   DataDrivenModel(const friction::SysModel& sys, const friction::ShapeQuery& shape,
-                  const dd::ForceModel& force_model)
+                  const datadriven::ForceModel& force_model)
       : proxy{&sys, &shape}, force(&force_model) {}
 };
 
 struct DataDrivenState {
   friction::ProxyState proxy;  ///< proxy estimator (contact, q, frame, g_s at q)
-  dd::ServoState servo;        ///< FOAW buffer, last velocity, bin and force
+  datadriven::ServoState servo;        ///< FOAW buffer, last velocity, bin and force
   double t_prev_s = 0;         ///< time stamp of the previous tick, s
   bool has_prev = false;       ///< t_prev_s valid
 
@@ -52,8 +52,8 @@ inline ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
   ServoOutput out;
   out.contact = o.contact && o.q.allFinite();
   const Vec3 q = out.contact ? o.q : p;
-  // dd::servo_step is servo-safe (no allocation, no exceptions) although not declared noexcept.
-  out.force_n = model.force ? dd::servo_step(*model.force, state.servo, p, q,
+  // datadriven::servo_step is servo-safe (no allocation, no exceptions) although not declared noexcept.
+  out.force_n = model.force ? datadriven::servo_step(*model.force, state.servo, p, q,
                                              out.contact ? o.n : Vec3::UnitZ(), out.contact)
                             : Vec3::Zero();
   out.hip_mm = p;

@@ -12,27 +12,27 @@
 namespace inhap::haptics {
 
 /// One tick of the god-object renderer through the common interface (CBA or TCA-MESH).
-ServoOutput step(const render::Model& model, render::State& state, render::Algorithm algorithm,
+ServoOutput step(const rendering::Model& model, rendering::State& state, rendering::Algorithm algorithm,
                  const ServoInput& input) noexcept;
 
 /// CBA or TCA-MESH on a mesh with a stiffness map.
 class MeshRenderer final : public Renderer {
  public:
-  MeshRenderer(const render::Model& model, render::Algorithm algorithm)
+  MeshRenderer(const rendering::Model& model, rendering::Algorithm algorithm)
       : model_(model), algorithm_(algorithm) {}
   ServoOutput step(const ServoInput& input) noexcept override {
     return haptics::step(model_, state_, algorithm_, input);
   }
-  void reset() noexcept override { state_ = render::State{}; }
+  void reset() noexcept override { state_ = rendering::State{}; }
   const char* name() const noexcept override {
-    return algorithm_ == render::Algorithm::kTCA ? "tca-mesh" : "cba";
+    return algorithm_ == rendering::Algorithm::kTCA ? "tca-mesh" : "cba";
   }
-  const render::State& state() const { return state_; }
+  const rendering::State& state() const { return state_; }
 
  private:
-  const render::Model& model_;
-  render::Algorithm algorithm_;
-  render::State state_;
+  const rendering::Model& model_;
+  rendering::Algorithm algorithm_;
+  rendering::State state_;
 };
 
 /// The data-driven renderer (FOAW -> proxy -> RBF force).

@@ -108,7 +108,7 @@ struct RecordSpec {
   std::uint64_t seed = 1;
   ProbeSpec probe;
   bool noise = true, gravity = true, inertia = true;
-  Physics physics = Physics::builtin;  ///< contact physics of the device (physics.hpp)
+  Physics physics = Physics::kBuiltin;  ///< contact physics of the device (physics.hpp)
   TapOptions tap;                      ///< operator "tap" only
   ExploreOptions explore;              ///< operator "explore" only
 };

@@ -2,7 +2,7 @@
 // holding a simulated impedance-type haptic device. It is a data source like a real person with
 // a real device, so it lives in the lab library and plugs into the protocol of
 // inhap/rendering/experiment.hpp through two interfaces: inhap::Device (the device it holds)
-// and render::JudgementSource (the keyboard it types on).
+// and rendering::JudgementSource (the keyboard it types on).
 //
 // The person explores the way the thesis' participants did: it strokes across each model to
 // judge shape, regulating the normal force to a personal level (force constancy, with a
@@ -43,7 +43,7 @@ struct ParticipantProfile {
   double aim_sd_mm = 0.4;         ///< SD of where a stroke or tap lands around the aim
   double weber_fraction = 0.22;   ///< stiffness JND (Jones & Hunter 1990; Tan et al. 1995)
   double lapse_rate = 0.01;       ///< probability of a random answer (attention lapse)
-  render::ShapePerception shape;  ///< windows and height threshold
+  rendering::ShapePerception shape;  ///< windows and height threshold
 };
 
 /// Draws a participant: force level U(0.8, 2.0) N, stroke speed U(20, 60) mm/s, fluctuation
@@ -76,7 +76,7 @@ struct CellEvidence {
   int label = -1;
 };
 
-class VirtualParticipant final : public Device, public render::JudgementSource {
+class VirtualParticipant final : public Device, public rendering::JudgementSource {
  public:
   explicit VirtualParticipant(const ParticipantProfile& profile, const HandDeviceParams& hand = {});
   ~VirtualParticipant() override;
@@ -92,8 +92,8 @@ class VirtualParticipant final : public Device, public render::JudgementSource {
   void tick() override;
 
   // JudgementSource: the person's keyboard.
-  void begin_trial(const render::SceneInfo& scene) override;
-  std::optional<render::Label> poll() override;
+  void begin_trial(const rendering::SceneInfo& scene) override;
+  std::optional<rendering::Label> poll() override;
   bool quit() const override;
 
   const ParticipantProfile& profile() const;

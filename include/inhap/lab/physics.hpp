@@ -13,12 +13,12 @@
 
 namespace inhap::lab {
 
-enum class Physics { builtin, mujoco };
+enum class Physics { kBuiltin, kMujoco };
 
 const char* to_string(Physics p);
 /// Parses "builtin" or "mujoco"; throws inhap::Error otherwise.
 Physics physics_from_string(const std::string& s);
-/// True when this build links MuJoCo (otherwise Physics::mujoco throws when a device is built).
+/// True when this build links MuJoCo (otherwise Physics::kMujoco throws when a device is built).
 bool mujoco_available();
 /// True when the MuJoCo backend can represent the shape (cylinder, dome, hemisphere, sphere,
 /// box; not the ridged slab or meshes).

@@ -28,13 +28,13 @@
 
 namespace inhap::lab {
 
-enum class ProbeKind { sphere, tip };
+enum class ProbeKind { kSphere, kTip };
 
 struct ProbeSpec {
-  ProbeKind kind = ProbeKind::sphere;
+  ProbeKind kind = ProbeKind::kSphere;
   double radius_mm = 8.0;  ///< 8 mm sphere (thesis ch. 4); 0 for the sharp tip (ch. 3)
-  static ProbeSpec sphere(double radius_mm = 8.0) { return {ProbeKind::sphere, radius_mm}; }
-  static ProbeSpec tip() { return {ProbeKind::tip, 0.0}; }
+  static ProbeSpec sphere(double radius_mm = 8.0) { return {ProbeKind::kSphere, radius_mm}; }
+  static ProbeSpec tip() { return {ProbeKind::kTip, 0.0}; }
 };
 
 struct DeviceParams {
@@ -55,7 +55,7 @@ struct DeviceParams {
   std::uint64_t seed = 1;  ///< sensor-noise stream
   /// Contact physics: builtin (soft_contact.hpp) or mujoco (physics.hpp, docs/lab-mujoco.md;
   /// one MuJoCo step per physics substep).
-  Physics physics = Physics::builtin;
+  Physics physics = Physics::kBuiltin;
   MujocoParams mujoco;  ///< settings of the MuJoCo backend
 };
 
@@ -120,7 +120,7 @@ class SimDevice final : public Device {
 
   SoftObject object_;
   DeviceParams params_;
-  std::unique_ptr<MujocoContact> mujoco_;  ///< set when params_.physics == Physics::mujoco
+  std::unique_ptr<MujocoContact> mujoco_;  ///< set when params_.physics == Physics::kMujoco
   DeviceInfo info_;
   Rng rng_;
   long ticks_ = 0;

@@ -18,7 +18,7 @@
 #include "inhap/geometry/trimesh.hpp"
 #include "inhap/rendering/renderer.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 inline constexpr int kNumModels = 25;
 inline constexpr int kGridCells = 5;  ///< the array is kGridCells x kGridCells
@@ -136,4 +136,4 @@ std::vector<int> thesis_cba_confusions();
 /// lower halos (0.15 N/mm); n = 257 gives 131,072 triangles.
 TriMesh afm_like_surface(std::uint64_t seed, int n = 257, double size_mm = 100.0);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

@@ -19,7 +19,7 @@
 #include "inhap/rendering/datasets.hpp"
 #include "inhap/rendering/renderer.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 enum class Task { kShape, kStiffness };
 const char* to_string(Task t);
@@ -157,4 +157,4 @@ struct StudySummary {
 
 StudySummary summarize(const std::vector<TrialResult>& results);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

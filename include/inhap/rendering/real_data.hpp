@@ -17,7 +17,7 @@
 #include "inhap/core/types.hpp"
 #include "inhap/geometry/trimesh.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 struct RealDataOptions {
   double cube_mm = 100.0;  ///< each model is scaled uniformly to fit this cube, mm
@@ -84,4 +84,4 @@ std::vector<RealDataset> load_real_datasets(const std::string& dir,
 /// for a non-manifold input.
 TriMesh simplify_mesh(const TriMesh& mesh, std::size_t target_triangles);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

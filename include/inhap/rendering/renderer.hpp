@@ -12,7 +12,7 @@
 #include "inhap/geometry/mesh_index.hpp"
 #include "inhap/geometry/trimesh.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 enum class Algorithm { kCBA, kTCA };
 
@@ -92,4 +92,4 @@ struct State {
 /// One servo tick: HIP position p (mm) in, force (N) out. CBA ignores s and t (they stay 0).
 Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

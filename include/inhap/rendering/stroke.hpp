@@ -12,7 +12,7 @@
 #include "inhap/core/types.hpp"
 #include "inhap/rendering/renderer.hpp"
 
-namespace inhap::render {
+namespace inhap::rendering {
 
 struct StrokeOptions {
   Vec2 from = Vec2::Zero();           ///< start (x, y) of the stroke, mm
@@ -50,4 +50,4 @@ struct StrokeSample {
 std::vector<StrokeSample> simulate_stroke(const Model& model, Algorithm algorithm,
                                           const StrokeOptions& options);
 
-}  // namespace inhap::render
+}  // namespace inhap::rendering

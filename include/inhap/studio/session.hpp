@@ -76,12 +76,12 @@ class StreamTapDetector {
 /// A data-driven model for the explore view (thesis 4.4-4.5): the force model, the sliding yield
 /// surfaces and the shape, kept together because DataDrivenModel points into them.
 struct DataDrivenBundle {
-  DataDrivenBundle(dd::ForceModel f, friction::SysModel y, const TriMesh& mesh, double probe_radius)
+  DataDrivenBundle(datadriven::ForceModel f, friction::SysModel y, const TriMesh& mesh, double probe_radius)
       : force(std::move(f)),
         sys(std::move(y)),
         shape(mesh, probe_radius),
         model(sys, shape, force) {}
-  dd::ForceModel force;
+  datadriven::ForceModel force;
   friction::SysModel sys;
   friction::MeshSurface shape;
   haptics::DataDrivenModel model;
@@ -159,7 +159,7 @@ class Session {
   // explore
   TriMesh explore_mesh_;
   std::string explore_name_;
-  render::Algorithm algorithm_ = render::Algorithm::kTCA;
+  rendering::Algorithm algorithm_ = rendering::Algorithm::kTCA;
   std::shared_ptr<DataDrivenBundle> data_driven_;  ///< set: explore renders it, not the mesh
   std::uint64_t probe_seq_ = 0;
   // Server side of the page's latency: probe message handled -> state with its seq broadcast.
@@ -168,16 +168,16 @@ class Session {
   std::vector<double> server_latency_ms_;  // streamer thread only; printed by stop()
   // experiment
   int participant_ = -1;
-  std::vector<render::TrialSpec> schedule_;
+  std::vector<rendering::TrialSpec> schedule_;
   std::size_t trial_ = 0;
-  std::optional<render::StudySurface> surface_;
+  std::optional<rendering::StudySurface> surface_;
   struct Answer {
-    render::TrialSpec spec;
+    rendering::TrialSpec spec;
     int cell = 0, model = 0, value = 0, truth = 0;
     double t_s = 0;
   };
   std::vector<Answer> answers_;
-  std::array<int, render::kNumModels> trial_answers_{};
+  std::array<int, rendering::kNumModels> trial_answers_{};
   haptics::LoopSample latest_;
   bool have_latest_ = false;
 };

@@ -25,10 +25,10 @@
 
 namespace inhap {
 
-enum class SurfaceMode { Solid, Shell };
+enum class SurfaceMode { kSolid, kShell };
 
 struct ReconstructOptions {
-  SurfaceMode mode = SurfaceMode::Shell;
+  SurfaceMode mode = SurfaceMode::kShell;
   std::size_t outlier_k = 8;    ///< neighbours for the outlier test (0: no outlier removal)
   double outlier_sigmas = 6.0;  ///< robust z-score above which a point is an outlier
   std::size_t jet_k = 14;       ///< neighbours for the jet fit (0: no smoothing)

@@ -1,6 +1,6 @@
 // Local stiffness prior f_n ~ k(q) d^alpha: backfitting of a smoothed ln k map and one exponent
 // (see stiffness_map.hpp). Units: mm, N.
-#include "inhap/datadriven/stiffness_map.hpp"
+#include "inhap/datadriven/stiffness_prior.hpp"
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -10,9 +10,9 @@
 
 #include "inhap/core/error.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
-void StiffnessMapParams::validate() const {
+void StiffnessPriorParams::validate() const {
   if (!(cell > 0) || !std::isfinite(cell))
     throw Error(fmt::format("stiffness map: expected a cell > 0 mm, got {}", cell));
   if (!(sigma > 0) || !std::isfinite(sigma))
@@ -61,7 +61,7 @@ void blur(std::vector<double>& g, const std::array<int, 3>& dims, double sigma_c
 
 // The 8 nodes around q (clamped into the grid) and their trilinear weights; returns how many
 // (nodes along a single-node axis are skipped).
-int trilinear(const StiffnessMap& m, const Vec3& q, std::size_t idx[8], double wt[8]) {
+int trilinear(const StiffnessPrior& m, const Vec3& q, std::size_t idx[8], double wt[8]) {
   double t[3];
   std::size_t i0[3];
   for (int a = 0; a < 3; ++a) {
@@ -92,7 +92,7 @@ int trilinear(const StiffnessMap& m, const Vec3& q, std::size_t idx[8], double w
 }
 
 // Trilinear splat of value v (weight 1) at q into sum / count.
-void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& sum,
+void splat(const StiffnessPrior& m, const Vec3& q, double v, std::vector<double>& sum,
            std::vector<double>& count) {
   std::size_t idx[8];
   double wt[8];
@@ -109,7 +109,7 @@ void splat(const StiffnessMap& m, const Vec3& q, double v, std::vector<double>& 
 // their mean. The slope is ridge-regularised (so a direction the data do not span, e.g. z on a
 // flat object, keeps the local mean) and the result is clamped to the range of v widened by half
 // its span.
-void smooth_linear(const StiffnessMap& m, const std::vector<Vec3>& qs, const std::vector<double>& v,
+void smooth_linear(const StiffnessPrior& m, const std::vector<Vec3>& qs, const std::vector<double>& v,
                    double sigma_mm, double prior_weight, const std::vector<double>& to,
                    std::vector<double>& out) {
   // Moments about the grid's centre: 1, x (3), x x^T (6), v, v x (3).
@@ -180,7 +180,7 @@ void smooth_linear(const StiffnessMap& m, const std::vector<Vec3>& qs, const std
 
 // Grid over the samples' bounding box padded by 2 sigma, coarser cells if it would exceed
 // 500,000 nodes: sets origin, cell and dims, and sizes log_k.
-void place_grid(const std::vector<Vec3>& qs, const StiffnessMapParams& prm, StiffnessMap& m) {
+void place_grid(const std::vector<Vec3>& qs, const StiffnessPriorParams& prm, StiffnessPrior& m) {
   Vec3 lo = qs[0], hi = qs[0];
   for (const Vec3& x : qs) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   lo.array() -= 2 * prm.sigma;
@@ -216,9 +216,9 @@ double initial_exponent(const std::vector<double>& lu, const std::vector<double>
 
 }  // namespace
 
-StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<double>& depth,
+StiffnessPrior fit_stiffness_prior(const std::vector<Vec3>& q, const std::vector<double>& depth,
                                const std::vector<double>& normal_force,
-                               const StiffnessMapParams& prm) {
+                               const StiffnessPriorParams& prm) {
   prm.validate();
   if (depth.size() != q.size() || normal_force.size() != q.size())
     throw Error("stiffness map: expected q, depth and normal force of equal length");
@@ -231,7 +231,7 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
       lu.push_back(std::log(depth[i]));
       lf.push_back(std::log(normal_force[i]));
     }
-  StiffnessMap m;
+  StiffnessPrior m;
   const std::size_t n = qs.size();
   if (n < 10) return m;
   m.fitted_samples = n;
@@ -289,7 +289,7 @@ StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<dou
   return m;
 }
 
-void validate_stiffness_map(const StiffnessMap& m, const std::string& where) {
+void validate_stiffness_prior(const StiffnessPrior& m, const std::string& where) {
   if (m.log_k.empty()) return;
   const std::size_t nodes = static_cast<std::size_t>(std::max(m.dims[0], 0)) *
                             static_cast<std::size_t>(std::max(m.dims[1], 0)) *
@@ -304,4 +304,4 @@ void validate_stiffness_map(const StiffnessMap& m, const std::string& where) {
     if (!std::isfinite(v)) throw Error(fmt::format("{}: expected finite ln k values", where));
 }
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

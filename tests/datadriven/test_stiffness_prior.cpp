@@ -11,9 +11,9 @@
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/model_io.hpp"
-#include "inhap/datadriven/stiffness_map.hpp"
+#include "inhap/datadriven/stiffness_prior.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 namespace {
 
 const Vec3 kSoft(5.0, -4.0, 0.0);  // centre of the soft spot
@@ -37,16 +37,16 @@ TrainingSet law_set(std::uint64_t seed, std::size_t n, double shallow_radius) {
       });
 }
 
-TEST(StiffnessMap, RecoversTheExponentAndTheLocalStiffness) {
+TEST(StiffnessPrior, RecoversTheExponentAndTheLocalStiffness) {
   const TrainingSet s = law_set(1, 20000, 0.0);
   std::vector<double> depth, fn;
   for (std::size_t i = 0; i < s.size(); ++i) {
     depth.push_back((s.q[i] - s.p[i]).z());
     fn.push_back(s.f[i].z());
   }
-  StiffnessMapParams prm;
+  StiffnessPriorParams prm;
   prm.sigma = 1.5;
-  const StiffnessMap m = fit_stiffness_map(s.q, depth, fn, prm);
+  const StiffnessPrior m = fit_stiffness_prior(s.q, depth, fn, prm);
   ASSERT_FALSE(m.empty());
   EXPECT_NEAR(m.exponent, 1.5, 0.02);
   // The map is ln k smoothed over 1.5 mm: within 3 % of the law at the soft spot (where the
@@ -63,7 +63,7 @@ TEST(StiffnessMap, RecoversTheExponentAndTheLocalStiffness) {
   EXPECT_LT(k_out, 0.5);
 }
 
-TEST(StiffnessMap, FillsAGapAtTheRimAlongTheDataTrend) {
+TEST(StiffnessPrior, FillsAGapAtTheRimAlongTheDataTrend) {
   // ln k falls linearly towards +x (k halves every 14 mm); data only where x <= 0 or y <= -15
   // (an L-shaped region, so that the grid extends over the gap at x > 0, y > 0). Beyond the
   // reach of the finest level (about 4 sigma = 6 mm from the data) the map follows the data's
@@ -85,7 +85,7 @@ TEST(StiffnessMap, FillsAGapAtTheRimAlongTheDataTrend) {
     depth.push_back((s.q[i] - s.p[i]).z());
     fn.push_back(s.f[i].z());
   }
-  const StiffnessMap m = fit_stiffness_map(s.q, depth, fn);
+  const StiffnessPrior m = fit_stiffness_prior(s.q, depth, fn);
   for (double x : {-10.0, 6.0, 8.0, 10.0}) {
     const Vec3 q(x, 10.0, 0.0);
     const double ratio = std::exp(m.log_stiffness(q)) / k_of(q);
@@ -98,11 +98,11 @@ TEST(StiffnessMap, FillsAGapAtTheRimAlongTheDataTrend) {
   EXPECT_NEAR(slope, -0.05, 0.012);
 }
 
-TEST(StiffnessMap, TooFewSamplesGiveAnEmptyMap) {
+TEST(StiffnessPrior, TooFewSamplesGiveAnEmptyMap) {
   const std::vector<Vec3> q(5, Vec3::Zero());
   const std::vector<double> d(5, 1.0), f(5, 1.0);
-  EXPECT_TRUE(fit_stiffness_map(q, d, f).empty());
-  EXPECT_THROW(fit_stiffness_map(q, d, std::vector<double>(4, 1.0)), Error);
+  EXPECT_TRUE(fit_stiffness_prior(q, d, f).empty());
+  EXPECT_THROW(fit_stiffness_prior(q, d, std::vector<double>(4, 1.0)), Error);
 }
 
 TrainParams prior_params(bool prior) {
@@ -143,4 +143,4 @@ TEST(StiffnessPrior, NeedsLocalFeatures) {
 }
 
 }  // namespace
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven

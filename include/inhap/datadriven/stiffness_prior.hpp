@@ -34,9 +34,9 @@
 
 #include "inhap/core/types.hpp"
 
-namespace inhap::dd {
+namespace inhap::datadriven {
 
-struct StiffnessMapParams {
+struct StiffnessPriorParams {
   double cell = 1.0;          ///< grid spacing, mm
   double sigma = 1.5;         ///< Gaussian smoothing radius over q, mm
   double min_depth = 0.5;     ///< samples shallower than this are not fitted, mm
@@ -46,7 +46,7 @@ struct StiffnessMapParams {
   void validate() const;      ///< throws inhap::Error on out-of-range values
 };
 
-struct StiffnessMap {
+struct StiffnessPrior {
   double exponent = 0;               ///< alpha (0: empty map, normal_force() = 0)
   Vec3 origin = Vec3::Zero();        ///< position of node (0, 0, 0), mm
   double cell = 1.0;                 ///< grid spacing, mm
@@ -97,11 +97,11 @@ struct StiffnessMap {
 /// Fits the map to in-contact samples: proxy q (mm), depth d = n . (q - p) (mm) and normal force
 /// f_n = n . f (N). Returns an empty map when fewer than 10 samples pass the depth and force
 /// thresholds. Throws inhap::Error on unequal lengths or bad parameters.
-StiffnessMap fit_stiffness_map(const std::vector<Vec3>& q, const std::vector<double>& depth,
+StiffnessPrior fit_stiffness_prior(const std::vector<Vec3>& q, const std::vector<double>& depth,
                                const std::vector<double>& normal_force,
-                               const StiffnessMapParams& params = {});
+                               const StiffnessPriorParams& params = {});
 
 /// Checks sizes and finiteness; throws inhap::Error naming what is wrong, prefixed by `where`.
-void validate_stiffness_map(const StiffnessMap& m, const std::string& where);
+void validate_stiffness_prior(const StiffnessPrior& m, const std::string& where);
 
-}  // namespace inhap::dd
+}  // namespace inhap::datadriven
