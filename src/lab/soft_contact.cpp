@@ -13,6 +13,10 @@ namespace {
 
 /// The closest surface counts as the entry side when its normal is within 60 degrees of it.
 constexpr double kSameSideCos = 0.5;
+/// ... and never when it faces away (more than 90 degrees) from the normal the episode began
+/// with: a proxy that slips round a thin rim (the base of a bunny's ear) would otherwise take
+/// the side memory with it, step by step, onto the far side.
+constexpr double kEntrySideCos = 0.0;
 
 void leave_contact(ContactState& st) {
   st.in_contact = false;
@@ -23,12 +27,17 @@ void leave_contact(ContactState& st) {
   st.force.setZero();
 }
 
-/// Moves the proxy onto the offset surface near q and remembers the side under it.
-void set_proxy(const SoftObject& object, double radius, ContactState& st, const Vec3& q) {
+/// Moves the proxy onto the offset surface near q and remembers the side under it, unless that
+/// side faces away from the episode's entry normal (the side memory stays where it was).
+void set_proxy(const SoftObject& object, double radius, ContactState& st, const Vec3& q,
+               bool first) {
   const SurfaceQuery s = object.query(q);
   st.proxy = s.closest + radius * s.normal;
-  st.side_normal = s.normal;
-  st.side_point = s.closest;
+  if (first) st.entry_normal = s.normal;
+  if (first || s.normal.dot(st.entry_normal) >= kEntrySideCos) {
+    st.side_normal = s.normal;
+    st.side_point = s.closest;
+  }
 }
 
 void begin_contact(const SoftObject& object, double radius, ContactState& st, const Vec3& p,
@@ -38,7 +47,7 @@ void begin_contact(const SoftObject& object, double radius, ContactState& st, co
     frac = -st.prev_delta / (delta - st.prev_delta);
   st.start_point = st.has_prev ? Vec3(st.prev_point + frac * (p - st.prev_point)) : p;
   st.start_time = st.has_prev ? st.prev_time + frac * (t - st.prev_time) : t;
-  set_proxy(object, radius, st, st.start_point);
+  set_proxy(object, radius, st, st.start_point, true);
   st.law = object.law_at(st.proxy);
   st.in_contact = true;
   ++st.episode;
@@ -58,7 +67,8 @@ Vec3 contact_step(const SoftObject& object, double probe_radius, ContactState& s
   Vec3 n = s.normal;
   double delta = probe_radius - s.distance;
   st.side_plane = false;
-  if (st.in_contact && s.normal.dot(st.side_normal) < kSameSideCos) {
+  if (st.in_contact && (s.normal.dot(st.side_normal) < kSameSideCos ||
+                        s.normal.dot(st.entry_normal) < kEntrySideCos)) {
     // Past the middle of a thin part (or under a rim): measure from the entry side's plane.
     n = st.side_normal;
     delta = probe_radius - (p - st.side_point).dot(n);
@@ -82,7 +92,7 @@ Vec3 contact_step(const SoftObject& object, double probe_radius, ContactState& s
       const double cdt = dt > 0 ? law.creep / dt : 1e300;
       const double len_new = (cdt * ut_len + limit) / (cdt + law.k_t);
       const Vec3 ut_new = ut * (len_new / ut_len);
-      set_proxy(object, probe_radius, st, st.proxy + (ut - ut_new));
+      set_proxy(object, probe_radius, st, st.proxy + (ut - ut_new), false);
       if (!object.inclusions().empty()) st.law = object.law_at(st.proxy);
       ut = ut_new;
     }

@@ -20,7 +20,11 @@
 // plane of the entry side, delta = R - (p - x_side) . n_side, and the force keeps pushing along
 // n_side. Thin parts therefore deform instead of being passed through: the probe never leaves
 // a contact through the far side, and the contact ends only when it is back out of the side it
-// entered.
+// entered. The side memory follows the proxy as it slips, but never onto a side facing away
+// (more than 90 deg) from the normal where the episode began, and a closest surface facing away
+// from it is never the entry side: a tip pressed obliquely near a thin rim (the base of a
+// bunny's ear) drags the proxy round the rim, and the memory would otherwise follow it, step by
+// step, onto the far side and let the tip out there.
 // k, k_t, mu, c, c_v are those of the material at q (SoftObject::law_at), so a stuck contact
 // is conservative (plus Hunt-Crossley damping): a loading-unloading cycle cannot create energy.
 #pragma once
@@ -40,6 +44,7 @@ struct ContactState {
   Vec3 normal{0, 0, 1};
   Vec3 side_normal{0, 0, 1};       ///< outward normal of the entry side under the proxy
   Vec3 side_point = Vec3::Zero();  ///< surface point under the proxy, mm
+  Vec3 entry_normal{0, 0, 1};      ///< outward normal where the episode began
   bool side_plane = false;         ///< the last step measured delta from the entry side's plane
   double delta = 0.0;              ///< current penetration, mm
   double normal_force = 0.0;       ///< f_n, N
