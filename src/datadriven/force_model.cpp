@@ -381,7 +381,8 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
     std::lock_guard lock(progress_mutex);
     ++finished;
     if (params.progress)
-      params.progress(static_cast<double>(finished) / params.bins, fmt::format("bin {} done", bi));
+      params.progress(fmt::format("bin {} done", bi), static_cast<double>(finished) / params.bins,
+                      0.0);
   });
 
   for (auto& r : results) {

@@ -72,7 +72,7 @@ ContactObjectResult run_contact_object(const std::string& name, const ContactObj
   }
   const lab::LabRecording rec = record_taps(
       scene, o.taps, o.seed,
-      [&](double f) {
+      [&](const std::string&, double f, double) {
         if (o.progress) o.progress("taps", f, 0);
       },
       o.physics);

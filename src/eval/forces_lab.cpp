@@ -89,7 +89,7 @@ ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
 
 /// The ordinary random free exploration (the test run; the training run with "random").
 lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::uint64_t seed,
-                                const std::function<void(double)>& prog, lab::Physics physics) {
+                                const Progress& prog, lab::Physics physics) {
   lab::RecordSpec spec;
   spec.physics = physics;
   spec.operator_name = "explore";
@@ -100,8 +100,7 @@ lab::LabRecording record_random(const lab::Scene& scene, double seconds, std::ui
 
 /// The explore operator's coverage-driven training mode (`inhap lab record --coverage`).
 lab::LabRecording record_coverage(const lab::Scene& scene, double seconds, std::uint64_t seed,
-                                  const ForceLabOptions& o,
-                                  const std::function<void(double)>& prog) {
+                                  const ForceLabOptions& o, const Progress& prog) {
   lab::RecordSpec spec;
   spec.operator_name = "explore";
   spec.seconds = seconds;
@@ -301,7 +300,7 @@ ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& score
   FoawParams foaw;
   foaw.dt_s = median_dt(d.train.rec);
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
-  p.progress = [&](double f, const std::string&) {
+  p.progress = [&](const std::string&, double f, double) {
     if (progress) progress(fmt::format("{} {}", label, what), f, 0);
   };
   ForceVariant v;
@@ -359,9 +358,9 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   Durations dur = durations_for(name);
   if (o.quick) dur = {dur.train_s / 2, dur.test_s / 2};
   auto prog = [&](const char* what) {
-    return [&label, &o, what](double f) {
+    return Progress([&label, &o, what](const std::string&, double f, double) {
       if (o.progress) o.progress(fmt::format("{} {}", label, what), f, 0);
-    };
+    });
   };
   ForceLabResult d;
   d.name = name;

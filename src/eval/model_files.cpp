@@ -175,7 +175,7 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
         contact_s, kFewContactSeconds));
   const auto t0 = std::chrono::steady_clock::now();
   if (o.progress)
-    params.progress = [t0, progress = o.progress](double frac, const std::string&) {
+    params.progress = [t0, progress = o.progress](const std::string&, double frac, double) {
       const double el =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       progress("train", frac, frac > 0 ? el * (1 - frac) / frac : 0);

@@ -140,7 +140,7 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& lab, const lab:
 }
 
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress, lab::Physics physics,
+                              const Progress& progress, lab::Physics physics,
                               const lab::TapOptions& tap) {
   lab::RecordSpec spec;
   spec.physics = physics;
@@ -151,9 +151,10 @@ lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::ui
   // About 0.7 taps per second in region mode, 1.1 going round the object.
   spec.seconds = 10.0 + (tap.whole_object ? 0.95 : 1.7) * static_cast<double>(taps);
   for (int attempt = 0; attempt < 4; ++attempt) {
-    lab::LabRecording rec = lab::record_scene(scene, spec, [&](double f) {
-      if (progress) progress(f);
-    });
+    lab::LabRecording rec =
+        lab::record_scene(scene, spec, [&](const std::string&, double f, double) {
+          if (progress) progress("tapping", f, 0.0);
+        });
     long n = 0;
     for (long t : rec.truth.tap) n = std::max(n, t + 1);
     if (static_cast<std::size_t>(n) >= taps) return rec;

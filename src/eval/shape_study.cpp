@@ -8,7 +8,8 @@ ShapeObjectResult run_shape_object(const lab::Scene& scene, const ShapeObjectOpt
     if (o.progress) o.progress(what, f, 0);
   };
   const lab::LabRecording rec = record_taps(
-      scene, o.taps, o.seed, [&](double f) { report("taps", 0.8 * f); }, o.physics, o.tap);
+      scene, o.taps, o.seed, [&](const std::string&, double f, double) { report("taps", 0.8 * f); },
+      o.physics, o.tap);
   report("reconstruct", 0.8);
   ShapeObjectResult r;
   r.reference = reference_mesh(scene.object.shape());

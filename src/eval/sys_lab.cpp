@@ -154,11 +154,13 @@ SysLabResult evaluate_sys_on_lab(const SysLabOptions& o) {
   spec.physics = lab::physics_from_string(o.physics);
   res.exploration_s = spec.seconds;
   const auto t0 = std::chrono::steady_clock::now();
-  const lab::LabRecording lab = lab::record_scene(r.scene, spec, [&](double f) {
-    if (!o.progress) return;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    o.progress("eval sys: explore " + name, f, f > 0 ? el * (1 - f) / f : 0);
-  });
+  const lab::LabRecording lab =
+      lab::record_scene(r.scene, spec, [&](const std::string&, double f, double) {
+        if (!o.progress) return;
+        const double el =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        o.progress("eval sys: explore " + name, f, f > 0 ? el * (1 - f) / f : 0);
+      });
   res.proxy = proxy_errors(r, lab, true);
   res.proxy_rate_independent = proxy_errors(r, lab, false);
   return res;

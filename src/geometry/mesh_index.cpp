@@ -16,10 +16,9 @@
 #include "bvh_obb.hpp"
 #include "inhap/core/error.hpp"
 
-// The watertight segment/triangle test relies on the edge function of a shared edge being the
-// exact negation in both triangles (a*b - c*d vs c*d - a*b). A fused multiply-add would round
-// the two differently, so CMakeLists.txt compiles this file with -ffp-contract=off (a pragma
-// would stop GCC from inlining Eigen into this file).
+// The watertight segment/triangle test needs a shared edge's edge function to be the exact
+// negation in both triangles; FMA would round the two differently, so CMakeLists.txt compiles
+// this file with -ffp-contract=off (a pragma would stop GCC from inlining Eigen here).
 
 namespace inhap {
 
@@ -80,7 +79,6 @@ detail::IndexVector<O> to_child_obb_nodes(const std::vector<detail::BvhBuildNode
   return out;
 }
 
-// ---------------------------------------------------------------------------------------------
 // Segment a + t (b - a), prepared for the slab test and the watertight triangle test
 // (Woop, Benthin & Wald 2013: translate to the origin, permute so that z is the dominant
 // direction axis, shear so that the ray is the +z axis, then 2D edge functions).
@@ -106,9 +104,8 @@ struct Ray {
   }
 };
 
-// Slab test of child c of node n for the segment restricted to t in [0, tmax]; tnear is the
-// entry parameter. Conservative: the boxes are padded and the exit parameter is enlarged by
-// its rounding-error bound (Ize 2013), so a box is never missed because of rounding.
+// Slab test of child c of node n for the segment, t in [0, tmax]; tnear is the entry parameter.
+// Conservative: padded boxes, exit parameter enlarged by its rounding bound (Ize 2013).
 template <class N>
 inline bool hit_box(const N& n, int c, const Ray& r, double tmax, double& tnear) {
   double t0 = 0, t1 = tmax;
@@ -264,7 +261,6 @@ inline void prefetch_cluster(const TV& tris, const BV& bounds, Ref r) {
 
 }  // namespace
 
-// ---------------------------------------------------------------------------------------------
 MeshIndex::MeshIndex(const TriMesh& mesh, const MeshIndexOptions& options) {
   if (!(options.seed_shell >= 0) || !std::isfinite(options.seed_shell))
     throw Error(fmt::format("MeshIndex: seed_shell must be a finite distance >= 0 mm, got {}",

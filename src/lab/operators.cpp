@@ -92,8 +92,7 @@ std::unique_ptr<HandOperator> make_operator(std::string_view name, const Scene& 
   throw Error(fmt::format("unknown operator '{}': expected tap, explore or air", name));
 }
 
-LabRecording record(SimDevice& device, HandOperator& op, double seconds,
-                    const std::function<void(double)>& progress) {
+LabRecording record(SimDevice& device, HandOperator& op, double seconds, const Progress& progress) {
   if (!(std::isfinite(seconds) && seconds > 0 && seconds <= 24 * 3600))
     throw Error(fmt::format("recording length: expected 0 < seconds <= 86400, got {}", seconds));
   const double rate = device.info().servo_rate_hz;
@@ -105,7 +104,7 @@ LabRecording record(SimDevice& device, HandOperator& op, double seconds,
     log.sample();
     op.step(device);
     device.tick();
-    if (progress && (i + 1) % every == 0) progress(double(i + 1) / ticks);
+    if (progress && (i + 1) % every == 0) progress("recording", double(i + 1) / ticks, 0.0);
   }
   return log.take();
 }
@@ -132,22 +131,22 @@ RecordSetup make_record_setup(const Scene& scene, const RecordSpec& spec) {
 std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& spec,
                                          const RecordSetup& setup) {
   const DeviceParams& dp = setup.params;
-  return {fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius "
-                      "{:g} mm), physics {}",
-                      scene.name,
-                      setup.op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
-                                              ? std::string(" (whole object)")
-                                              : std::string()),
-                      spec.seconds, spec.seed, spec.probe.kind == ProbeKind::kTip ? "tip" : "sphere",
-                      spec.probe.radius_mm, to_string(spec.physics)),
-          fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
-                      "gravity {}, inertia {}",
-                      dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",
-                      spec.gravity ? "on" : "off", spec.inertia ? "on" : "off")};
+  return {
+      fmt::format("inhap virtual lab: scene {}, operator {}, {:g} s, seed {}, probe {} (radius "
+                  "{:g} mm), physics {}",
+                  scene.name,
+                  setup.op->name() + (spec.operator_name == "tap" && spec.tap.whole_object
+                                          ? std::string(" (whole object)")
+                                          : std::string()),
+                  spec.seconds, spec.seed, spec.probe.kind == ProbeKind::kTip ? "tip" : "sphere",
+                  spec.probe.radius_mm, to_string(spec.physics)),
+      fmt::format("device: tool mass {:g} kg, gravity (0, 0, {:g}) mm/s^2, sensor noise {}, "
+                  "gravity {}, inertia {}",
+                  dp.tool_mass_kg, dp.gravity_mm_s2.z(), spec.noise ? "on" : "off",
+                  spec.gravity ? "on" : "off", spec.inertia ? "on" : "off")};
 }
 
-LabRecording record_scene(const Scene& scene, const RecordSpec& spec,
-                          const std::function<void(double)>& progress) {
+LabRecording record_scene(const Scene& scene, const RecordSpec& spec, const Progress& progress) {
   RecordSetup setup = make_record_setup(scene, spec);
   LabRecording lab = record(*setup.device, *setup.op, spec.seconds, progress);
   lab.comments = record_comments(scene, spec, setup);

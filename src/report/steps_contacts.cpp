@@ -51,7 +51,7 @@ StepResult step_contacts(const Context& c) {
     spec.seconds = c.options.quick ? 10.0 : 30.0;
     spec.seed = c.options.seed + 10 + i;
     spec.physics = c.options.physics;
-    const auto lab = lab::record_scene(scene, spec, [&](double x) {
+    const auto lab = lab::record_scene(scene, spec, [&](const std::string&, double x, double) {
       c.progress((double(i) + x) / double(names.size()), names[i]);
     });
     const eval::TapErrors e = eval::tap_errors(lab);

@@ -23,9 +23,10 @@ lab::LabRecording record_dome(const Context& c, const std::string& op, double se
   spec.seconds = seconds;
   spec.seed = seed;
   spec.physics = c.options.physics;
-  return lab::record_scene(lab::builtin_scene("dome"), spec, [&](double f) {
-    c.progress(f, fmt::format("{} {:.0f} s on the dome", op, seconds));
-  });
+  return lab::record_scene(lab::builtin_scene("dome"), spec,
+                           [&](const std::string&, double f, double) {
+                             c.progress(f, fmt::format("{} {:.0f} s on the dome", op, seconds));
+                           });
 }
 
 // The chapter-3 contact estimator on the first tap (thesis sec. 3.2.2): threshold detection at

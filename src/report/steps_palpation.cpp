@@ -170,9 +170,10 @@ StepResult step_palpation(const Context& c) {
   spec.seconds = quick ? 10.0 : 30.0;
   spec.seed = c.options.seed + 3;
   spec.physics = c.options.physics;
-  const lab::LabRecording lab = lab::record_scene(p.scene, spec, [&](double f) {
-    c.progress(0.8 + 0.18 * f, fmt::format("explore {:.0f} s for the proxy", spec.seconds));
-  });
+  const lab::LabRecording lab =
+      lab::record_scene(p.scene, spec, [&](const std::string&, double f, double) {
+        c.progress(0.8 + 0.18 * f, fmt::format("explore {:.0f} s for the proxy", spec.seconds));
+      });
   const std::vector<double> pe = eval::proxy_errors(p, lab, true).err;
 
   r.rows.push_back(

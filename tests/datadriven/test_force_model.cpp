@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "dd_fixtures.hpp"
 #include "inhap/core/error.hpp"
@@ -193,6 +195,25 @@ TEST(ForceModel, RejectsBadParametersAndData) {
   TrainingSet bad = test::take(held_out().train, 0, 10);
   bad.f[3].x() = std::nan("");
   EXPECT_THROW(train_force_model(bad, test::small_params()), Error);
+}
+
+TEST(ForceModel, ProgressReportsEachBinOnceAndEndsAtOne) {
+  TrainParams p = test::small_params();
+  p.bins = 4;
+  p.threads = 2;
+  std::vector<double> fractions;
+  std::vector<std::string> whats;
+  p.progress = [&](const std::string& what, double fraction, double eta_s) {
+    fractions.push_back(fraction);  // serialised by the trainer
+    whats.push_back(what);
+    EXPECT_GE(eta_s, 0.0);
+  };
+  const ForceModel m = train_force_model(held_out().train, p);
+  ASSERT_EQ(fractions.size(), 4u);  // one call per bin: 1/4, 2/4, 3/4, 4/4
+  for (std::size_t i = 0; i < fractions.size(); ++i)
+    EXPECT_DOUBLE_EQ(fractions[i], double(i + 1) / 4.0);
+  for (const std::string& w : whats) EXPECT_NE(w.find("bin "), std::string::npos) << w;
+  EXPECT_FALSE(m.params.progress);  // the model does not keep the callback
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ void run_record(const RecordArgs& a) {
   spec.physics = physics_from_string(a.physics);
   const auto t0 = std::chrono::steady_clock::now();
   const std::string what = fmt::format("lab record {}", scene.name);
-  const LabRecording lab = record_scene(scene, spec, [&](double f) {
+  const LabRecording lab = record_scene(scene, spec, [&](const std::string&, double f, double) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cli::progress(what, f, f > 0 ? el * (1 - f) / f : 0);
   });

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "inhap/core/progress.hpp"
 #include "inhap/core/types.hpp"
 #include "inhap/datadriven/fallback.hpp"
 #include "inhap/datadriven/foaw.hpp"
@@ -176,8 +177,8 @@ struct TrainParams {
   double modeling_range_n = 5.0;
   AboveRange above_range = AboveRange::kKeep;
   int threads = 0;  ///< worker threads (0 = hardware concurrency)
-  /// Called (from worker threads, serialised) with the fraction done and a message.
-  std::function<void(double, const std::string&)> progress;
+  /// Called (from worker threads, serialised) with "bin K done", the fraction done, eta 0.
+  Progress progress;
   void validate() const;  ///< throws inhap::Error on out-of-range values
 };
 
@@ -225,10 +226,10 @@ struct ForceModel {
   FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
   std::vector<double> edges;  ///< bins-1 increasing thresholds on ||q - p||, mm
   std::vector<BinModel> bins;
-  FoawParams foaw;           ///< velocity filter used for training; the renderer uses the same
+  FoawParams foaw;             ///< velocity filter used for training; the renderer uses the same
   double force_limit_n = 6.2;  ///< output clamp, N (device limit)
-  double bin_blend = 0.0;    ///< mm; see TrainParams::bin_blend
-  TrainParams params;        ///< as trained (progress callback not kept)
+  double bin_blend = 0.0;      ///< mm; see TrainParams::bin_blend
+  TrainParams params;          ///< as trained (progress callback not kept)
   TrainStats stats;
   std::string sys_path, mesh_path;       ///< references (may be empty)
   std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)

@@ -53,10 +53,10 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& rec, const lab:
 
 /// Records the tapping operator (tip probe) on a scene until at least `taps` true taps exist
 /// (region mode about 0.7 taps per second, whole-object mode (`tap.whole_object`) about 1.1).
-/// `progress(fraction)` is called while recording (may be empty). Throws inhap::Error when the
+/// `progress` is called while recording (may be empty). Throws inhap::Error when the
 /// operator keeps missing.
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,
-                              const std::function<void(double)>& progress,
+                              const Progress& progress,
                               lab::Physics physics = lab::Physics::kBuiltin,
                               const lab::TapOptions& tap = {});
 

@@ -30,6 +30,7 @@
 #include <string_view>
 #include <vector>
 
+#include "inhap/core/progress.hpp"
 #include "inhap/lab/physics.hpp"
 #include "inhap/lab/reach.hpp"
 #include "inhap/lab/recorder.hpp"
@@ -97,9 +98,9 @@ std::unique_ptr<HandOperator> make_operator(std::string_view name, const Scene& 
                                             std::uint64_t seed, double seconds);
 
 /// Runs `op` on the device for `seconds` (round(seconds * rate) ticks, one row each).
-/// `progress(fraction)` is called about every simulated second.
+/// `progress("recording", fraction, 0)` is called about every simulated second.
 LabRecording record(SimDevice& device, HandOperator& op, double seconds,
-                    const std::function<void(double)>& progress = {});
+                    const Progress& progress = {});
 
 /// Everything `inhap lab record` needs.
 struct RecordSpec {
@@ -109,8 +110,8 @@ struct RecordSpec {
   ProbeSpec probe;
   bool noise = true, gravity = true, inertia = true;
   Physics physics = Physics::kBuiltin;  ///< contact physics of the device (physics.hpp)
-  TapOptions tap;                      ///< operator "tap" only
-  ExploreOptions explore;              ///< operator "explore" only
+  TapOptions tap;                       ///< operator "tap" only
+  ExploreOptions explore;               ///< operator "explore" only
 };
 
 /// The device and operator of a recording: the device's noise seed and the operator's seed are
@@ -129,6 +130,6 @@ std::vector<std::string> record_comments(const Scene& scene, const RecordSpec& s
 /// Builds the device (noise seed and operator seed derived from spec.seed), runs the operator
 /// and returns the recording with provenance comments.
 LabRecording record_scene(const Scene& scene, const RecordSpec& spec,
-                          const std::function<void(double)>& progress = {});
+                          const Progress& progress = {});
 
 }  // namespace inhap::lab
