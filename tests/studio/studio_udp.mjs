@@ -44,6 +44,8 @@ try {
     studio.on('exit', (c) => reject(new Error(`inhap studio exited (${c}): ${stderr}`)));
     setTimeout(() => reject(new Error('no URL within 40 s: ' + stderr + devErr)), 40000);
   });
+  // stderr and stdout are separate pipes: the wait line, printed first, may arrive after the URL.
+  for (let i = 0; i < 50 && !/waiting for a device on udp port/.test(stderr); ++i) await new Promise((r) => setTimeout(r, 100));
   check(/waiting for a device on udp port/.test(stderr), 'the studio waited for the device, then printed its URL');
   const base = url.replace(/\/\?token=.*/, ''), token = url.replace(/.*token=/, '');
   ws = new WebSocket(`${base.replace('http', 'ws')}/ws?token=${token}`, { headers: { Origin: base } });
