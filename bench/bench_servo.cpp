@@ -79,7 +79,8 @@ struct Setup {
     }
     datadriven::TrainParams p = datadriven::preset_params("best");  // what `model train` runs
     p.centers = 150;
-    force = datadriven::train_force_model(datadriven::make_training_set(rec, t, datadriven::FoawParams{}), p);
+    force = datadriven::train_force_model(
+        datadriven::make_training_set(rec, t, datadriven::FoawParams{}), p);
   }
 };
 
@@ -137,7 +138,7 @@ void BM_ServoByHand(benchmark::State& state) {
         const friction::ProxyOutput o = friction::proxy_step(pm, ps, p, dt);
         const bool contact = o.contact && o.q.allFinite();
         const Vec3 f = datadriven::servo_step(s.force, ss, p, contact ? o.q : p,
-                                      contact ? o.n : Vec3::UnitZ(), contact);
+                                              contact ? o.n : Vec3::UnitZ(), contact);
         benchmark::DoNotOptimize(f);
         return contact;
       },

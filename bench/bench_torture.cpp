@@ -27,11 +27,13 @@ void report(benchmark::State& state, const test::TortureResult& r) {
 
 void BM_TortureCba(benchmark::State& state) {
   const rendering::Model m(test::torture_mesh());
-  for (auto _ : state) report(state, test::torture_renderer(m, rendering::Algorithm::kCBA, kSteps, 1));
+  for (auto _ : state)
+    report(state, test::torture_renderer(m, rendering::Algorithm::kCBA, kSteps, 1));
 }
 void BM_TortureTcaMesh(benchmark::State& state) {
   const rendering::Model m(test::torture_mesh());
-  for (auto _ : state) report(state, test::torture_renderer(m, rendering::Algorithm::kTCA, kSteps, 2));
+  for (auto _ : state)
+    report(state, test::torture_renderer(m, rendering::Algorithm::kTCA, kSteps, 2));
 }
 void BM_TortureDataDriven(benchmark::State& state) {
   const datadriven::ForceModel m = test::torture_dd_model();

@@ -42,7 +42,8 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
   };
   for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
   cmd.add_option_function<std::string>(
-         "--solver", [&p](const std::string& s) { p.solver = datadriven::l1_solver_from_string(s); },
+         "--solver",
+         [&p](const std::string& s) { p.solver = datadriven::l1_solver_from_string(s); },
          "l1 solver of the RBF weights: cd = coordinate descent to the optimum with a "
          "duality-gap certificate, sparsa = SpaRSA, the thesis' solver, which stops on slow "
          "progress (default: cd in preset best, which eval forces uses; sparsa in world and "

@@ -17,8 +17,8 @@ TappingResult contacts_from_recording(const Recording& rec, const ContactOptions
   if (source == ForceSource::kRaw && !has_raw)
     throw Error(
         "recording has no rfx,rfy,rfz columns: expected raw sensor columns for --force raw");
-  out.source =
-      source == ForceSource::kAuto ? (has_raw ? ForceSource::kRaw : ForceSource::kRecorded) : source;
+  out.source = source == ForceSource::kAuto ? (has_raw ? ForceSource::kRaw : ForceSource::kRecorded)
+                                            : source;
   std::vector<Vec3> f = rec.f;
   if (out.source == ForceSource::kRaw) {
     std::vector<Vec3> raw(rec.size());

@@ -109,9 +109,9 @@ void splat(const StiffnessPrior& m, const Vec3& q, double v, std::vector<double>
 // their mean. The slope is ridge-regularised (so a direction the data do not span, e.g. z on a
 // flat object, keeps the local mean) and the result is clamped to the range of v widened by half
 // its span.
-void smooth_linear(const StiffnessPrior& m, const std::vector<Vec3>& qs, const std::vector<double>& v,
-                   double sigma_mm, double prior_weight, const std::vector<double>& to,
-                   std::vector<double>& out) {
+void smooth_linear(const StiffnessPrior& m, const std::vector<Vec3>& qs,
+                   const std::vector<double>& v, double sigma_mm, double prior_weight,
+                   const std::vector<double>& to, std::vector<double>& out) {
   // Moments about the grid's centre: 1, x (3), x x^T (6), v, v x (3).
   constexpr int kMoments = 14;
   const std::size_t nodes = to.size();
@@ -217,8 +217,8 @@ double initial_exponent(const std::vector<double>& lu, const std::vector<double>
 }  // namespace
 
 StiffnessPrior fit_stiffness_prior(const std::vector<Vec3>& q, const std::vector<double>& depth,
-                               const std::vector<double>& normal_force,
-                               const StiffnessPriorParams& prm) {
+                                   const std::vector<double>& normal_force,
+                                   const StiffnessPriorParams& prm) {
   prm.validate();
   if (depth.size() != q.size() || normal_force.size() != q.size())
     throw Error("stiffness map: expected q, depth and normal force of equal length");

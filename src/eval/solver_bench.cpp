@@ -31,7 +31,8 @@ SolverFit certified(const datadriven::L1Problem& pb, const Eigen::VectorXd& w, d
 }  // namespace
 
 datadriven::L1Problem make_l1_problem(const std::string& name, const SolverBenchOptions& o) {
-  if (name == "force_model") return datadriven::force_model_problem(o.samples, o.fm_centres, o.seed);
+  if (name == "force_model")
+    return datadriven::force_model_problem(o.samples, o.fm_centres, o.seed);
   if (name != "r3_cube" && name != "r3_cube_normalised")
     throw Error(fmt::format(
         "unknown l1 problem '{}' (expected r3_cube, r3_cube_normalised or force_model)", name));

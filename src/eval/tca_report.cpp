@@ -18,9 +18,10 @@ TcaEvalReport run_tca_eval(const TcaStudyOptions& options, const std::string& af
   TcaEvalReport r;
   r.options = options;
   r.study = run_tca_study(options);
-  r.study_triangles = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout())
-                          .mesh()
-                          .num_triangles();
+  r.study_triangles =
+      rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout())
+          .mesh()
+          .num_triangles();
   const rendering::Model timing_model(tca_timing_surface(options.seed, afm));
   r.timing_triangles = timing_model.mesh().num_triangles();
   r.cba_t = time_servo_steps(timing_model, Algorithm::kCBA);

@@ -24,7 +24,7 @@ struct PlyProperty {
   bool is_list = false;
   PlyType type = PlyType::kF32;       ///< scalar type, or list item type
   PlyType count_type = PlyType::kU8;  ///< list count type (lists only)
-  std::size_t line = 0;              ///< header line declaring it
+  std::size_t line = 0;               ///< header line declaring it
 };
 
 struct PlyElement {

@@ -83,9 +83,9 @@ class PlyEmitter {
 
  private:
   void header(const TriMesh& mesh) {
-    const char* fmt_name = format_ == PlyFormat::kAscii                  ? "ascii"
+    const char* fmt_name = format_ == PlyFormat::kAscii                ? "ascii"
                            : format_ == PlyFormat::kBinaryLittleEndian ? "binary_little_endian"
-                                                                        : "binary_big_endian";
+                                                                       : "binary_big_endian";
     buf_ += fmt::format("ply\nformat {} 1.0\n", fmt_name);
     buf_ += "comment written by inhap; units: positions mm, stiffness N/mm\n";
     buf_ += fmt::format("element vertex {}\n", mesh.positions.size());

@@ -3,8 +3,8 @@
 
 namespace inhap::haptics {
 
-ServoOutput step(const rendering::Model& model, rendering::State& state, rendering::Algorithm algorithm,
-                 const ServoInput& input) noexcept {
+ServoOutput step(const rendering::Model& model, rendering::State& state,
+                 rendering::Algorithm algorithm, const ServoInput& input) noexcept {
   ServoOutput out;
   out.force_n = rendering::step(model, state, input.p_mm, algorithm);
   out.contact = state.collision;

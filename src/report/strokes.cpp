@@ -52,8 +52,9 @@ std::array<double, 3> ramp(double v) {
 
 }  // namespace
 
-void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& from, const Vec2& dir,
-                     double len, int which, std::vector<double>& u, std::vector<double>& z) {
+void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& from,
+                     const Vec2& dir, double len, int which, std::vector<double>& u,
+                     std::vector<double>& z) {
   std::size_t n = 0;
   for (const auto& x : s) n += x.contact;
   const std::size_t stride = std::max<std::size_t>(1, n / 600);
@@ -68,7 +69,8 @@ void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& 
   }
 }
 
-StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc, std::uint64_t seed) {
+StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc,
+                           std::uint64_t seed) {
   rendering::StrokeOptions o;
   o.from = sc.from;
   o.to = sc.to;

@@ -62,14 +62,15 @@ std::vector<rendering::TrialResult> read_answers(const fs::path& csv) {
         f[3] != rendering::to_string(rendering::Algorithm::kCBA))
       throw ParseError(file, n,
                        fmt::format("expected an algorithm name, got \"{}\"", f[3].substr(0, 40)));
-    spec.algorithm = f[3] == rendering::to_string(rendering::Algorithm::kTCA) ? rendering::Algorithm::kTCA
-                                                                        : rendering::Algorithm::kCBA;
+    spec.algorithm = f[3] == rendering::to_string(rendering::Algorithm::kTCA)
+                         ? rendering::Algorithm::kTCA
+                         : rendering::Algorithm::kCBA;
     if (f[4] != rendering::to_string(rendering::Task::kShape) &&
         f[4] != rendering::to_string(rendering::Task::kStiffness))
       throw ParseError(file, n,
                        fmt::format("expected a task name, got \"{}\"", f[4].substr(0, 40)));
     spec.task = f[4] == rendering::to_string(rendering::Task::kShape) ? rendering::Task::kShape
-                                                                : rendering::Task::kStiffness;
+                                                                      : rendering::Task::kStiffness;
     const long model = to_long(f[7], file, n, "model");
     const long label = to_long(f[8], file, n, "label");
     if (model < 1 || model > rendering::kNumModels)
@@ -89,8 +90,9 @@ std::vector<rendering::TrialResult> read_answers(const fs::path& csv) {
   for (auto& [key, r] : trials) {
     r.correct = 0;
     for (int m = 0; m < rendering::kNumModels; ++m) {
-      const int truth = r.spec.task == rendering::Task::kShape ? int(rendering::true_shape_class(m))
-                                                            : int(rendering::true_stiffness_class(m));
+      const int truth = r.spec.task == rendering::Task::kShape
+                            ? int(rendering::true_shape_class(m))
+                            : int(rendering::true_stiffness_class(m));
       r.correct += r.answer[static_cast<std::size_t>(m)] == truth;
     }
     out.push_back(r);

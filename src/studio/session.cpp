@@ -79,7 +79,8 @@ Session::Session(const StudioOptions& options, const Workspace& workspace, Broad
   if (!(options_.speed >= 0.1 && options_.speed <= 20))
     throw Error("--speed: expected 0.1-20 simulated seconds per second");
   explore_name_ = "study25";
-  explore_mesh_ = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout()).mesh();
+  explore_mesh_ =
+      rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout()).mesh();
 }
 
 Session::~Session() {
@@ -164,8 +165,8 @@ void Session::start_rig(const std::string& mode) {
     const TriMesh& mesh = mode == "experiment" && surface_ ? surface_->mesh() : explore_mesh_;
     rig->model = std::make_unique<rendering::Model>(mesh, rendering::Params{});
     const rendering::Algorithm alg = mode == "experiment" && trial_ < schedule_.size()
-                                      ? schedule_[trial_].algorithm
-                                      : algorithm_;
+                                         ? schedule_[trial_].algorithm
+                                         : algorithm_;
     rig->renderer = std::make_unique<haptics::MeshRenderer>(*rig->model, alg);
     if (mode == "explore" && data_driven_)
       rig->renderer = std::make_unique<haptics::DataDrivenRenderer>(data_driven_->model);

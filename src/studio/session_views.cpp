@@ -311,9 +311,9 @@ std::string Session::do_open_mesh(const Message& m) {
       mesh_json(top_view_mesh(explore_mesh_, "stiffness"), "explore", "stiffness"));
   j["faces_rendered"] = explore_mesh_.num_triangles();
   j["name"] = name;
-  j["algorithm"] = data_driven_                            ? "data-driven"
+  j["algorithm"] = data_driven_                               ? "data-driven"
                    : algorithm_ == rendering::Algorithm::kTCA ? "tca"
-                                                           : "cba";
+                                                              : "cba";
   return j.dump();
 }
 
@@ -363,7 +363,8 @@ std::string Session::do_experiment(const Message& m) {
   trial_ = 0;
   answers_.clear();
   trial_answers_.fill(-1);
-  surface_.emplace(rendering::DatasetParams{}, rendering::shuffled_layout(schedule_[0].layout_seed));
+  surface_.emplace(rendering::DatasetParams{},
+                   rendering::shuffled_layout(schedule_[0].layout_seed));
   stop_rig();
   start_rig("experiment");
   write_answers();
@@ -392,7 +393,7 @@ std::string Session::do_answer(const Message& m) {
   a.model = surface_->layout().model_at_cell[static_cast<std::size_t>(cell)];
   a.value = value;
   a.truth = spec.task == rendering::Task::kShape ? int(rendering::true_shape_class(a.model))
-                                              : int(rendering::true_stiffness_class(a.model));
+                                                 : int(rendering::true_stiffness_class(a.model));
   a.t_s = latest_.t_s;
   answers_.push_back(a);
   trial_answers_[static_cast<std::size_t>(cell)] = value;
@@ -406,7 +407,8 @@ std::string Session::do_next_trial() {
   if (trial_ + 1 >= schedule_.size()) throw ProtocolError("next_trial: this was the last trial");
   ++trial_;
   trial_answers_.fill(-1);
-  surface_.emplace(rendering::DatasetParams{}, rendering::shuffled_layout(schedule_[trial_].layout_seed));
+  surface_.emplace(rendering::DatasetParams{},
+                   rendering::shuffled_layout(schedule_[trial_].layout_seed));
   stop_rig();
   start_rig("experiment");
   broadcast_trial();

@@ -11,7 +11,8 @@
 namespace inhap::eval {
 namespace {
 
-void add(lab::LabRecording& rec, datadriven::ProxyTrack& track, const Vec3& q, double f, bool contact) {
+void add(lab::LabRecording& rec, datadriven::ProxyTrack& track, const Vec3& q, double f,
+         bool contact) {
   rec.rec.t.push_back(static_cast<double>(rec.rec.t.size()) * 1e-3);
   rec.rec.p.push_back(q);
   rec.rec.f.push_back(Vec3(0, 0, f));

@@ -18,9 +18,9 @@ using inhap::test::Bytes;
 namespace {
 
 const char* format_line(PlyFormat f) {
-  return f == PlyFormat::kAscii                  ? "format ascii 1.0\n"
+  return f == PlyFormat::kAscii                ? "format ascii 1.0\n"
          : f == PlyFormat::kBinaryLittleEndian ? "format binary_little_endian 1.0\n"
-                                                : "format binary_big_endian 1.0\n";
+                                               : "format binary_big_endian 1.0\n";
 }
 
 // The five vertices and faces every hand-written file below encodes: a unit square (quad) in

@@ -1,7 +1,7 @@
 // The common servo interface: the composed data-driven step gives the forces of the pieces run
-// by hand (proxy_track, then datadriven::replay) on a lab recording, allocates nothing, and the mesh
-// adapters give what rendering::step gives. Units: s, mm, N.
-// (This file includes support/alloc_counter.hpp for the whole test_haptics program.)
+// by hand (proxy_track, then datadriven::replay) on a lab recording, allocates nothing, and the
+// mesh adapters give what rendering::step gives. Units: s, mm, N. (This file includes
+// support/alloc_counter.hpp for the whole test_haptics program.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,7 +55,8 @@ struct LabServo {
     }
     datadriven::TrainParams p = datadriven::test::small_params();
     p.features = datadriven::FeatureSet::kLocalFrame;
-    force = datadriven::train_force_model(datadriven::make_training_set(lab.rec, track, datadriven::FoawParams{}), p);
+    force = datadriven::train_force_model(
+        datadriven::make_training_set(lab.rec, track, datadriven::FoawParams{}), p);
   }
 };
 

@@ -21,7 +21,8 @@ namespace {
 
 const datadriven::ForceModel& model() {
   static const datadriven::ForceModel m = [] {
-    const datadriven::TrainingSet s = datadriven::test::take(datadriven::test::synthetic_set(2, 8000), 0, 2);
+    const datadriven::TrainingSet s =
+        datadriven::test::take(datadriven::test::synthetic_set(2, 8000), 0, 2);
     datadriven::TrainParams p = datadriven::test::small_params();
     p.design = datadriven::Design::kRegression;
     return datadriven::train_force_model(s, p);
@@ -133,7 +134,8 @@ TEST(ServoJumpGuard, OneTickJumpGivesZeroAndAFreshState) {
   // Legal motion (1 mm per tick = 1 m/s) does not trip the guard.
   datadriven::ServoState legal;
   const std::uint32_t before = legal.resets;
-  for (int i = 0; i < 30; ++i) datadriven::servo_step(model(), legal, Vec3(i * 1.0, 0, -3), q, true);
+  for (int i = 0; i < 30; ++i)
+    datadriven::servo_step(model(), legal, Vec3(i * 1.0, 0, -3), q, true);
   EXPECT_EQ(legal.resets, before);
 }
 

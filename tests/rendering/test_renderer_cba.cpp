@@ -18,7 +18,8 @@ namespace {
 Vec3 move(const rendering::Model& m, rendering::State& st, const Vec3& from, const Vec3& to, int n,
           Algorithm alg = Algorithm::kCBA) {
   Vec3 f = Vec3::Zero();
-  for (int i = 1; i <= n; ++i) f = rendering::step(m, st, from + (double(i) / n) * (to - from), alg);
+  for (int i = 1; i <= n; ++i)
+    f = rendering::step(m, st, from + (double(i) / n) * (to - from), alg);
   return f;
 }
 

@@ -188,7 +188,7 @@ TEST(RendererSafety, FinelyTessellatedWavySurfaceNeverLosesContactAtOneMetrePerS
   const double h = 0.05;
   auto height = [](double x, double) { return 0.5 * std::sin(2 * M_PI * x / 6.0); };
   rendering::Model m(test::grid_mesh(int(40 / h), int(2 / h), h, 0, -1, height,
-                                  [](double, double) { return 1.0; }));
+                                     [](double, double) { return 1.0; }));
   for (Algorithm a : kBoth) {
     rendering::State st;
     Vec3 p(1.0, 0.01, height(1.0, 0) + 1);

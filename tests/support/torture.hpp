@@ -115,7 +115,8 @@ inline datadriven::ForceModel torture_dd_model() {
   sp.seed = 2;
   const Recording rec = datadriven::synthetic_recording(sp);
   const datadriven::ProxyTrack track = datadriven::proxy_from_columns(rec, "synthetic");
-  const datadriven::TrainingSet s = datadriven::make_training_set(rec, track, datadriven::FoawParams{});
+  const datadriven::TrainingSet s =
+      datadriven::make_training_set(rec, track, datadriven::FoawParams{});
   datadriven::TrainParams p;
   p.bins = 3;
   p.centers = 60;
@@ -146,8 +147,10 @@ inline TortureResult torture_data_driven(const datadriven::ForceModel& model, st
   for (const Vec3& t : legal_trajectory()) {
     const Vec3 x = t - Vec3(20, 20, 0);
     const bool contact = x.z() < 0;
-    const Vec3 a = datadriven::servo_step(model, st, x, datadriven::entry_proxy(ea, x, contact), contact);
-    const Vec3 b = datadriven::servo_step(model, fresh, x, datadriven::entry_proxy(eb, x, contact), contact);
+    const Vec3 a =
+        datadriven::servo_step(model, st, x, datadriven::entry_proxy(ea, x, contact), contact);
+    const Vec3 b =
+        datadriven::servo_step(model, fresh, x, datadriven::entry_proxy(eb, x, contact), contact);
     count_force(r, a, limit);
     if (!(a == b)) r.fresh_after = false;
   }

@@ -19,9 +19,9 @@ enum class ForceSource {
 
 struct TappingResult {
   std::vector<Contact> contacts;
-  std::vector<std::string> notes;              ///< skipped taps, fallbacks, "no contact found"
+  std::vector<std::string> notes;               ///< skipped taps, fallbacks, "no contact found"
   ForceSource source = ForceSource::kRecorded;  ///< what was used
-  OfflineCompensation compensation;            ///< when source == Raw
+  OfflineCompensation compensation;             ///< when source == Raw
 };
 
 TappingResult contacts_from_recording(const Recording& rec, const ContactOptions& options,

@@ -26,8 +26,8 @@ namespace inhap::datadriven {
 inline constexpr int kFoawMaxWindow = 64;
 
 struct FoawParams {
-  double dt_s = 1e-3;           ///< sample period, s
-  int max_window = 16;        ///< window cap n_max (samples, 1..kFoawMaxWindow-1)
+  double dt_s = 1e-3;            ///< sample period, s
+  int max_window = 16;           ///< window cap n_max (samples, 1..kFoawMaxWindow-1)
   double noise_bound_mm = 0.01;  ///< d: allowed deviation of a sample from the fitted line, mm
   /// Throws inhap::Error when dt_s <= 0, max_window out of range or noise_bound_mm < 0.
   void validate() const;

@@ -98,8 +98,8 @@ struct StiffnessPrior {
 /// f_n = n . f (N). Returns an empty map when fewer than 10 samples pass the depth and force
 /// thresholds. Throws inhap::Error on unequal lengths or bad parameters.
 StiffnessPrior fit_stiffness_prior(const std::vector<Vec3>& q, const std::vector<double>& depth,
-                               const std::vector<double>& normal_force,
-                               const StiffnessPriorParams& params = {});
+                                   const std::vector<double>& normal_force,
+                                   const StiffnessPriorParams& params = {});
 
 /// Checks sizes and finiteness; throws inhap::Error naming what is wrong, prefixed by `where`.
 void validate_stiffness_prior(const StiffnessPrior& m, const std::string& where);

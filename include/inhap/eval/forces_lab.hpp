@@ -32,11 +32,11 @@ struct ForceLabOptions {
   std::string scene;  ///< built-in lab scene (planar, dome, ...)
   std::uint64_t train_seed = 1, test_seed = 2;
   datadriven::TrainParams params = lab_train_params();  ///< training settings (design included)
-  bool quick = false;                           ///< recordings 2x shorter (smoke test)
-  bool baselines = true;                        ///< also train the no-proxy and onset-proxy models
-  std::string keep;                             ///< folder for recordings and models ("": none)
-  std::string progress_label;                   ///< prefix of progress lines ("": the scene name)
-  Progress progress;                            ///< empty: silent
+  bool quick = false;                                   ///< recordings 2x shorter (smoke test)
+  bool baselines = true;       ///< also train the no-proxy and onset-proxy models
+  std::string keep;            ///< folder for recordings and models ("": none)
+  std::string progress_label;  ///< prefix of progress lines ("": the scene name)
+  Progress progress;           ///< empty: silent
   /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
   /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
   /// shape mesh) or "truth" (the lab's true proxy and contact flag).
@@ -87,12 +87,12 @@ struct ForceLabResult {
   datadriven::ProxyTrack train_track, test_track;
   double t_slide = 0;  ///< start of the sliding-only last third of the test run, s
   ForceVariant proxy;
-  ForceVariant no_proxy, onset;  ///< empty models when !baselines
-  datadriven::ForceErrors covered;       ///< proxy model on test samples the training run covered
-  ForceSupport support;          ///< training vs test ranges
+  ForceVariant no_proxy, onset;     ///< empty models when !baselines
+  datadriven::ForceErrors covered;  ///< proxy model on test samples the training run covered
+  ForceSupport support;             ///< training vs test ranges
   std::vector<datadriven::SupportCheck> test_support;  ///< per test sample (bin -1: not checked)
-  double palpation_s = 0;                      ///< wall time of the palpation (estimated proxy), s
-  std::size_t reference_points = 0;            ///< palpated reference points (estimated proxy)
+  double palpation_s = 0;            ///< wall time of the palpation (estimated proxy), s
+  std::size_t reference_points = 0;  ///< palpated reference points (estimated proxy)
   /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
   /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.
   double proxy_rms_mm = 0, contact_agreement = 0;
@@ -108,7 +108,7 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& options);
 struct ForceCoverage {
   double outside = 0;  ///< share of the in-contact test samples outside the training support
   std::vector<datadriven::CoverageGap> gaps;
-  double cell_mm = 0;   ///< cell size of the map (a gap's area is cells * cell_mm^2)
+  double cell_mm = 0;           ///< cell size of the map (a gap's area is cells * cell_mm^2)
   datadriven::CoverageMap map;  ///< the training recording's cells (proxy positions x largest |f|)
 };
 ForceCoverage training_coverage(const ForceLabResult& d);

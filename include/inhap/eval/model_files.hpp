@@ -26,7 +26,8 @@ struct ProxyColumnsSpec {
 };
 
 /// The proxy track of a recording read from `path` (ParseError naming it when q is missing).
-datadriven::ProxyTrack track_of(const Recording& rec, const std::string& path, const ProxyColumnsSpec& o);
+datadriven::ProxyTrack track_of(const Recording& rec, const std::string& path,
+                                const ProxyColumnsSpec& o);
 
 /// True when the recording has the normal columns nx,ny,nz.
 bool has_normal_columns(const Recording& rec);
@@ -49,10 +50,12 @@ struct TrainRequest {
 /// The preset's settings, overridden by every option given explicitly. Without normals the
 /// default local-frame pipeline cannot run: the "world" preset is used instead unless local
 /// features were asked for explicitly; `note` then says so (else it is left alone).
-datadriven::TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::string* note);
+datadriven::TrainParams resolve_train_params(const TrainRequest& r, bool have_normals,
+                                             std::string* note);
 
 /// One line on the forces above the modeling range and above the render clamp.
-std::string range_note(const datadriven::ForceModel& m, const datadriven::TrainingSet& set, double force_limit_n);
+std::string range_note(const datadriven::ForceModel& m, const datadriven::TrainingSet& set,
+                       double force_limit_n);
 
 /// Writes where the recording covered the object (coverage file `path`) and says it: one line,
 /// and one more with the largest unvisited gaps when there are any.

@@ -45,8 +45,8 @@ Vec3 tangent_direction(const Vec3& n, const Vec3& reference, double angle);
 enum class CycleStatus : int {
   kOk = 0,
   kNoContact = 1,   ///< the approach found no surface
-  kSaturated = 2,    ///< the commanded load exceeded the device's force limit
-  kUnsettled = 3,    ///< the probe had not come to rest when the release point was taken
+  kSaturated = 2,   ///< the commanded load exceeded the device's force limit
+  kUnsettled = 3,   ///< the probe had not come to rest when the release point was taken
   kBadInput = 4,    ///< non-finite readings
   kSlipCapped = 5,  ///< slid past max_slip: unloaded early (the plateau growth is a lower bound)
 };

@@ -36,9 +36,9 @@ struct ProxyModel {
   const SysModel* sys = nullptr;      ///< sliding yield surfaces (not owned)
   const ShapeQuery* shape = nullptr;  ///< undeformed surface (not owned)
   int max_iterations = 3;             ///< return-mapping passes per tick
-  double tolerance_mm = 1e-3;            ///< mm outside g_s still accepted as on it (ends the passes)
-  double max_depth_mm = 100.0;           ///< mm; deeper trial displacements are absurd -> reset
-  double max_coordinate_mm = 1e5;        ///< mm; larger |p| is absurd -> reset
+  double tolerance_mm = 1e-3;         ///< mm outside g_s still accepted as on it (ends the passes)
+  double max_depth_mm = 100.0;        ///< mm; deeper trial displacements are absurd -> reset
+  double max_coordinate_mm = 1e5;     ///< mm; larger |p| is absurd -> reset
   bool creep = true;                  ///< use the measured slip viscosity (else rate-independent)
 };
 

@@ -7,8 +7,8 @@
 // Model = {sliding yield surfaces, shape, force model} (+ the proxy estimator's options), all
 // immutable and not owned: they must outlive the model. State = {proxy state, FOAW/servo state,
 // previous time stamp}. step() gives exactly the forces of the pieces run by hand in the same
-// order (friction::proxy_track, then datadriven::replay with that track), tick for tick; it allocates
-// nothing, throws nothing and does no I/O.
+// order (friction::proxy_track, then datadriven::replay with that track), tick for tick; it
+// allocates nothing, throws nothing and does no I/O.
 #pragma once
 
 #include "inhap/datadriven/servo.hpp"
@@ -30,10 +30,10 @@ struct DataDrivenModel {
 };
 
 struct DataDrivenState {
-  friction::ProxyState proxy;  ///< proxy estimator (contact, q, frame, g_s at q)
-  datadriven::ServoState servo;        ///< FOAW buffer, last velocity, bin and force
-  double t_prev_s = 0;         ///< time stamp of the previous tick, s
-  bool has_prev = false;       ///< t_prev_s valid
+  friction::ProxyState proxy;    ///< proxy estimator (contact, q, frame, g_s at q)
+  datadriven::ServoState servo;  ///< FOAW buffer, last velocity, bin and force
+  double t_prev_s = 0;           ///< time stamp of the previous tick, s
+  bool has_prev = false;         ///< t_prev_s valid
 
   /// Back to the initial state.
   void reset() noexcept { *this = DataDrivenState{}; }
@@ -52,9 +52,10 @@ inline ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
   ServoOutput out;
   out.contact = o.contact && o.q.allFinite();
   const Vec3 q = out.contact ? o.q : p;
-  // datadriven::servo_step is servo-safe (no allocation, no exceptions) although not declared noexcept.
+  // datadriven::servo_step is servo-safe (no allocation, no exceptions) although not declared
+  // noexcept.
   out.force_n = model.force ? datadriven::servo_step(*model.force, state.servo, p, q,
-                                             out.contact ? o.n : Vec3::UnitZ(), out.contact)
+                                                     out.contact ? o.n : Vec3::UnitZ(), out.contact)
                             : Vec3::Zero();
   out.hip_mm = p;
   out.ihip_mm = q;

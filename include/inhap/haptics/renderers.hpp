@@ -12,8 +12,8 @@
 namespace inhap::haptics {
 
 /// One tick of the god-object renderer through the common interface (CBA or TCA-MESH).
-ServoOutput step(const rendering::Model& model, rendering::State& state, rendering::Algorithm algorithm,
-                 const ServoInput& input) noexcept;
+ServoOutput step(const rendering::Model& model, rendering::State& state,
+                 rendering::Algorithm algorithm, const ServoInput& input) noexcept;
 
 /// CBA or TCA-MESH on a mesh with a stiffness map.
 class MeshRenderer final : public Renderer {

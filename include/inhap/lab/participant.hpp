@@ -40,9 +40,9 @@ struct ParticipantProfile {
   int taps_per_site = 3;  ///< taps at the centre and at the surround each
   double tap_speed_mm_s = 40;
   double surround_tap_radius_mm = 11;
-  double aim_sd_mm = 0.4;         ///< SD of where a stroke or tap lands around the aim
-  double weber_fraction = 0.22;   ///< stiffness JND (Jones & Hunter 1990; Tan et al. 1995)
-  double lapse_rate = 0.01;       ///< probability of a random answer (attention lapse)
+  double aim_sd_mm = 0.4;            ///< SD of where a stroke or tap lands around the aim
+  double weber_fraction = 0.22;      ///< stiffness JND (Jones & Hunter 1990; Tan et al. 1995)
+  double lapse_rate = 0.01;          ///< probability of a random answer (attention lapse)
   rendering::ShapePerception shape;  ///< windows and height threshold
 };
 

@@ -39,8 +39,9 @@ std::string find_data_dir(const std::string& given);
 /// Heights (z, mm) of the HIP (which 0), IHIP (1) or CIHIP (2) along the sliding part of a
 /// stroke from `from` in the unit direction `dir`, `len` mm long (in contact, 0.2 mm from either
 /// end), at the distance along the stroke `u` (mm); thinned to about 600 points.
-void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& from, const Vec2& dir,
-                     double len, int which, std::vector<double>& u, std::vector<double>& z);
+void sliding_heights(const std::vector<rendering::StrokeSample>& s, const Vec2& from,
+                     const Vec2& dir, double len, int which, std::vector<double>& u,
+                     std::vector<double>& z);
 
 StrokePair run_stroke_pair(const rendering::Model& model, const StrokeCase& sc, std::uint64_t seed);
 /// HIP / IHIP / CIHIP heights along the stroke for both algorithms (and the true surface).

@@ -77,7 +77,8 @@ class StreamTapDetector {
 /// A data-driven model for the explore view (thesis 4.4-4.5): the force model, the sliding yield
 /// surfaces and the shape, kept together because DataDrivenModel points into them.
 struct DataDrivenBundle {
-  DataDrivenBundle(datadriven::ForceModel f, friction::SysModel y, const TriMesh& mesh, double probe_radius)
+  DataDrivenBundle(datadriven::ForceModel f, friction::SysModel y, const TriMesh& mesh,
+                   double probe_radius)
       : force(std::move(f)),
         sys(std::move(y)),
         shape(mesh, probe_radius),
