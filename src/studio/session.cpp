@@ -173,9 +173,10 @@ void Session::start_rig(const std::string& mode) {
   }
   haptics::LoopOptions lo;
   lo.realtime = options_.realtime;
-  // The lab's time is simulated: a wall-clock deadline missed under load changes nothing it
-  // computes, and a watchdog zero force would spoil a palpation cycle.
-  if (lab_ && palp) lo.watchdog_misses = std::numeric_limits<int>::max();
+  // The lab's time is simulated and there is no arm to protect: a wall-clock deadline missed
+  // under load changes nothing it computes, while a watchdog zero force would spoil a palpation
+  // cycle and show a pressed probe with no force. A real device (udp) keeps the watchdog.
+  if (lab_) lo.watchdog_misses = std::numeric_limits<int>::max();
   rig->loop = std::make_unique<haptics::ServoLoop>(*rig->device, *rig->renderer, lo);
   rig->loop->add_observer(rig->ring);
   {
