@@ -198,7 +198,19 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
     s.wall_s = t0;
     for (ObserverRing* r : observers_) r->push(s);
   }
-  device_.tick();
+  device_.tick();  // the force is out: the rest of the period is idle
+
+  // Warm the renderer's caches for the next tick with a constant-velocity prediction.
+  if (has_last_p_) {
+    ServoInput next = in;
+    next.t_s = in.t_s + 1.0 / device_.info().servo_rate_hz;
+    next.p_mm = in.p_mm + (in.p_mm - last_p_);
+    const double w0 = now_s();
+    renderer_.prefetch(next);
+    prefetch_.add((now_s() - w0) * 1e6);
+  }
+  last_p_ = in.p_mm;
+  has_last_p_ = in.p_mm.allFinite();
   ticks_.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -217,6 +229,8 @@ LoopStats ServoLoop::stats() const {
   s.step_p50_us = step_.quantile(0.5);
   s.step_p99_us = step_.quantile(0.99);
   s.step_max_us = step_.max();
+  s.prefetch_p50_us = prefetch_.quantile(0.5);
+  s.prefetch_p99_us = prefetch_.quantile(0.99);
   return s;
 }
 

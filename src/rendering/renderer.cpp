@@ -241,6 +241,28 @@ Vec3 clamp_force(const Vec3& f, double limit) {
 
 }  // namespace
 
+std::uint32_t prefetch(const Model& model, const State& state, const Vec3& p_next) noexcept {
+  if (!state.has_prev || !p_next.allFinite() ||
+      !((p_next - state.hip_prev).norm() < model.params().max_jump_mm))
+    return 0;
+  const Vec3 pl = p_next - state.t;
+  std::int32_t start = -1;
+  if (state.collision && state.ihip.valid()) {
+    start = state.ihip.triangle;
+  } else {
+    SurfacePoint hit;
+    if (find_entry(model.index(), state.hip_prev_mesh, pl, hit)) start = hit.triangle;
+  }
+  if (start < 0) return 0;
+  const detail::WalkResult w =
+      detail::local_closest(model.mesh(), model.adjacency(), start, pl,
+                            model.params().max_walk_steps, model.vertex_stiffness().data());
+  // What the force reads at the answer; the volatile store keeps the reads.
+  volatile double sink = model.stiffness(w.q) + model.normal(w.q).z();
+  static_cast<void>(sink);
+  return w.steps;
+}
+
 Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm) {
   const Params& prm = model.params();
   if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kAbsurdCoordinateMm) {

@@ -163,6 +163,9 @@ TEST(MeshServo, AdaptersGiveWhatRenderStepGives) {
       in.t_s = i * 1e-3;
       in.p_mm = Vec3(8 * std::sin(ph), 7 * std::cos(1.3 * ph), -0.6 + 0.8 * std::sin(i * 0.03));
       const ServoOutput o = any.step(in);
+      ServoInput next = in;  // the loop's read-ahead (changes nothing, allocates nothing)
+      next.p_mm += Vec3(0.01, -0.02, 0.005);
+      any.prefetch(next);
       const Vec3 f = rendering::step(m, ref, in.p_mm, a);
       ASSERT_EQ(o.force_n, f);
       ASSERT_EQ(o.contact, ref.collision);

@@ -57,6 +57,10 @@ class Wall final : public Renderer {
   long steps = 0, resets = 0, alloc_at_100 = -1, alloc_at_1000 = -1;
 };
 
+Vec3 dev_position(long tick) {
+  return {0.0, 0.0, 2.0 - 0.01 * static_cast<double>(tick)};
+}
+
 Vec3 wall_force(double z) {
   return {0, 0, z < 0 ? -0.5 * z : 0.0};
 }
@@ -171,6 +175,52 @@ TEST(ServoLoop, TheSteadyStateAllocatesNothing) {
   loop.run();
   ASSERT_GE(wall.alloc_at_100, 0);
   EXPECT_EQ(wall.alloc_at_1000 - wall.alloc_at_100, 0);
+}
+
+// Records when and with what the loop calls Renderer::prefetch.
+class Predicted final : public Renderer {
+ public:
+  explicit Predicted(const ScriptDevice& dev) : dev_(dev) {}
+  ServoOutput step(const ServoInput& in) noexcept override {
+    ++steps;
+    ServoOutput o;
+    o.hip_mm = o.ihip_mm = o.cihip_mm = in.p_mm;
+    return o;
+  }
+  void prefetch(const ServoInput& next) noexcept override {
+    if (calls < static_cast<long>(next_p.size())) {
+      next_p[static_cast<std::size_t>(calls)] = next.p_mm;
+      sent_before[static_cast<std::size_t>(calls)] = static_cast<long>(dev_.commanded.size());
+      steps_at[static_cast<std::size_t>(calls)] = steps;
+    }
+    ++calls;
+  }
+  void reset() noexcept override {}
+  const char* name() const noexcept override { return "predicted"; }
+  const ScriptDevice& dev_;
+  long steps = 0, calls = 0;
+  std::vector<Vec3> next_p = std::vector<Vec3>(400, Vec3::Constant(-1.0));
+  std::vector<long> sent_before = std::vector<long>(400, -1), steps_at = std::vector<long>(400, -1);
+};
+
+TEST(ServoLoop, PrefetchGetsTheNextPositionPredictedAfterTheForceWentOut) {
+  ScriptDevice dev;
+  dev.commanded.reserve(2000);
+  Predicted r(dev);
+  ServoLoop loop(dev, r, quiet(300));
+  loop.run();
+  // No prediction at the first tick (no velocity yet), then one per tick.
+  ASSERT_EQ(r.calls, 299);
+  for (long k = 0; k < 299; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const long tick = k + 1;  // the tick that made this call
+    // The device moves 0.01 mm per tick: constant velocity, so the prediction is the next
+    // tick's true position.
+    EXPECT_NEAR((r.next_p[i] - dev_position(tick + 1)).norm(), 0.0, 1e-12) << "tick " << tick;
+    EXPECT_EQ(r.steps_at[i], tick + 1) << "after the step of its tick";
+    EXPECT_EQ(r.sent_before[i], tick + 1) << "after the tick's force went to the device";
+  }
+  EXPECT_GE(loop.stats().prefetch_p99_us, loop.stats().prefetch_p50_us);
 }
 
 TEST(SpscRing, TwoThreadsPassTwoHundredThousandItemsInOrder) {

@@ -53,3 +53,39 @@ TEST(RendererOrder, SpatialOrderChangesNumberingNotForces) {
     EXPECT_GT(contact, 3000);  // the path is mostly in contact, across many triangles
   }
 }
+
+// rendering::prefetch reads ahead for the next tick. It must change nothing: the same path with
+// and without it gives identical forces and states. With an exact prediction it walks the very
+// triangles the next step walks.
+TEST(RendererPrefetch, ChangesNothingAndWalksWhereTheNextStepWalks) {
+  const rendering::Model m(bumpy());
+  const Vec3 nan = Vec3::Constant(std::nan(""));
+  for (Algorithm alg : {Algorithm::kCBA, Algorithm::kTCA}) {
+    rendering::State plain, warmed;
+    long compared = 0, walked = 0, differ = 0;
+    for (int i = 0; i < 6000; ++i) {
+      const double t = i * 1e-3;
+      const double x = 10 * std::sin(4 * t), y = 10 * std::sin(5.5 * t + 0.5);
+      const double depth = std::min(-2.0 + 10.0 * t, 1.25 + 0.75 * std::sin(3 * t));
+      const Vec3 p(x, y, height(x, y) - depth);
+      const bool was = warmed.collision;
+      const std::uint32_t ahead = rendering::prefetch(m, warmed, p);  // an exact prediction
+      EXPECT_EQ(rendering::prefetch(m, warmed, nan), 0u);
+      EXPECT_EQ(rendering::prefetch(m, warmed, p + Vec3(0, 0, 1e3)), 0u);  // a glitch-sized jump
+      const Vec3 fa = rendering::step(m, plain, p, alg), fb = rendering::step(m, warmed, p, alg);
+      ASSERT_EQ(fa, fb) << "tick " << i;
+      ASSERT_EQ(plain.ihip.point, warmed.ihip.point) << "tick " << i;
+      ASSERT_EQ(plain.ihip.triangle, warmed.ihip.triangle) << "tick " << i;
+      ASSERT_EQ(plain.s, warmed.s) << "tick " << i;
+      ASSERT_EQ(plain.t, warmed.t) << "tick " << i;
+      if (was && warmed.collision) {
+        ++compared;
+        walked += ahead > 0;
+        differ += ahead != warmed.walk_steps;
+      }
+    }
+    EXPECT_GT(compared, 3000);
+    EXPECT_GT(walked, 500) << "the path crosses triangles on many ticks";
+    EXPECT_EQ(differ, 0);
+  }
+}

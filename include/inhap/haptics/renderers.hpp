@@ -23,6 +23,10 @@ class MeshRenderer final : public Renderer {
   ServoOutput step(const ServoInput& input) noexcept override {
     return haptics::step(model_, state_, algorithm_, input);
   }
+  /// Warms the caches along the local search toward next.p_mm (rendering::prefetch).
+  void prefetch(const ServoInput& next) noexcept override {
+    rendering::prefetch(model_, state_, next.p_mm);
+  }
   void reset() noexcept override { state_ = rendering::State{}; }
   const char* name() const noexcept override {
     return algorithm_ == rendering::Algorithm::kTCA ? "tca-mesh" : "cba";

@@ -41,6 +41,11 @@ class Renderer {
  public:
   virtual ~Renderer() = default;
   virtual ServoOutput step(const ServoInput& input) noexcept = 0;
+  /// Called in the idle part of a period, after the force of step() has gone to the device, with
+  /// a prediction of the next input: a renderer whose step is bound by memory latency reads
+  /// ahead what the next step will read, so the next force is not delayed by cache misses. Must
+  /// not change any output; servo-safe like step(). Default: nothing.
+  virtual void prefetch(const ServoInput& /*next*/) noexcept {}
   /// Back to the state of a freshly made renderer (same model).
   virtual void reset() noexcept = 0;
   virtual const char* name() const noexcept = 0;

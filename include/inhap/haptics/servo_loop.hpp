@@ -81,6 +81,8 @@ struct LoopStats {
   std::uint64_t dropped_samples = 0;  ///< samples no observer had room for
   double jitter_p50_us = 0, jitter_p99_us = 0, jitter_max_us = 0;  ///< wake-up lateness
   double step_p50_us = 0, step_p99_us = 0, step_max_us = 0;        ///< renderer step
+  /// Renderer::prefetch after the force went out (off the force's critical path).
+  double prefetch_p50_us = 0, prefetch_p99_us = 0;
   double period_us = 0;
 };
 
@@ -119,6 +121,9 @@ class ServoLoop {
   std::atomic<std::uint64_t> ticks_{0};
   LatencyHistogram jitter_{1.0, 100000.0};
   LatencyHistogram step_{0.02, 2000.0};
+  LatencyHistogram prefetch_{0.02, 2000.0};
+  Vec3 last_p_ = Vec3::Zero();  ///< the previous tick's probe position, for the prediction
+  bool has_last_p_ = false;
   std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
   int missed_in_row_ = 0, good_in_row_ = 0, fault_in_row_ = 0;
   bool holding_ = false;

@@ -100,4 +100,15 @@ struct State {
 /// One servo tick: HIP position p (mm) in, force (N) out. CBA ignores s and t (they stay 0).
 Vec3 step(const Model& model, State& state, const Vec3& p, Algorithm algorithm);
 
+/// Cache warm-up for the next tick, for the idle part of a servo period (after the force has gone
+/// out): reads what step() will read if the next HIP is near `p_next` (mm) — the local search
+/// from the current IHIP, or the contact sweep from the previous HIP and the search from its hit,
+/// and the normals and stiffness at the answer — and changes nothing. On a large map a step is
+/// bound by memory latency (each tick reaches triangles not seen for a while); warmed with a
+/// prediction of the next HIP, those misses leave the force's critical path. The servo loop
+/// calls it with p + (p - p_prev). Returns the triangles walked (0 when there is nothing to
+/// warm: no previous tick, a non-finite or glitch-sized prediction, no contact ahead).
+/// Allocation-free, exception-free, bounded like step() (Params::max_walk_steps).
+std::uint32_t prefetch(const Model& model, const State& state, const Vec3& p_next) noexcept;
+
 }  // namespace inhap::rendering
