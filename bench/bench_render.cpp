@@ -14,8 +14,7 @@
 #include <memory>
 #include <vector>
 
-#include "inhap/core/random.hpp"
-#include "inhap/geometry/heightmap.hpp"
+#include "bumpy_map.hpp"
 #include "inhap/haptics/renderers.hpp"
 #include "inhap/rendering/renderer.hpp"
 
@@ -23,40 +22,10 @@ using namespace inhap;
 
 namespace {
 
-// Bumps of a few mm (Gaussians, 1-4 mm high) and a smooth stiffness map in [0.1, 1] N/mm over
-// a 100 mm square.
-TriMesh bumpy_map(int n, std::uint64_t seed) {
-  const double spacing = 100.0 / (n - 1);
-  Grid h(n, n), k(n, n);
-  Rng rng(seed);
-  struct Blob {
-    double x, y, r, a;
-  };
-  std::vector<Blob> bumps, soft;
-  for (int i = 0; i < 40; ++i)
-    bumps.push_back(
-        {rng.uniform(0, 100), rng.uniform(0, 100), rng.uniform(2, 8), rng.uniform(1, 4)});
-  for (int i = 0; i < 25; ++i)
-    soft.push_back(
-        {rng.uniform(0, 100), rng.uniform(0, 100), rng.uniform(4, 12), rng.uniform(0.3, 1)});
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double x = i * spacing, y = j * spacing;
-      double z = 0, s = 0;
-      for (const auto& b : bumps)
-        z += b.a * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (2 * b.r * b.r));
-      for (const auto& b : soft)
-        s += b.a * std::exp(-((x - b.x) * (x - b.x) + (y - b.y) * (y - b.y)) / (2 * b.r * b.r));
-      h.at(i, j) = z;
-      k.at(i, j) = 1.0 - 0.9 * std::min(1.0, s);  // 0.1 .. 1 N/mm
-    }
-  return grid_to_mesh(h, spacing, &k);
-}
-
 const rendering::Model& model(int n) {
   static std::unique_ptr<rendering::Model> m257, m708;
   auto& m = n == 257 ? m257 : m708;
-  if (!m) m = std::make_unique<rendering::Model>(bumpy_map(n, 42));
+  if (!m) m = std::make_unique<rendering::Model>(bench::bumpy_map(n, 42));
   return *m;
 }
 
@@ -73,16 +42,13 @@ void BM_ServoStep(benchmark::State& bs) {
   const auto alg = bs.range(1) ? rendering::Algorithm::kTCA : rendering::Algorithm::kCBA;
   const double speed = static_cast<double>(bs.range(2));
   const rendering::Model& m = model(n);
-  const double dt = 1e-3, F = 1.5, tau = 0.03;
-  // Lissajous path over the map; angular rate chosen for the requested mean speed.
-  const double w = speed / 45.0;
+  bench::StrokeHand hand{speed};
   rendering::State st;
-  Vec3 p(50, 50, 10);
+  Vec3 p = hand.p;
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(bs.max_iterations));
   long contact = 0, touches = 0, walk = 0, max_walk = 0;
   bool was = false;
-  double t = 0;
   for (auto _ : bs) {
     const auto t0 = std::chrono::steady_clock::now();
     const Vec3 f = rendering::step(m, st, p, alg);
@@ -96,11 +62,7 @@ void BM_ServoStep(benchmark::State& bs) {
     was = st.collision;
     walk += st.walk_steps;
     max_walk = std::max<long>(max_walk, st.walk_steps);
-    // Force-tracking hand (as in rendering::simulate_stroke).
-    t += dt;
-    const double vz =
-        st.collision ? std::clamp((f.norm() - F) / (st.k * tau), -100.0, 100.0) : -20.0;
-    p = Vec3(50 + 45 * std::sin(w * t), 50 + 45 * std::sin(1.37 * w * t + 0.5), p.z() + vz * dt);
+    p = hand.next(st.collision, f, st.k);
   }
   const double ticks = static_cast<double>(us.size());
   bs.counters["p50_us"] = percentile(us, 0.50);
@@ -127,13 +89,12 @@ void BM_RendererInterface(benchmark::State& bs) {
   const rendering::Model& m = model(n);
   std::unique_ptr<haptics::Renderer> r = std::make_unique<haptics::MeshRenderer>(m, alg);
   const auto& st = static_cast<const haptics::MeshRenderer&>(*r).state();
-  const double dt = 1e-3, F = 1.5, tau = 0.03, w = speed / 45.0;
+  bench::StrokeHand hand{speed};
   haptics::ServoInput in;
-  in.p_mm = Vec3(50, 50, 10);
+  in.p_mm = hand.p;
   Vec3 p_prev = in.p_mm;
-  std::vector<double> us, pre_us;
+  std::vector<double> us;
   us.reserve(static_cast<std::size_t>(bs.max_iterations));
-  pre_us.reserve(static_cast<std::size_t>(bs.max_iterations));
   long contact = 0;
   for (auto _ : bs) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -145,25 +106,18 @@ void BM_RendererInterface(benchmark::State& bs) {
     us.push_back(sec * 1e6);
     if (warm) {
       haptics::ServoInput next = in;
-      next.t_s += dt;
+      next.t_s += 1e-3;
       next.p_mm = in.p_mm + (in.p_mm - p_prev);
-      const auto w0 = std::chrono::steady_clock::now();
       r->prefetch(next);
-      pre_us.push_back(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count() * 1e6);
     }
     p_prev = in.p_mm;
     contact += o.contact;
-    in.t_s += dt;
-    const double vz =
-        o.contact ? std::clamp((o.force_n.norm() - F) / (st.k * tau), -100.0, 100.0) : -20.0;
-    in.p_mm = Vec3(50 + 45 * std::sin(w * in.t_s), 50 + 45 * std::sin(1.37 * w * in.t_s + 0.5),
-                   in.p_mm.z() + vz * dt);
+    in.t_s += 1e-3;
+    in.p_mm = hand.next(o.contact, o.force_n, st.k);
   }
   bs.counters["p50_us"] = percentile(us, 0.50);
   bs.counters["p99_us"] = percentile(us, 0.99);
   bs.counters["max_us"] = *std::max_element(us.begin(), us.end());
-  if (warm) bs.counters["prefetch_p99_us"] = percentile(pre_us, 0.99);
   bs.counters["contact_frac"] = double(contact) / static_cast<double>(us.size());
   bs.counters["triangles"] = double(m.mesh().num_triangles());
 }

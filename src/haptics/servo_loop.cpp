@@ -23,6 +23,20 @@ double now_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+timespec to_timespec(double s);
+
+void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+void sleep_until(double t_s) {
+  const timespec ts = to_timespec(t_s);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
 timespec to_timespec(double s) {
   timespec ts{};
   ts.tv_sec = static_cast<time_t>(s);
@@ -120,6 +134,8 @@ void ServoLoop::run() {
   if (rt_status_ == "not started") rt_status_ = "normal priority (real time not requested)";
   const double period = 1.0 / device_.info().servo_rate_hz;
   const bool paced_by_device = device_.self_paced();
+  paced_by_device_ = paced_by_device;
+  const double lead_s = std::max(0.0, options_.warm_lead_us) * 1e-6;
   double deadline = now_s();
   double last = deadline;
   while (!stop_.load(std::memory_order_acquire) &&
@@ -128,8 +144,11 @@ void ServoLoop::run() {
     double late_us = 0.0;
     if (!paced_by_device) {
       deadline += period;
-      const timespec ts = to_timespec(deadline);
-      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+      const bool lead = lead_s > 0.0 && has_next_;
+      sleep_until(lead ? deadline - lead_s : deadline);
+      if (lead && now_s() < deadline) {
+        warm_next();
+        while (now_s() < deadline) cpu_relax();
       }
       const double now = now_s();
       late_us = (now - deadline) * 1e6;
@@ -200,18 +219,24 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
   }
   device_.tick();  // the force is out: the rest of the period is idle
 
-  // Warm the renderer's caches for the next tick with a constant-velocity prediction.
-  if (has_last_p_) {
-    ServoInput next = in;
-    next.t_s = in.t_s + 1.0 / device_.info().servo_rate_hz;
-    next.p_mm = in.p_mm + (in.p_mm - last_p_);
-    const double w0 = now_s();
-    renderer_.prefetch(next);
-    prefetch_.add((now_s() - w0) * 1e6);
+  // The next input, predicted at constant velocity, for the read-ahead.
+  has_next_ = has_last_p_ && in.p_mm.allFinite();
+  if (has_next_) {
+    next_in_ = in;
+    next_in_.t_s = in.t_s + 1.0 / device_.info().servo_rate_hz;
+    next_in_.p_mm = in.p_mm + (in.p_mm - last_p_);
   }
   last_p_ = in.p_mm;
   has_last_p_ = in.p_mm.allFinite();
+  if (has_next_ && (paced_by_device_ || !(options_.warm_lead_us > 0.0))) warm_next();
   ticks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void ServoLoop::warm_next() {
+  const double t0 = now_s();
+  renderer_.prefetch(next_in_);
+  prefetch_.add((now_s() - t0) * 1e6);
+  has_next_ = false;
 }
 
 LoopStats ServoLoop::stats() const {

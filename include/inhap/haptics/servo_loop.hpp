@@ -14,6 +14,9 @@
 //   (no kick from a stale proxy).
 // - Observers read the loop through lock-free SPSC rings (spsc_ring.hpp); the loop never
 //   blocks on them: a full ring drops the sample and counts it.
+// - Read-ahead: between ticks the loop calls Renderer::prefetch with the next position predicted
+//   at constant velocity (LoopOptions::warm_lead_us), so a renderer bound by memory latency finds
+//   its data in cache; never on the path from reading the device to commanding the force.
 // - The loop's steady state allocates nothing and takes no lock; on stop it commands zero force
 //   for one last tick.
 #pragma once
@@ -54,6 +57,14 @@ struct LoopOptions {
   /// is back, without recover_ticks and without a renderer reset.
   int short_fault_ticks = 5;
   long max_ticks = -1;  ///< stop by itself after this many ticks (-1: until stop())
+  /// Read-ahead (Renderer::prefetch, with the next position predicted at constant velocity).
+  /// A clock-paced loop wakes this long before each deadline, runs it, then spins to the
+  /// deadline: the next step finds its data in cache (a sleeping core's caches are taken by
+  /// whatever ran meanwhile) and the device is read on time; it costs up to this share of each
+  /// period in CPU. If the wake-up comes later than the deadline the read-ahead is skipped, so it
+  /// never delays a tick. 0, or a device that paces itself: the read-ahead runs right after the
+  /// force has gone out instead. us.
+  double warm_lead_us = 150.0;
 };
 
 /// Latency histogram with fixed bins (allocated once, before the loop starts).
@@ -110,6 +121,7 @@ class ServoLoop {
  private:
   void setup_realtime();
   void tick_once(double wake_late_us);
+  void warm_next();
 
   Device& device_;
   Renderer& renderer_;
@@ -124,6 +136,9 @@ class ServoLoop {
   LatencyHistogram prefetch_{0.02, 2000.0};
   Vec3 last_p_ = Vec3::Zero();  ///< the previous tick's probe position, for the prediction
   bool has_last_p_ = false;
+  ServoInput next_in_;  ///< the predicted next input (valid when has_next_)
+  bool has_next_ = false;
+  bool paced_by_device_ = false;
   std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
   int missed_in_row_ = 0, good_in_row_ = 0, fault_in_row_ = 0;
   bool holding_ = false;
