@@ -74,7 +74,8 @@ class HandDevice final : public Device {
   Vec3 force_ = Vec3::Zero();
 };
 
-// The mesh renderer without the read-ahead (Renderer::prefetch left at its default, nothing).
+// The mesh renderer without the read-ahead (Renderer::prefetch and reads_ahead at their
+// defaults: nothing, false).
 class NoPrefetch final : public haptics::Renderer {
  public:
   explicit NoPrefetch(haptics::MeshRenderer& r) : r_(r) {}

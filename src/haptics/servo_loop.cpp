@@ -135,7 +135,7 @@ void ServoLoop::run() {
   const double period = 1.0 / device_.info().servo_rate_hz;
   const bool paced_by_device = device_.self_paced();
   paced_by_device_ = paced_by_device;
-  const double lead_s = std::max(0.0, options_.warm_lead_us) * 1e-6;
+  const double lead_s = renderer_.reads_ahead() ? std::max(0.0, options_.warm_lead_us) * 1e-6 : 0.0;
   double deadline = now_s();
   double last = deadline;
   while (!stop_.load(std::memory_order_acquire) &&
@@ -228,7 +228,8 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
   }
   last_p_ = in.p_mm;
   has_last_p_ = in.p_mm.allFinite();
-  if (has_next_ && (paced_by_device_ || !(options_.warm_lead_us > 0.0))) warm_next();
+  if (has_next_ && renderer_.reads_ahead() && (paced_by_device_ || !(options_.warm_lead_us > 0.0)))
+    warm_next();
   ticks_.fetch_add(1, std::memory_order_relaxed);
 }
 

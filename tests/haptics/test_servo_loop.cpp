@@ -196,8 +196,10 @@ class Predicted final : public Renderer {
     }
     ++calls;
   }
+  bool reads_ahead() const noexcept override { return ahead; }
   void reset() noexcept override {}
   const char* name() const noexcept override { return "predicted"; }
+  bool ahead = true;
   const ScriptDevice& dev_;
   long steps = 0, calls = 0;
   std::vector<Vec3> next_p = std::vector<Vec3>(400, Vec3::Constant(-1.0));
@@ -228,6 +230,21 @@ TEST(ServoLoop, PrefetchGetsTheNextPositionPredictedAfterTheForceWentOut) {
       EXPECT_EQ(r.sent_before[i], tick + 1) << "after the tick's force went to the device";
     }
     EXPECT_GE(loop.stats().prefetch_p99_us, loop.stats().prefetch_p50_us);
+  }
+}
+
+TEST(ServoLoop, ARendererThatDoesNotReadAheadIsNeverAskedTo) {
+  for (double lead : {0.0, 300.0}) {
+    ScriptDevice dev;
+    dev.commanded.reserve(2000);
+    Predicted r(dev);
+    r.ahead = false;
+    LoopOptions o = quiet(100);
+    o.warm_lead_us = lead;
+    ServoLoop loop(dev, r, o);
+    loop.run();
+    EXPECT_EQ(r.steps, 100);
+    EXPECT_EQ(r.calls, 0) << "lead " << lead;
   }
 }
 

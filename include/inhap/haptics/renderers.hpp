@@ -27,6 +27,7 @@ class MeshRenderer final : public Renderer {
   void prefetch(const ServoInput& next) noexcept override {
     rendering::prefetch(model_, state_, next.p_mm);
   }
+  bool reads_ahead() const noexcept override { return true; }
   void reset() noexcept override { state_ = rendering::State{}; }
   const char* name() const noexcept override {
     return algorithm_ == rendering::Algorithm::kTCA ? "tca-mesh" : "cba";

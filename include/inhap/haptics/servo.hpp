@@ -46,6 +46,8 @@ class Renderer {
   /// ahead what the next step will read, so the next force is not delayed by cache misses. Must
   /// not change any output; servo-safe like step(). Default: nothing.
   virtual void prefetch(const ServoInput& /*next*/) noexcept {}
+  /// True when prefetch() does something (the loop then schedules time for it).
+  virtual bool reads_ahead() const noexcept { return false; }
   /// Back to the state of a freshly made renderer (same model).
   virtual void reset() noexcept = 0;
   virtual const char* name() const noexcept = 0;

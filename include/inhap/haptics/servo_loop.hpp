@@ -57,7 +57,8 @@ struct LoopOptions {
   /// is back, without recover_ticks and without a renderer reset.
   int short_fault_ticks = 5;
   long max_ticks = -1;  ///< stop by itself after this many ticks (-1: until stop())
-  /// Read-ahead (Renderer::prefetch, with the next position predicted at constant velocity).
+  /// Read-ahead (Renderer::prefetch, with the next position predicted at constant velocity), for
+  /// renderers that read ahead (Renderer::reads_ahead()).
   /// A clock-paced loop wakes this long before each deadline, runs it, then spins to the
   /// deadline: the next step finds its data in cache (a sleeping core's caches are taken by
   /// whatever ran meanwhile) and the device is read on time; it costs up to this share of each
