@@ -33,25 +33,32 @@ class StillDevice final : public Device {
   long ticks_ = 0;
 };
 
+// Runs a real-time loop for `seconds` on its own thread; the label says what was granted.
+haptics::LoopStats run_loop(benchmark::State& state, Device& dev, haptics::Renderer& r,
+                            long seconds) {
+  haptics::LoopOptions o;
+  o.realtime = true;
+  o.max_ticks = seconds * 1000;
+  o.watchdog_misses = 1000000;  // a late wake-up is measured, not acted on
+  haptics::ServoLoop loop(dev, r, o);
+  loop.start();
+  while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  loop.stop();
+  state.SetLabel(loop.rt_status());
+  return loop.stats();
+}
+
 // arg: seconds of loop per run.
 void BM_LoopJitter(benchmark::State& state) {
   for (auto _ : state) {
     StillDevice dev;
     haptics::NullRenderer none;
-    haptics::LoopOptions o;
-    o.realtime = true;
-    o.max_ticks = state.range(0) * 1000;
-    haptics::ServoLoop loop(dev, none, o);
-    loop.start();
-    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    loop.stop();
-    const haptics::LoopStats s = loop.stats();
+    const haptics::LoopStats s = run_loop(state, dev, none, state.range(0));
     state.counters["jitter_p50_us"] = s.jitter_p50_us;
     state.counters["jitter_p99_us"] = s.jitter_p99_us;
     state.counters["jitter_max_us"] = s.jitter_max_us;
     state.counters["overruns"] = static_cast<double>(s.overruns);
     state.counters["ticks"] = static_cast<double>(s.ticks);
-    state.SetLabel(loop.rt_status());
   }
 }
 
@@ -96,22 +103,13 @@ void BM_LoopRender(benchmark::State& state) {
     NoPrefetch plain(mesh);
     HandDevice dev(static_cast<double>(state.range(1)), mesh.state().k);
     haptics::Renderer& r = state.range(2) ? static_cast<haptics::Renderer&>(mesh) : plain;
-    haptics::LoopOptions o;
-    o.realtime = true;
-    o.max_ticks = state.range(3) * 1000;
-    o.watchdog_misses = 1000000;  // a late wake-up is not what is measured here
-    haptics::ServoLoop loop(dev, r, o);
-    loop.start();
-    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    loop.stop();
-    const haptics::LoopStats s = loop.stats();
+    const haptics::LoopStats s = run_loop(state, dev, r, state.range(3));
     state.counters["step_p50_us"] = s.step_p50_us;
     state.counters["step_p99_us"] = s.step_p99_us;
     state.counters["step_max_us"] = s.step_max_us;
     state.counters["prefetch_p50_us"] = s.prefetch_p50_us;
     state.counters["prefetch_p99_us"] = s.prefetch_p99_us;
     state.counters["triangles"] = static_cast<double>(model.mesh().num_triangles());
-    state.SetLabel(loop.rt_status());
   }
 }
 
