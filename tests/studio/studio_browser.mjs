@@ -92,7 +92,7 @@ try {
   const f0 = await page.evaluate(() => window.studio.frames), ts0 = Date.now();
   await sleep(2000);
   const fpsSampling = (await page.evaluate(() => window.studio.frames) - f0) / ((Date.now() - ts0) / 1000);
-  log(`MEASURED page frame rate in the sampling view (operator tapping): ${fpsSampling.toFixed(1)} fps`);
+  log(`MEASURED page frame rate in the sampling view (operator tapping): ${fpsSampling.toFixed(1)} fps, load average ${os.loadavg()[0].toFixed(1)}`);
   await framePerf(page, 'sampling view');
   await page.click('#pause');
   await page.waitForFunction(() => window.studio.lastReply && window.studio.lastReply.mode === 'idle', { timeout: 10000 });
@@ -146,12 +146,13 @@ try {
   await framePerf(page, 'explore, mouse moving');
   const fps0 = await page.evaluate(() => window.studio.frames);
   const tf0 = Date.now();
-  await page.evaluate(() => { window.studio.latencies.length = 0; window.studio.latencyMs.length = 0; window.studio.contactSeen = false; window.studio.maxForce = 0; });
+  const r0 = await page.evaluate(() => { const S = window.studio; S.latencies.length = 0; S.latencyMs.length = 0; S.latencyEventMs.length = 0; S.contactSeen = false; S.maxForce = 0; return S.renders; });
   await page.mouse.down();
   for (let i = 0; i < 60; ++i) { await page.mouse.move(cx + 20 - i, cy + i * 1.5); await sleep(33); }
   await sleep(300);
-  const ex = await page.evaluate(() => ({ contact: window.studio.contactSeen, f: window.studio.maxForce, lat: window.studio.latencies.slice(), ms: window.studio.latencyMs.slice(), fps: window.studio.fps }));
+  const ex = await page.evaluate(() => ({ contact: window.studio.contactSeen, f: window.studio.maxForce, lat: window.studio.latencies.slice(), ms: window.studio.latencyMs.slice(), ev: window.studio.latencyEventMs.slice(), fps: window.studio.fps, renders: window.studio.renders }));
   const fpsMeasured = (await page.evaluate(() => window.studio.frames) - fps0) / ((Date.now() - tf0) / 1000);
+  const webglPerS = (ex.renders - r0) / ((Date.now() - tf0) / 1000);
   await framePerf(page, 'explore view while dragging');
   await page.screenshot({ path: path.join(out, 'studio-explore.png') });
   await page.mouse.up();
@@ -161,7 +162,9 @@ try {
   const q = (p) => (lat.length ? lat[Math.min(lat.length - 1, Math.floor(p * lat.length))] : NaN);
   const ms = ex.ms.slice().sort((a, b) => a - b);
   log(`MEASURED round trip (target sent -> applied by the servo thread -> state on the page): median ${ms[Math.floor(ms.length / 2)].toFixed(1)} ms, p90 ${ms[Math.floor(0.9 * ms.length)].toFixed(1)} ms`);
-  log(`MEASURED mouse-to-probe latency: median ${q(0.5)} frames, p90 ${q(0.9)}, max ${lat[lat.length - 1]} (${lat.length} moves); page ${fpsMeasured.toFixed(1)} fps while dragging (rAF counter ${ex.fps.toFixed(1)})`);
+  const evms = ex.ev.slice().sort((a, b) => a - b);
+  log(`MEASURED mouse event time stamp -> start of the frame that draws the probe: median ${evms[Math.floor(evms.length / 2)].toFixed(1)} ms, p90 ${evms[Math.floor(0.9 * evms.length)].toFixed(1)} ms`);
+  log(`MEASURED mouse-to-probe latency: median ${q(0.5)} frames, p90 ${q(0.9)}, max ${lat[lat.length - 1]} (${lat.length} moves); page ${fpsMeasured.toFixed(1)} fps while dragging (rAF counter ${ex.fps.toFixed(1)}; WebGL renders ${webglPerS.toFixed(1)}/s), load average ${os.loadavg()[0].toFixed(1)}`);
 
   // Experiment: participant 7, three answers at three models.
   await page.click('button[data-view=experiment]');
