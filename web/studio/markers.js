@@ -1,26 +1,37 @@
-// inhap studio: the live probe markers on a 2-D canvas over the WebGL view. The HIP (red), IHIP
-// (green), CIHIP (blue) and the force arrow (orange) move with every state; the 3-D scene (the
-// meshes, the samples) re-renders only when it changes. Without a GPU (software compositing)
-// every WebGL frame is read back to the CPU, and that read-back holds the page's main thread
-// until SwiftShader has drawn the frame (see docs/studio.md, "Measured"); moving four dots does
-// not need it. The markers are drawn on top of the surface, so a HIP pressed into it stays
-// visible. Units: mm (the scene), CSS pixels (the canvas).
+// inhap studio: the live probe markers over the WebGL view. The HIP (red), IHIP (green), CIHIP
+// (blue) and the force arrow (orange) move with every state; the 3-D scene (the meshes, the
+// samples) re-renders only when it changes. Without a GPU (software compositing) every WebGL
+// frame is read back to the CPU, and that read-back held the page's main thread until SwiftShader
+// had drawn the frame (docs/studio.md, "Measured"); moving four dots does not need it. Each
+// marker is a small element of its own moved by a CSS transform, so a move repaints nothing and
+// the compositor redraws only the few pixels around it. The markers are drawn on top of the
+// surface, so a HIP pressed into it stays visible. Units: mm (the scene), CSS pixels (the page).
 import * as THREE from 'three';
 
 const c = new THREE.Vector3(), e = new THREE.Vector3(), right = new THREE.Vector3();
+const BASE = 20;  // px: a dot's size before its scale (radius BASE / 2)
+
+function element(parent, css) {
+  const d = document.createElement('div');
+  Object.assign(d.style, { position: 'absolute', left: '0', top: '0', willChange: 'transform, opacity', opacity: '0' }, css);
+  parent.appendChild(d);
+  return d;
+}
 
 export class Markers {
   constructor(host) {
-    this.canvas = document.createElement('canvas');
-    Object.assign(this.canvas.style, { position: 'absolute', left: '0', top: '0', pointerEvents: 'none' });
-    host.appendChild(this.canvas);
-    this.g = this.canvas.getContext('2d');
+    this.layer = element(host, { right: '0', bottom: '0', pointerEvents: 'none', overflow: 'hidden', opacity: '1', willChange: 'auto' });
+    const dot = (color) => element(this.layer, {
+      width: BASE + 'px', height: BASE + 'px', borderRadius: '50%', background: color,
+      boxSizing: 'border-box', border: '1px solid rgba(0,0,0,0.55)', transformOrigin: '50% 50%' });
+    this.hip = dot('#d02020'); this.ihip = dot('#20a020'); this.cihip = dot('#2040d0');
+    this.shaft = element(this.layer, { width: '100px', height: '3px', background: '#ff8800', transformOrigin: '0 50%' });
+    this.head = element(this.layer, { width: '12px', height: '10px', background: '#ff8800', transformOrigin: '0 50%',
+      clipPath: 'polygon(0 0, 100% 50%, 0 100%)' });
+    this.W = 1; this.H = 1;
   }
 
-  resize(w, h) {
-    this.canvas.width = w; this.canvas.height = h;
-    this.canvas.style.width = w + 'px'; this.canvas.style.height = h + 'px';
-  }
+  resize(w, h) { this.W = w; this.H = h; }
 
   // Screen position (px) of a scene point and the screen radius of r mm there; null behind the camera.
   project(camera, p, r) {
@@ -29,43 +40,40 @@ export class Markers {
     e.copy(c).addScaledVector(right, r).project(camera);
     c.project(camera);
     if (c.z > 1 || c.z < -1) return null;
-    const W = this.canvas.width, H = this.canvas.height;
-    const x = ((c.x + 1) / 2) * W, y = ((1 - c.y) / 2) * H;
-    return { x, y, r: Math.max(2, Math.hypot(((e.x + 1) / 2) * W - x, ((1 - e.y) / 2) * H - y)) };
+    const x = ((c.x + 1) / 2) * this.W, y = ((1 - c.y) / 2) * this.H;
+    return { x, y, r: Math.max(2, Math.hypot(((e.x + 1) / 2) * this.W - x, ((1 - e.y) / 2) * this.H - y)) };
   }
 
-  dot(camera, p, r, color) {
-    const s = this.project(camera, p, r);
-    if (!s) return;
-    const g = this.g;
-    g.beginPath(); g.arc(s.x, s.y, s.r, 0, 2 * Math.PI);
-    g.fillStyle = color; g.fill();
-    g.lineWidth = 1; g.strokeStyle = 'rgba(0,0,0,0.55)'; g.stroke();
+  show(el, on) { const o = on ? '1' : '0'; if (el.style.opacity !== o) el.style.opacity = o; }
+
+  dot(el, camera, p, r) {
+    const s = p && this.project(camera, p, r);
+    this.show(el, !!s);
+    if (s) el.style.transform = `translate(${s.x - BASE / 2}px, ${s.y - BASE / 2}px) scale(${(2 * s.r) / BASE})`;
   }
 
-  // The force arrow: from the IHIP along f, 4 |f| + 2 mm long (as the 3-D arrow it replaces).
+  // The force arrow: from the IHIP along f, 4 |f| + 2 mm long (as the 3-D arrow it replaced).
   arrow(camera, from, f) {
-    const fl = Math.hypot(f[0], f[1], f[2]);
-    if (!(fl > 0.01)) return;
-    const len = 4 * fl + 2, to = [0, 1, 2].map((i) => from[i] + (f[i] / fl) * len);
-    const a = this.project(camera, from, 0), b = this.project(camera, to, 0);
+    const fl = f ? Math.hypot(f[0], f[1], f[2]) : 0;
+    let a = null, b = null;
+    if (fl > 0.01) {
+      const len = 4 * fl + 2;
+      a = this.project(camera, from, 0);
+      b = this.project(camera, [0, 1, 2].map((i) => from[i] + (f[i] / fl) * len), 0);
+    }
+    this.show(this.shaft, !!(a && b)); this.show(this.head, !!(a && b));
     if (!a || !b) return;
-    const g = this.g, dx = b.x - a.x, dy = b.y - a.y, d = Math.hypot(dx, dy) || 1, ux = dx / d, uy = dy / d;
-    g.strokeStyle = '#ff8800'; g.fillStyle = '#ff8800'; g.lineWidth = 3;
-    g.beginPath(); g.moveTo(a.x, a.y); g.lineTo(b.x - 8 * ux, b.y - 8 * uy); g.stroke();
-    g.beginPath(); g.moveTo(b.x, b.y); g.lineTo(b.x - 10 * ux - 5 * uy, b.y - 10 * uy + 5 * ux);
-    g.lineTo(b.x - 10 * ux + 5 * uy, b.y - 10 * uy - 5 * ux); g.closePath(); g.fill();
+    const ang = Math.atan2(b.y - a.y, b.x - a.x), d = Math.hypot(b.x - a.x, b.y - a.y);
+    this.shaft.style.transform = `translate(${a.x}px, ${a.y - 1.5}px) rotate(${ang}rad) scaleX(${Math.max(0, d - 10) / 100})`;
+    this.head.style.transform = `translate(${b.x}px, ${b.y - 5}px) rotate(${ang}rad) translate(-12px, 0)`;
   }
 
-  // `state`: the server's state message (hip, ihip, cihip, f); `explore`: draw the proxies and
-  // the arrow too (the other 3-D views show the probe only).
+  // `state`: the server's state message (hip, ihip, cihip, f); `explore`: the proxies and the
+  // arrow too (the other 3-D views show the probe only).
   draw(camera, state, explore) {
-    this.g.clearRect(0, 0, this.canvas.width, this.canvas.height);
-    if (!state) return;
-    this.dot(camera, state.hip, 2.4, '#d02020');
-    if (!explore) return;
-    this.dot(camera, state.ihip, 1.9, '#20a020');
-    this.dot(camera, state.cihip, 1.5, '#2040d0');
-    this.arrow(camera, state.ihip, state.f);
+    this.dot(this.hip, camera, state && state.hip, 2.4);
+    this.dot(this.ihip, camera, explore && state && state.ihip, 1.9);
+    this.dot(this.cihip, camera, explore && state && state.cihip, 1.5);
+    this.arrow(camera, state && state.ihip, explore && state && state.f);
   }
 }

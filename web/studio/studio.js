@@ -1,7 +1,7 @@
 // inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling,
 // palpation and explore views, an SVG participant screen (thesis fig. 5.9b), canvas plots
 // (plots.js) for the force and figs 4.7-4.8, plotly.js for figs 5.10-5.11 in the experimenter
-// window (?view=experimenter). The live probe is drawn on a 2-D canvas over the 3-D view
+// window (?view=experimenter). The live probe is drawn by elements over the 3-D view
 // (markers.js): a state message does not re-render the WebGL scene.
 // Units: mm, N, s. window.studio exposes counters for the browser test.
 import * as THREE from 'three';
@@ -485,10 +485,8 @@ function frame(t) {
   S.frames++; fpsN++;
   const now = performance.now();
   if (now - fpsT >= 1000) { S.fps = (fpsN * 1000) / (now - fpsT); fpsT = now; fpsN = 0;
-    // A slow renderer (no GPU: SwiftShader) draws fewer pixels rather than fewer frames.
-    const pr = renderer.getPixelRatio();
-    if (S.fps < 45 && pr > 0.5) { renderer.setPixelRatio(pr * 0.75); resize(); }
-    else if (S.fps > 58 && pr < 1) { renderer.setPixelRatio(Math.min(1, pr / 0.75)); resize(); }
+    // (No adaptive pixel ratio any more: the scene renders only when it changes, so a slow
+    // frame is not the WebGL's, and a resize re-rendered it.)
     S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
   drawState(t);
