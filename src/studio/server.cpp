@@ -201,7 +201,12 @@ void Server::http_work() {
     HttpJob* job = http_jobs_.front();
     http_jobs_.pop_front();
     lock.unlock();
-    const int result = job->websocket ? (allowed(job->conn, true) ? 0 : 1) : serve_http(job->conn);
+    int result = 500;
+    try {
+      result = job->websocket ? (allowed(job->conn, true) ? 0 : 1) : serve_http(job->conn);
+    } catch (const std::exception&) {  // e.g. out of memory: refuse this one, keep serving
+      if (job->websocket) result = 1;
+    }
     lock.lock();
     job->result = result;
     job->done = true;
