@@ -29,6 +29,7 @@ const std::map<std::string, std::pair<std::string, std::string>>& routes() {
       {"/studio.js", {"studio/studio.js", "text/javascript; charset=utf-8"}},
       {"/studio.css", {"studio/studio.css", "text/css; charset=utf-8"}},
       {"/plots.js", {"studio/plots.js", "text/javascript; charset=utf-8"}},
+      {"/markers.js", {"studio/markers.js", "text/javascript; charset=utf-8"}},
       {"/lib/three.module.js", {"node_modules/three/build/three.module.js", "text/javascript"}},
       {"/lib/three.core.js", {"node_modules/three/build/three.core.js", "text/javascript"}},
       {"/lib/OrbitControls.js",
@@ -47,8 +48,7 @@ std::string slurp(const fs::path& p) {
 
 void send_text(mg_connection* conn, int status, const char* reason, const std::string& body,
                const char* type = "text/plain; charset=utf-8", const std::string& extra = {}) {
-  // Built here and written with mg_write: mg_printf formats into an 8 KB buffer on the stack of
-  // civetweb's worker thread, whose stack is small (it overflowed under AddressSanitizer).
+  // Built here and written with mg_write (mg_printf formats into an 8 KB stack buffer).
   const std::string head = fmt::format(
       "HTTP/1.1 {} {}\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: "
       "no-store\r\nX-Content-Type-Options: nosniff\r\nX-Frame-Options: DENY\r\n"
@@ -122,14 +122,16 @@ Server::Server(int port, std::string web_dir, std::string token)
     throw Error("civetweb: no listening port");
   }
   port_ = sp[0].port;
+  http_thread_ = std::thread([this] { http_work(); });
+  worker_ = std::thread([this] { work(); });
   mg_set_request_handler(ctx_, "/", http_cb, this);
   mg_set_websocket_handler(ctx_, "/ws", ws_connect_cb, ws_ready_cb, ws_data_cb, ws_close_cb, this);
-  worker_ = std::thread([this] { work(); });
 }
 
 Server::~Server() {
   stop_handling();
-  if (ctx_) mg_stop(ctx_);
+  if (ctx_) mg_stop(ctx_);  // waits for civetweb's threads, which may wait for the HTTP thread
+  stop_http();
   mg_exit_library();
 }
 
@@ -178,7 +180,54 @@ bool Server::allowed(const mg_connection* conn, bool websocket) const {
                             token_);
 }
 
+// civetweb's worker thread (stack 100 KB in Debian's build, fixed at build time) only queues
+// the request and waits; the HTTP thread checks it and writes the reply on the connection.
+int Server::hand_over(mg_connection* conn, bool websocket) {
+  HttpJob job;
+  job.conn = conn;
+  job.websocket = websocket;
+  std::unique_lock lock(http_mu_);
+  http_jobs_.push_back(&job);
+  http_cv_.notify_one();
+  http_done_cv_.wait(lock, [&job] { return job.done; });
+  return job.result;
+}
+
+void Server::http_work() {
+  std::unique_lock lock(http_mu_);
+  for (;;) {
+    http_cv_.wait(lock, [this] { return http_quit_ || !http_jobs_.empty(); });
+    if (http_jobs_.empty()) return;  // quitting, nothing left
+    HttpJob* job = http_jobs_.front();
+    http_jobs_.pop_front();
+    lock.unlock();
+    int result = 500;
+    try {
+      result = job->websocket ? (allowed(job->conn, true) ? 0 : 1) : serve_http(job->conn);
+    } catch (const std::exception&) {  // e.g. out of memory: refuse this one, keep serving
+      if (job->websocket) result = 1;
+    }
+    lock.lock();
+    job->result = result;
+    job->done = true;
+    http_done_cv_.notify_all();
+  }
+}
+
+void Server::stop_http() {
+  {
+    std::lock_guard lock(http_mu_);
+    http_quit_ = true;
+  }
+  http_cv_.notify_all();
+  if (http_thread_.joinable()) http_thread_.join();
+}
+
 int Server::on_http(mg_connection* conn) {
+  return hand_over(conn, false);
+}
+
+int Server::serve_http(mg_connection* conn) {
   const mg_request_info* ri = mg_get_request_info(conn);
   if (!allowed(conn, false)) {
     send_text(conn, 403, "Forbidden", "403 forbidden: open the URL inhap studio printed\n");
@@ -202,7 +251,8 @@ int Server::on_http(mg_connection* conn) {
 }
 
 int Server::on_ws_connect(const mg_connection* conn) {
-  return allowed(conn, true) ? 0 : 1;  // non-zero: refused
+  // non-zero: refused
+  return hand_over(const_cast<mg_connection*>(conn), true);
 }
 
 void Server::on_ws_ready(mg_connection* conn) {

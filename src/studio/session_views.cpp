@@ -255,18 +255,24 @@ std::string Session::do_open_session(const Message& m) {
 
 std::string Session::mesh_json(const TriMesh& mesh, const std::string& role,
                                const std::string& scalar) const {
-  std::vector<float> v;
+  // For drawing only, so printed short: positions to 1 um, the scalar (the colour map) to 1e-4.
+  // nlohmann::json keeps numbers as double, and a float widened to double prints 16 digits
+  // ("-57.12300109863281"): the lab object's top view was 258 KB, 25 ms to build and send.
+  // (x * 1000 rounded, then / 1000: the division is correctly rounded, so 57.123 prints as
+  // such; "* 0.001" would give 57.123000000000005.)
+  const auto round_to = [](double x, double per) { return std::round(x * per) / per; };
+  std::vector<double> v;
   v.reserve(mesh.num_vertices() * 3);
   for (const Vec3& p : mesh.positions)
-    v.push_back(float(p.x())), v.push_back(float(p.y())), v.push_back(float(p.z()));
+    for (int k = 0; k < 3; ++k) v.push_back(round_to(p[k], 1e3));
   std::vector<std::uint32_t> f;
   f.reserve(mesh.num_triangles() * 3);
   for (const auto& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) f.push_back(static_cast<std::uint32_t>(t[k]));
   nlohmann::json j{{"type", "mesh"}, {"role", role}, {"vertices", v}, {"faces", f}};
   if (mesh.has_property(scalar)) {
-    std::vector<float> s;
-    for (double d : mesh.property(scalar)) s.push_back(float(d));
+    std::vector<double> s;
+    for (double d : mesh.property(scalar)) s.push_back(round_to(d, 1e4));
     j["scalar"] = scalar;
     j["values"] = s;
   }

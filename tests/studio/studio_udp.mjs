@@ -15,6 +15,8 @@ import path from 'node:path';
 
 const arg = (k) => { const i = process.argv.indexOf(k); return i > 0 ? process.argv[i + 1] : undefined; };
 const bin = arg('--inhap'), web = arg('--web');
+// --slow F: every wait and the studio's lifetime F times longer (the sanitizer build).
+const slow = Math.max(1, +(arg('--slow') || 1)), T = (ms) => ms * slow;
 let WebSocket;
 try { WebSocket = createRequire(path.resolve(web, 'package.json'))('ws'); }
 catch { console.log('skipped: the ws package is not installed (./run setup runs npm ci --prefix web)'); process.exit(77); }
@@ -26,7 +28,7 @@ const check = (ok, what) => { log((ok ? 'ok   ' : 'FAIL ') + what); if (!ok) fai
 
 const udpPort = 20000 + Math.floor(Math.random() * 30000);
 const studio = spawn(bin, ['studio', '--device', `udp:${udpPort}`, '--workspace', workspace, '--port', '0',
-  '--web-dir', web, '--seconds', '150', '--connect-timeout', '30'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--web-dir', web, '--seconds', String(T(150)), '--connect-timeout', String(T(30))], { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 studio.stderr.on('data', (d) => { stderr += d; });
 // The lab as the device: the tapping operator with the sharp tip, in lockstep (as fast as the
@@ -42,7 +44,7 @@ try {
     let buf = '';
     studio.stdout.on('data', (d) => { buf += d; const m = buf.match(/^(http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]{32})$/m); if (m) resolve(m[1]); });
     studio.on('exit', (c) => reject(new Error(`inhap studio exited (${c}): ${stderr}`)));
-    setTimeout(() => reject(new Error('no URL within 40 s: ' + stderr + devErr)), 40000);
+    setTimeout(() => reject(new Error(`no URL within ${T(40)} s: ` + stderr + devErr)), T(40000));
   });
   // stderr and stdout are separate pipes: the wait line, printed first, may arrive after the URL.
   for (let i = 0; i < 50 && !/waiting for a device on udp port/.test(stderr); ++i) await new Promise((r) => setTimeout(r, 100));
@@ -64,14 +66,14 @@ try {
     const look = () => { const i = inbox.findIndex(pred); if (i >= 0) { waiter = null; resolve(inbox.splice(i, 1)[0]); return true; } return false; };
     if (look()) return;
     waiter = look;
-    setTimeout(() => { waiter = null; resolve(null); }, ms);
+    setTimeout(() => { waiter = null; resolve(null); }, T(ms));
   });
   send({ type: 'hello' });
   const hello = await reply((m) => m.type === 'hello', 10000);
   check(hello && hello.lab === false && hello.device === `udp:${udpPort}`, `hello: device ${hello ? hello.device : '-'}, not the lab`);
 
   const want = 20;
-  for (let i = 0; i < 900 && taps < want; ++i) await new Promise((r) => setTimeout(r, 100));
+  for (let i = 0; i < T(900) && taps < want; ++i) await new Promise((r) => setTimeout(r, 100));
   log(`taps detected over the bridge: ${taps}; device time ${firstT?.toFixed(2)} -> ${lastT?.toFixed(2)} s`);
   check(lastT > firstT, 'states stream with the device time advancing');
   check(taps >= want, `the operator's taps are detected over the bridge (${taps} >= ${want})`);

@@ -1,12 +1,16 @@
 // inhap studio palpation view (include/inhap/studio/palpation.hpp): the protocol driven as the
 // servo loop's renderer gives the same cycles as `sys palpate` (eval::palpate_points) on the same
 // device and seed, the ring delivers every one of them in order, and the fit matches the lab's
-// friction truth; the session refuses palpate / save_sys messages it cannot act on.
+// friction truth; a failed point allocates nothing on the servo thread; the session refuses
+// palpate / save_sys messages it cannot act on. (This file includes support/alloc_counter.hpp
+// for the whole test_studio program.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/friction/mesh_surface.hpp"
@@ -15,6 +19,7 @@
 #include "inhap/studio/hand_device.hpp"
 #include "inhap/studio/palpation.hpp"
 #include "inhap/studio/session.hpp"
+#include "support/alloc_counter.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace inhap;
@@ -131,4 +136,48 @@ TEST(StudioPalpation, SessionRefusesWhatItCannotDo) {
   EXPECT_EQ(type_of(R"({"type":"mode","mode":"palpation"})"), "ok");
   EXPECT_EQ(type_of(R"({"type":"palpate","points":[[0,0,80]]})"), "error");
   EXPECT_EQ(s.mode(), "palpation");
+}
+
+// The servo thread's side of a failed point allocates nothing: the protocol's reason stays a
+// pointer to its static text until error() formats it on the reader's side. Two ways to fail: a
+// reference point in the air (the approach finds no surface) and a non-finite device reading.
+TEST(StudioPalpation, AFailedPointAllocatesNothingOnTheServoThread) {
+  const lab::Scene scene = lab::builtin_scene("dome");
+  lab::DeviceParams dp;
+  dp.seed = 5;
+  const TriMesh shape_mesh =
+      eval::shape_height_field(scene, dp.probe.radius_mm, scene.region.radius + 15.0);
+  const friction::MeshSurface shape(shape_mesh, 0.0);
+  const auto top = scene.object.shape().drop(scene.region.center.x(), scene.region.center.y(),
+                                             dp.probe.radius_mm);
+  ASSERT_TRUE(top);
+  const Vec3 n = Vec3::UnitZ(), air = *top + 20.0 * n;
+  const friction::PalpationConfig cfg = eval::palpation_config(true);
+  for (const bool nan_reading : {false, true}) {
+    LabHandDevice dev(scene.object, dp,
+                      std::make_unique<DetachedOperator>(air + (cfg.hover + 3.0) * n), 20.0);
+    PalpationRenderer r(cfg, dev.device_info(), {air, *top}, {n, n}, shape);
+    long ticks = 0, allocations = 0;
+    for (; !r.finished() && ticks < 200'000; ++ticks) {
+      haptics::ServoInput in;
+      in.t_s = dev.time();
+      in.p_mm = dev.position();
+      in.sensor_force_n = dev.force_sensor();
+      in.has_sensor = true;
+      if (nan_reading && ticks == 500) in.sensor_force_n.x() = std::nan("");
+      const long before = test::heap_allocations();
+      const haptics::ServoOutput out = r.step(in);
+      allocations += test::heap_allocations() - before;
+      dev.command_force(out.force_n);
+      dev.tick();
+    }
+    ASSERT_TRUE(r.finished()) << "nan " << nan_reading;
+    EXPECT_EQ(allocations, 0) << "nan " << nan_reading;
+    const std::string why =
+        nan_reading ? "non-finite device reading" : "no contact found below the reference point";
+    EXPECT_EQ(r.error(), "palpation of reference point 0 failed: " + why);
+    if (nan_reading) {
+      EXPECT_EQ(ticks, 501);  // failed at the tick that carried the NaN
+    }
+  }
 }

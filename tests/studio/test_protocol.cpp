@@ -2,6 +2,8 @@
 // (include/inhap/studio/protocol.hpp, session.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -10,7 +12,9 @@
 
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "inhap/lab/scene.hpp"
 #include "inhap/rendering/datasets.hpp"
+#include "inhap/studio/display.hpp"
 #include "inhap/studio/experiment_summary.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/session.hpp"
@@ -226,4 +230,41 @@ TEST(StudioSession, PreviewShowsTheOutlierAndTheProjectionApplyAndUndo) {
   for (const auto& q : u["samples"])
     if (q["id"] == 0) z0_back = q["point"][2];
   EXPECT_DOUBLE_EQ(z0_back, 9.8);  // undo puts it back
+}
+
+// `hello` broadcasts the lab object's top view for the page: its positions to the micrometre
+// (each number at most 3 decimals, not a float's 16 digits), the same mesh either way.
+TEST(StudioSession, HelloSendsTheObjectsTopViewToTheMicrometre) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  std::vector<std::string> sent;
+  Session s(StudioOptions{}, ws, [&sent](const std::string& m) { sent.push_back(m); });
+  EXPECT_EQ(reply(s, R"({"type":"hello"})")["type"], "hello");
+  const std::string* text = nullptr;
+  for (const std::string& m : sent)
+    if (json::parse(m)["type"] == "mesh") text = &m;
+  ASSERT_NE(text, nullptr);
+  const json mesh = json::parse(*text);
+  EXPECT_EQ(mesh["role"], "object");
+  const inhap::TriMesh truth = top_view_mesh(inhap::lab::builtin_scene("dome").object.shape());
+  const auto& v = mesh["vertices"];
+  ASSERT_EQ(v.size(), 3 * truth.num_vertices());
+  ASSERT_EQ(mesh["faces"].size(), 3 * truth.num_triangles());
+  double worst = 0;
+  for (std::size_t i = 0; i < truth.num_vertices(); ++i)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(v[3 * i + k].get<double>() - truth.positions[i][k]));
+  EXPECT_LE(worst, 0.5e-3 + 1e-9);
+  EXPECT_GT(worst, 0.0);  // rounded, so not all exact
+  // No number in the message with more than 3 digits after the point.
+  const std::string body = text->substr(text->find("\"vertices\""));
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < body.size(); ++i)
+    if (body[i] == '.') {
+      std::size_t n = 0;
+      while (i + 1 + n < body.size() && std::isdigit(static_cast<unsigned char>(body[i + 1 + n])))
+        ++n;
+      longest = std::max(longest, n);
+    }
+  EXPECT_LE(longest, 3u);
 }

@@ -1,18 +1,20 @@
 // inhap studio page (docs/studio.md): one WebSocket to the server; three.js for the sampling,
 // palpation and explore views, an SVG participant screen (thesis fig. 5.9b), canvas plots
 // (plots.js) for the force and figs 4.7-4.8, plotly.js for figs 5.10-5.11 in the experimenter
-// window (?view=experimenter).
+// window (?view=experimenter). The live probe is drawn by elements over the 3-D view
+// (markers.js): a state message does not re-render the WebGL scene.
 // Units: mm, N, s. window.studio exposes counters for the browser test.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { drawFig47, drawFig48, drawLine } from '/plots.js';
+import { Markers } from '/markers.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const $ = (id) => document.getElementById(id);
 const S = (window.studio = {
   ready: false, view: 'sampling', taps: 0, samples: new Map(), deleted: 0, mesh: null,
   lastReply: null, errors: [], state: null, contactSeen: false, maxForce: 0,
-  frames: 0, fps: 0, latencies: [], latencyMs: [], trial: null, answered: 0, messages: 0,
+  frames: 0, fps: 0, latencies: [], latencyMs: [], latencyEventMs: [], trial: null, answered: 0, messages: 0,
 });
 
 // --- socket -------------------------------------------------------------------------------
@@ -22,8 +24,9 @@ ws.onopen = () => { $('status').textContent = 'connected'; send({ type: 'hello' 
 ws.onclose = () => { $('status').textContent = 'disconnected'; };
 let needRender = true;  // the scene changes only through messages, the camera and the mouse
 ws.onmessage = (ev) => {
-  needRender = true;
   const m = JSON.parse(ev.data);
+  // states move the markers only (markers.js); cycles and progress go to plots and text
+  if (m.type !== 'state' && m.type !== 'cycle' && m.type !== 'progress') needRender = true;
   S.messages++;
   switch (m.type) {
     case 'state': onState(m); break;
@@ -60,10 +63,7 @@ scene.add(new THREE.HemisphereLight(0xffffff, 0x666666, 2.2));
 const sun = new THREE.DirectionalLight(0xffffff, 1.2);
 sun.position.set(100, -150, 300);
 scene.add(sun);
-const sphere = (r, c) => new THREE.Mesh(new THREE.SphereGeometry(r, 16, 12), new THREE.MeshLambertMaterial({ color: c }));
-const probe = sphere(2.4, 0xd02020), ihip = sphere(1.9, 0x20a020), cihip = sphere(1.5, 0x2040d0);
-const arrow = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, 0xff8800, 3, 2);
-scene.add(probe, ihip, cihip, arrow);
+const markers = new Markers(host);  // HIP, IHIP, CIHIP and the force arrow, over the WebGL canvas
 const sampleGroup = new THREE.Group(), thresholdGroup = new THREE.Group();
 scene.add(sampleGroup, thresholdGroup);
 S.scene = scene; S.renderer = renderer;
@@ -82,6 +82,7 @@ function resize() {
   renderer.setSize(w, h, false);
   renderer.domElement.style.width = w + 'px';
   renderer.domElement.style.height = h + 'px';
+  markers.resize(w, h);
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
   needRender = true;
@@ -131,7 +132,6 @@ function showFor(view) {
   if (exploreMesh) exploreMesh.visible = view === 'explore';
   if (palpMesh) palpMesh.visible = view === 'palpation';
   palpGroup.visible = view === 'palpation';
-  ihip.visible = cihip.visible = arrow.visible = view === 'explore';
 }
 
 // --- sampling ------------------------------------------------------------------------------
@@ -234,7 +234,7 @@ $('opensess').onclick = () => send({ type: 'open_session', path: $('sessname').v
 
 // --- explore -------------------------------------------------------------------------------
 let pressing = false, dragFrom = null, seq = 0, lastHit = null;
-const pending = [];  // [seq, frame sent, time sent]
+const pending = [];  // [seq, frame sent, mouse event time]
 const arrived = [];  // [seq, time sent] not yet timed on arrival
 function exploreMove(ev) {
   if (!exploreMesh || ev.target !== renderer.domElement && !pressing) return;
@@ -244,7 +244,7 @@ function exploreMove(ev) {
   const drag = pressing && dragFrom ? Math.hypot(ev.clientX - dragFrom[0], ev.clientY - dragFrom[1]) : 0;
   const press = pressing ? Math.min(1, 0.35 + drag / 300) : 0;
   seq++;
-  pending.push([seq, S.frames]); arrived.push([seq, performance.now()]);
+  pending.push([seq, S.frames, ev.timeStamp]); arrived.push([seq, performance.now()]);
   send({ type: 'probe', x: lastHit.p.x, y: lastHit.p.y, z: lastHit.p.z, nx: lastHit.n.x, ny: lastHit.n.y, nz: lastHit.n.z, press, seq });
 }
 $('openmesh').onclick = () => {
@@ -280,17 +280,16 @@ function onState(m) {
 // DOM text only when it changed (a write per frame restyles the sidebar every frame).
 const shown = new Map();
 function setText(id, t) { if (shown.get(id) !== t) { shown.set(id, t); $(id).textContent = t; } }
-function drawState() {
+// `t`: this frame's rAF time. The markers themselves are drawn after the WebGL render (frame()).
+function drawState(t) {
   const m = S.state; if (!m) return;
-  probe.position.set(...m.hip);
-  ihip.position.set(...m.ihip);
-  cihip.position.set(...m.cihip);
-  const f = new THREE.Vector3(...m.f), fl = f.length();
-  arrow.visible = S.view === 'explore' && fl > 0.01;
-  if (arrow.visible) { arrow.position.copy(ihip.position); arrow.setDirection(f.clone().normalize()); arrow.setLength(4 * fl + 2, 3, 2); }
-  if (S.view === 'explore') { setText('fmag', fl.toFixed(2)); setText('contact', m.contact ? 'yes' : 'no'); }
-  // mouse-to-probe latency: frames from sending a target to drawing a state the servo applied it in
-  while (pending.length && pending[0][0] <= m.seq) { S.latencies.push(S.frames - pending[0][1]); pending.shift(); }
+  if (S.view === 'explore') { setText('fmag', Math.hypot(...m.f).toFixed(2)); setText('contact', m.contact ? 'yes' : 'no'); }
+  // mouse-to-probe latency: frames from the one the mouse event was handled in (counted from the
+  // frame before it: Chrome hands a move to the page just before a frame's rAF) to the frame that
+  // draws a state the servo applied it in; and ms from the event's time stamp to that frame
+  while (pending.length && pending[0][0] <= m.seq) {
+    S.latencies.push(S.frames - pending[0][1]); S.latencyEventMs.push(t - pending[0][2]); pending.shift();
+  }
   if (S.view === 'experiment') drawHip(m);
   if (S.view === 'palpation') {
     if (S.palpRunning && m.palp_progress !== undefined) setText('palpinfo', `running: point ${m.palp_point}, ${(100 * m.palp_progress).toFixed(0)} %, ${S.cycles.length} cycles, t = ${m.t.toFixed(1)} s`);
@@ -335,7 +334,7 @@ function expMove(ev) {
   if (!S.trial) return;
   const [x, y] = svgToMm(ev);
   const drag = expPress && expFrom ? Math.hypot(ev.clientX - expFrom[0], ev.clientY - expFrom[1]) : 0;
-  seq++; pending.push([seq, S.frames]); arrived.push([seq, performance.now()]);
+  seq++; pending.push([seq, S.frames, ev.timeStamp]); arrived.push([seq, performance.now()]);
   send({ type: 'probe', x, y, z: 0, nx: 0, ny: 0, nz: 1, press: expPress ? Math.min(1, 0.35 + drag / 300) : 0, seq });
 }
 svg.addEventListener('pointermove', expMove);
@@ -481,22 +480,22 @@ const forceCanvas = $('fplot');
 // Timings for the browser test: JS time of the render call and of the whole frame callback, ms.
 S.perf = { renderMs: [], frameMs: [] }; S.renders = 0;
 function perfPush(a, v) { a.push(v); if (a.length > 2000) a.shift(); }
-function frame() {
+let markedState = null;
+function frame(t) {
   S.frames++; fpsN++;
   const now = performance.now();
   if (now - fpsT >= 1000) { S.fps = (fpsN * 1000) / (now - fpsT); fpsT = now; fpsN = 0;
-    // A slow renderer (no GPU: SwiftShader) draws fewer pixels rather than fewer frames.
-    const pr = renderer.getPixelRatio();
-    if (S.fps < 45 && pr > 0.5) { renderer.setPixelRatio(pr * 0.75); resize(); }
-    else if (S.fps > 58 && pr < 1) { renderer.setPixelRatio(Math.min(1, pr / 0.75)); resize(); }
+    // (No adaptive pixel ratio any more: the scene renders only when it changes, so a slow
+    // frame is not the WebGL's, and a resize re-rendered it.)
     S.pixelRatio = renderer.getPixelRatio();
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
-  drawState();
+  drawState(t);
   if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
-  if (['sampling', 'explore', 'palpation'].includes(S.view) && needRender) {
-    needRender = false; S.renders++;
+  if (['sampling', 'explore', 'palpation'].includes(S.view) && (needRender || markedState !== S.state)) {
     const r0 = performance.now();
-    renderer.render(scene, camera);
+    if (needRender) { needRender = false; S.renders++; renderer.render(scene, camera); }
+    markers.draw(camera, S.state, S.view === 'explore');  // after render: the camera's matrices
+    markedState = S.state;
     perfPush(S.perf.renderMs, performance.now() - r0);
   }
   perfPush(S.perf.frameMs, performance.now() - now);

@@ -55,7 +55,8 @@ class PalpationRenderer final : public haptics::Renderer {
   CycleRing& finished_cycles() { return ring_; }
   /// True once every point is done or one failed (acquire: after it, cycles() may be read).
   bool finished() const { return finished_.load(std::memory_order_acquire); }
-  /// The reason a point failed ("" when none); valid once finished().
+  /// The reason a point failed ("" when none); valid once finished(). Formatted here, on the
+  /// caller's thread: step() allocates nothing, a failed point included.
   std::string error() const;
   /// Every cycle of every point, in order; only once finished().
   std::vector<friction::CycleRecord> cycles() const;
@@ -74,6 +75,8 @@ class PalpationRenderer final : public haptics::Renderer {
   std::atomic<double> progress_{0};
   std::atomic<int> current_{0};
   std::atomic<long> dropped_{0};
+  // A failed point: the protocol's reason, a pointer to its static text (step() copies the
+  // pointer, not the text; error() formats it on the reader's side).
   const char* error_ = "";
   int failed_point_ = -1;
 };

@@ -3,6 +3,9 @@
 // security.hpp (token, Host, Origin); serves the page (web/studio/) and the JavaScript libraries
 // from web/node_modules (three.js, plotly.js; offline, no CDN); hands WebSocket text frames to
 // the Session and broadcasts the Session's stream to every open page.
+// civetweb's worker threads only hand work over: HTTP requests and WebSocket upgrades run on the
+// server's HTTP thread, WebSocket messages on its command worker (both threads of our own, with
+// normal stacks; civetweb's are 100 KB, too small for AddressSanitizer's redzones).
 #pragma once
 
 #include <condition_variable>
@@ -45,7 +48,7 @@ class Server {
   /// the handler's target goes away.
   void stop_handling();
 
-  // civetweb callbacks (public for the C trampolines)
+  // civetweb callbacks (public for the C trampolines): on civetweb's worker threads
   int on_http(mg_connection* conn);
   int on_ws_connect(const mg_connection* conn);
   void on_ws_ready(mg_connection* conn);
@@ -54,6 +57,10 @@ class Server {
 
  private:
   bool allowed(const mg_connection* conn, bool websocket) const;
+  int serve_http(mg_connection* conn);  // on the HTTP thread
+  int hand_over(mg_connection* conn, bool websocket);
+  void http_work();
+  void stop_http();
   void work();
   void send_to(mg_connection* conn, const std::string& text);
   std::string web_dir_, token_;
@@ -69,6 +76,19 @@ class Server {
   std::condition_variable queue_cv_;
   bool quit_ = false;
   std::thread worker_;
+  // HTTP requests and WebSocket upgrades: civetweb's thread waits while the HTTP thread checks
+  // the request and writes the reply (a page load is not held up by a reconstruction).
+  struct HttpJob {
+    mg_connection* conn = nullptr;
+    bool websocket = false;
+    int result = 0;
+    bool done = false;
+  };
+  std::mutex http_mu_;
+  std::condition_variable http_cv_, http_done_cv_;
+  std::deque<HttpJob*> http_jobs_;
+  bool http_quit_ = false;
+  std::thread http_thread_;
 };
 
 /// The server on `port`, or, when `next_if_busy` and that port is taken, on the first free one of

@@ -160,6 +160,7 @@ class Session {
   Broadcast broadcast_;
   lab::Scene scene_;
   bool lab_ = true;
+  mutable std::string object_mesh_json_;  // the lab object's top view for the page (cmd_mu_)
   std::unique_ptr<haptics::BridgeDevice> bridge_;
 
   std::mutex cmd_mu_;           // serialises commands (mode changes, rig rebuilds)
