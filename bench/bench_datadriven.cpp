@@ -70,9 +70,9 @@ void BM_Train(benchmark::State& state) {
   const TrainingSet set = training_set();
   double seconds = 0;
   for (auto _ : state) {
-    const ForceModel m = train_force_model(set, params_for(variant));
-    seconds = m.stats.seconds;
-    benchmark::DoNotOptimize(m.bins.data());
+    const TrainedForceModel m = train_with_provenance(set, params_for(variant));
+    seconds = m.provenance.stats.seconds;
+    benchmark::DoNotOptimize(m.model.bins.data());
   }
   state.counters["samples"] = static_cast<double>(set.size());
   state.counters["train_s"] = seconds;

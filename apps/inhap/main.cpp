@@ -14,6 +14,7 @@
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/core/text.hpp"
 
 namespace inhap::cli {
 
@@ -36,28 +37,11 @@ CommandRegistrar::CommandRegistrar(int order, std::string name, Register fn) {
 void progress(const std::string& what, double fraction, double eta_s) {
   static const bool tty = ::isatty(2);
   if (!tty && fraction < 1.0) return;
-  fmt::print(stderr, "{}[{}] {:3.0f}%{}{}", tty ? "\r" : "", what, 100.0 * fraction,
-             eta_s > 0 && fraction < 1.0 ? fmt::format(" (eta {:.0f} s)", eta_s) : std::string(),
-             fraction >= 1.0 ? "\n" : "");
+  fmt::print(stderr, "{}", text::progress_line(what, fraction, eta_s, tty));
   std::fflush(stderr);
 }
 
 namespace {
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
 
 std::string did_you_mean(const CLI::App& app, const std::vector<std::string>& args) {
   const CLI::App* at = &app;
@@ -75,12 +59,9 @@ std::string did_you_mean(const CLI::App& app, const std::vector<std::string>& ar
       continue;
     }
     // `a` stands where a subcommand of `at` is expected: the closest name, if close enough.
-    std::string best;
-    std::size_t best_d = a.size() / 2 + 1;
-    for (const auto* s : subs) {
-      const std::size_t d = edit_distance(a, s->get_name());
-      if (d < best_d) best_d = d, best = s->get_name();
-    }
+    std::vector<std::string> names;
+    for (const auto* s : subs) names.push_back(s->get_name());
+    const std::string best = text::closest(a, names);
     if (best.empty())
       return fmt::format(" ('{}' is not a subcommand of {}; see {} --help)", a.substr(0, 60), path,
                          path);
@@ -89,24 +70,10 @@ std::string did_you_mean(const CLI::App& app, const std::vector<std::string>& ar
   return {};
 }
 
-/// Fault injection across the process boundary, for the tests of all-or-nothing outputs:
-/// INHAP_TEST_FAIL_NTH_WRITE=n / INHAP_TEST_FAIL_NTH_RENAME=n make the n-th file write / rename
-/// onto a final path fail as an I/O error would (inhap::fault). Not for production use.
-void fault_injection_from_env() {
-  auto nth = [](const char* name) -> long {
-    const char* v = std::getenv(name);
-    return v && *v ? std::strtol(v, nullptr, 10) : 0;
-  };
-  if (const long n = nth("INHAP_TEST_FAIL_NTH_WRITE"); n > 0) inhap::fault::fail_nth_write(n);
-  if (const long n = nth("INHAP_TEST_FAIL_NTH_RENAME"); n > 0) inhap::fault::fail_nth_rename(n);
-}
-
 int parse_error_exit(const CLI::App& app, const CLI::ParseError& e,
                      const std::vector<std::string>& args) {
-  std::string msg = e.what();
-  std::replace(msg.begin(), msg.end(), '\n', ' ');
-  if (msg.size() > 300) msg = msg.substr(0, 300) + "...";
-  fmt::print(stderr, "inhap: error: {}{}\n", msg, did_you_mean(app, args));
+  fmt::print(stderr, "inhap: error: {}{}\n", text::one_line(e.what(), 300),
+             did_you_mean(app, args));
   return 2;
 }
 
@@ -127,7 +94,7 @@ int main(int argc, char** argv) {
     return a.order < b.order || (a.order == b.order && a.name < b.name);
   });
   for (auto& e : reg) e.fn(app);
-  inhap::cli::fault_injection_from_env();
+  inhap::fault::from_environment();  // tests of all-or-nothing outputs only
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

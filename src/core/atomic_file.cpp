@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "inhap/core/error.hpp"
@@ -40,6 +41,14 @@ void fail_nth_write(long n) {
 }
 void fail_nth_rename(long n) {
   g_fail_rename = n;
+}
+void from_environment() {
+  auto nth = [](const char* name) -> long {
+    const char* v = std::getenv(name);
+    return v && *v ? std::strtol(v, nullptr, 10) : 0;
+  };
+  if (const long n = nth("INHAP_TEST_FAIL_NTH_WRITE"); n > 0) fail_nth_write(n);
+  if (const long n = nth("INHAP_TEST_FAIL_NTH_RENAME"); n > 0) fail_nth_rename(n);
 }
 }  // namespace fault
 

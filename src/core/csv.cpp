@@ -49,6 +49,19 @@ bool parse_double(std::string_view token, double& out) {
   return ec == std::errc() && ptr == end;
 }
 
+bool parse_number_list(std::string_view s, std::size_t n, double* out) {
+  std::size_t start = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t end = s.find(',', start);
+    const bool last = k + 1 == n;
+    if ((end == std::string_view::npos) != last) return false;  // too few or too many
+    if (!parse_double(s.substr(start, last ? std::string_view::npos : end - start), out[k]))
+      return false;
+    start = end + 1;
+  }
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
   std::error_code dir_ec;

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <map>
 #include <mutex>
 #include <numeric>
 #include <thread>
@@ -27,7 +26,6 @@ namespace inhap::datadriven {
 using detail::fit_fallback;
 using detail::fit_friction_cone;
 using detail::fit_priors;
-using detail::shear_force;
 
 const char* to_string(FeatureSet f) {
   if (f == FeatureSet::kLocalFrame) return "local";
@@ -88,14 +86,6 @@ void TrainParams::validate() const {
       !std::isfinite(fallback_far_mm))
     throw Error(fmt::format("expected 0 <= fallback near < far distance (mm), got {} and {}",
                             fallback_near_mm, fallback_far_mm));
-}
-
-int ForceModel::bin_of(double key) const {
-  // First edge greater than key; edges are few (bins - 1), a linear scan is fastest.
-  int b = 0;
-  const int ne = static_cast<int>(edges.size());
-  while (b < ne && key >= edges[static_cast<std::size_t>(b)]) ++b;
-  return b;
 }
 
 namespace {
@@ -192,6 +182,14 @@ Problem build_problem(const Eigen::MatrixXd& x, const Eigen::MatrixXd& f,
   return pb;
 }
 
+// A bin with the range, normalisation and box of `g` and the expansions `axes`.
+BinModel with_axes(const BinModel& g, std::array<RbfExpansion, 3> axes) {
+  BinModel b(std::move(axes));
+  b.key_min = g.key_min, b.key_max = g.key_max, b.samples = g.samples;
+  b.offset = g.offset, b.scale = g.scale, b.box_min = g.box_min, b.box_max = g.box_max;
+  return b;
+}
+
 BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainParams& prm, int bin,
                     StageLog& log) {
   double clock = thread_cpu_s();
@@ -239,6 +237,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
   log.lap("l1", clock);
   if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
   const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
+  std::array<RbfExpansion, 3> axes;
   for (int c = 0; c < 3; ++c) {
     const auto uc = static_cast<std::size_t>(c);
     const std::vector<int>& sup = sol[uc].support;
@@ -255,7 +254,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
       x0.tail(t) = tail_coef.col(c);
     }
     const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance, 0, prm.ridge);
-    RbfExpansion& e = bm.axes[uc];
+    RbfExpansion& e = axes[uc];
     e.centres.resize(k, kFeatureDim);
     for (Eigen::Index j = 0; j < k; ++j)
       e.centres.row(j) =
@@ -269,6 +268,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
     out.cg_it[uc] = cg.iterations;
   }
   log.lap("debias", clock);
+  bm = with_axes(bm, std::move(axes));
   return out;
 }
 
@@ -312,15 +312,17 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
 }
 
 // The training proper on the samples kept (train_force_model counts and filters first).
-ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const FoawParams& foaw,
-                      std::chrono::steady_clock::time_point t0) {
+TrainedForceModel train_kept(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw, const Progress& progress,
+                             std::chrono::steady_clock::time_point t0) {
   check_training_set(data, params);
   const std::size_t n = data.size();
-  ForceModel model;
+  TrainedForceModel trained;
+  ForceModel& model = trained.model;
+  TrainStats& stats = trained.provenance.stats;
+  trained.provenance.params = params;
   model.features = params.features;
   model.foaw = foaw;
-  model.params = params;
-  model.params.progress = nullptr;
   model.bin_blend = params.bin_blend;
 
   // Equal-count bins by ||q - p|| (stable order for ties).
@@ -380,33 +382,30 @@ ForceModel train_kept(const TrainingSet& data, const TrainParams& params, const 
     results[b].model.key_max = key[order[s1 - 1]];
     std::lock_guard lock(progress_mutex);
     ++finished;
-    if (params.progress)
-      params.progress(fmt::format("bin {} done", bi), static_cast<double>(finished) / params.bins,
-                      0.0);
+    if (progress)
+      progress(fmt::format("bin {} done", bi), static_cast<double>(finished) / params.bins, 0.0);
   });
 
   for (auto& r : results) {
-    model.stats.support.push_back(r.support);
-    model.stats.sparsa_iterations.push_back(r.sparsa_it);
-    model.stats.gap.push_back(r.gap);
-    model.stats.nonzeros.push_back(r.nonzeros);
-    model.stats.cg_iterations.push_back(r.cg_it);
-    model.stats.lambda.push_back(r.lambda);
-    model.stats.selected_rows.push_back(r.selected);
+    stats.support.push_back(r.support);
+    stats.sparsa_iterations.push_back(r.sparsa_it);
+    stats.gap.push_back(r.gap);
+    stats.nonzeros.push_back(r.nonzeros);
+    stats.cg_iterations.push_back(r.cg_it);
+    stats.lambda.push_back(r.lambda);
+    stats.selected_rows.push_back(r.selected);
     model.bins.push_back(std::move(r.model));
   }
-  finalize_model(model);
-  model.stats.stage_cpu_s = log.take();
-  model.stats.samples = n;
-  model.stats.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return model;
+  stats.stage_cpu_s = log.take();
+  stats.samples = n;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return trained;
 }
 
 }  // namespace
 
-ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw) {
+TrainedForceModel train_with_provenance(const TrainingSet& data, const TrainParams& params,
+                                        const FoawParams& foaw, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   params.validate();
   foaw.validate();
@@ -422,7 +421,7 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
   const std::size_t n = data.size();
   const bool consistent = data.v.size() == n && data.q.size() == n && data.f.size() == n &&
                           (data.n.empty() || data.n.size() == n);
-  ForceModel model;
+  TrainedForceModel trained;
   if (params.above_range == AboveRange::kExclude && n_above > 0 && consistent) {
     TrainingSet kept;
     const bool normals = !data.n.empty();
@@ -434,166 +433,21 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
       kept.f.push_back(data.f[i]);
       if (normals) kept.n.push_back(data.n[i]);
     }
-    model = train_kept(kept, params, foaw, t0);
-    model.stats.excluded = n_above;
+    trained = train_kept(kept, params, foaw, progress, t0);
+    trained.provenance.stats.excluded = n_above;
   } else {
-    model = train_kept(data, params, foaw, t0);
+    trained = train_kept(data, params, foaw, progress, t0);
   }
-  model.stats.offered = data.size();
-  model.stats.above_range = n_above;
-  model.stats.max_force_n = max_force;
-  return model;
+  TrainStats& stats = trained.provenance.stats;
+  stats.offered = data.size();
+  stats.above_range = n_above;
+  stats.max_force_n = max_force;
+  return trained;
 }
 
-void finalize_model(ForceModel& model) {
-  if (!model.fallback.support.empty()) model.fallback.support.build(model.fallback.far_mm);
-  for (BinModel& bm : model.bins) {
-    std::map<std::vector<double>, Eigen::Index> index;  // exact centre -> union row
-    std::vector<std::vector<double>> rows;
-    std::vector<std::array<double, 3>> w;
-    for (int a = 0; a < 3; ++a) {
-      const RbfExpansion& e = bm.axes[static_cast<std::size_t>(a)];
-      for (Eigen::Index j = 0; j < e.centres.rows(); ++j) {
-        std::vector<double> c(static_cast<std::size_t>(e.centres.cols()));
-        for (Eigen::Index d = 0; d < e.centres.cols(); ++d)
-          c[static_cast<std::size_t>(d)] = e.centres(j, d);
-        auto [it, added] = index.emplace(c, static_cast<Eigen::Index>(rows.size()));
-        if (added) {
-          rows.push_back(c);
-          w.push_back({0.0, 0.0, 0.0});
-        }
-        w[static_cast<std::size_t>(it->second)][static_cast<std::size_t>(a)] += e.weights[j];
-      }
-    }
-    const Eigen::Index k = static_cast<Eigen::Index>(rows.size());
-    bm.union_centres.resize(k, kFeatureDim);
-    bm.union_weights.resize(k, 3);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      for (int d = 0; d < kFeatureDim; ++d)
-        bm.union_centres(j, d) = rows[static_cast<std::size_t>(j)][static_cast<std::size_t>(d)];
-      for (int a = 0; a < 3; ++a)
-        bm.union_weights(j, a) = w[static_cast<std::size_t>(j)][static_cast<std::size_t>(a)];
-    }
-  }
-}
-
-namespace {
-
-// sum_j W(j, :) psi(||z - c_j||) over the union table, plus the tails. No allocation.
-Vec3 eval_union(const BinModel& bm, const double* z) {
-  constexpr Eigen::Index kChunk = 64;
-  const Eigen::Index k = bm.union_centres.rows();
-  double r3[kChunk];
-  Vec3 f = Vec3::Zero();
-  for (Eigen::Index j0 = 0; j0 < k; j0 += kChunk) {
-    const Eigen::Index nb = std::min(kChunk, k - j0);
-    for (Eigen::Index j = 0; j < nb; ++j) r3[j] = 0;
-    for (int d = 0; d < kFeatureDim; ++d) {
-      const double* col = bm.union_centres.data() + d * k + j0;
-      const double zd = z[d];
-      for (Eigen::Index j = 0; j < nb; ++j) {
-        const double t = zd - col[j];
-        r3[j] += t * t;
-      }
-    }
-    for (Eigen::Index j = 0; j < nb; ++j) r3[j] *= std::sqrt(r3[j]);
-    for (int a = 0; a < 3; ++a) {
-      const double* w = bm.union_weights.data() + a * k + j0;
-      double acc = 0;
-      for (Eigen::Index j = 0; j < nb; ++j) acc += w[j] * r3[j];
-      f[a] += acc;
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    const Eigen::VectorXd& t = bm.axes[static_cast<std::size_t>(a)].tail;
-    if (t.size() != kFeatureDim + 1) continue;
-    double acc = t[0];
-    for (int d = 0; d < kFeatureDim; ++d) acc += t[d + 1] * z[d];
-    f[a] += acc;
-  }
-  return f;
-}
-
-}  // namespace
-
-Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q) {
-  return model_force(model, p, v, q, Vec3::UnitZ());
-}
-
-namespace {
-
-/// Force of one bin in world axes (unclamped magnitude).
-Vec3 bin_force(const ForceModel& model, const BinModel& bm, const Vec3& p, const Vec3& v,
-               const Vec3& q, const SurfaceFrame& fr) {
-  double z[kFeatureDim];
-  make_features(model.features, p, v, q, fr, z);
-  for (int d = 0; d < kFeatureDim; ++d) {
-    const auto ud = static_cast<std::size_t>(d);
-    z[d] = std::clamp((z[d] - bm.offset[ud]) / bm.scale[ud], bm.box_min[ud], bm.box_max[ud]);
-  }
-  Vec3 f;
-  if (bm.union_weights.cols() == 3) {
-    f = eval_union(bm, z);
-  } else {  // not finalized: per-axis evaluation
-    f = Vec3(bm.axes[0].eval(z), bm.axes[1].eval(z), bm.axes[2].eval(z));
-  }
-  return model.features == FeatureSet::kLocalFrame ? fr.to_world(f) : f;
-}
-
-}  // namespace
-
-Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                 const Vec3& normal) {
-  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
-  const double key = (q - p).norm();
-  const auto b = static_cast<std::size_t>(model.bin_of(key));
-  const SurfaceFrame fr =
-      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
-  Vec3 f = bin_force(model, model.bins[b], p, v, q, fr);
-  // Within bin_blend of an edge, blend with the neighbouring bin (weight of the upper bin
-  // smoothstep((key - e + w) / 2w)), so the force is continuous across the edge.
-  const double w = model.bin_blend;
-  if (w > 0) {
-    const std::size_t ne = model.edges.size();
-    std::size_t lo = b;  // edge index e_k separates bins k and k + 1
-    double t = -1;
-    if (b < ne && model.edges[b] - key < w) {
-      lo = b;
-      t = (key - model.edges[b] + w) / (2 * w);
-    } else if (b > 0 && key - model.edges[b - 1] < w) {
-      lo = b - 1;
-      t = (key - model.edges[b - 1] + w) / (2 * w);
-    }
-    if (t >= 0) {
-      t = std::clamp(t, 0.0, 1.0);
-      const double s = t * t * (3 - 2 * t);
-      const Vec3 other = bin_force(model, model.bins[lo == b ? b + 1 : b - 1], p, v, q, fr);
-      f = lo == b ? Vec3((1 - s) * f + s * other) : Vec3((1 - s) * other + s * f);
-    }
-  }
-  if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
-  if (!model.shear.empty()) f += shear_force(model.shear, p, q, fr.n);
-  if (!model.fallback.empty()) {  // far from the training proxies: the data's own law
-    const double wl = model.fallback.weight(q);
-    if (wl > 0) {
-      Vec3 law =
-          model.fallback.law.force(fr.n.dot(q - p)) * detail::fallback_scale(model.prior, q) * fr.n;
-      if (!model.shear.empty()) law += shear_force(model.shear, p, q, fr.n);
-      f = (1 - wl) * f + wl * law;
-    }
-  }
-  if (model.friction_cone > 0) {  // keep the force inside the friction cone seen in training
-    const double fn = fr.n.dot(f);
-    const Vec3 ft = f - fn * fr.n;
-    const double lim = model.friction_cone * std::max(fn, kConeFloorN), len = ft.norm();
-    if (len > lim) f = fn * fr.n + ft * (lim / len);
-  }
-  if (!f.allFinite()) return Vec3::Zero();
-  // The device profile's limit caps the model's: a model struct built in code cannot raise it.
-  const double limit = effective_force_limit(model.force_limit_n);
-  const double mag = f.norm();
-  if (mag > limit) f *= limit / mag;
-  return f;
+ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
+                             const FoawParams& foaw, const Progress& progress) {
+  return train_with_provenance(data, params, foaw, progress).model;
 }
 
 }  // namespace inhap::datadriven

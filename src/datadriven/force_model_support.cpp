@@ -8,8 +8,8 @@
 
 namespace inhap::datadriven {
 
-SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                           const Vec3& normal) {
+SupportCheck support_check(const ForceModel& model, double box_margin, const Vec3& p, const Vec3& v,
+                           const Vec3& q, const Vec3& normal) {
   SupportCheck out;
   if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return out;
   out.bin = model.bin_of((q - p).norm());
@@ -19,7 +19,7 @@ SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v
   double z[kFeatureDim];
   make_features(model.features, p, v, q, fr, z);
   // The box is the training range [lo, hi] widened by margin * (hi - lo) on both sides.
-  const double m = model.params.box_margin;
+  const double m = box_margin;
   for (int d = 0; d < kFeatureDim; ++d) {
     const auto ud = static_cast<std::size_t>(d);
     z[d] = (z[d] - bm.offset[ud]) / bm.scale[ud];
@@ -29,11 +29,11 @@ SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v
     out.excess[ud / 3] = std::max(out.excess[ud / 3], e);
   }
   double best = std::numeric_limits<double>::infinity();
-  const Eigen::Index k = bm.union_centres.rows();
+  const Eigen::Index k = bm.union_centres().rows();
   for (Eigen::Index j = 0; j < k; ++j) {
     double r2 = 0;
     for (int d = 0; d < kFeatureDim; ++d)
-      r2 += (z[d] - bm.union_centres(j, d)) * (z[d] - bm.union_centres(j, d));
+      r2 += (z[d] - bm.union_centres()(j, d)) * (z[d] - bm.union_centres()(j, d));
     best = std::min(best, r2);
   }
   out.nearest = std::sqrt(best);

@@ -126,9 +126,13 @@ BinModel read_bin(const Reader& r, const json& j, const std::string& where) {
   b.box_max = r.dimarr(r.need(j, "box_max", where), where + "/box_max");
   const json& axes = r.need(j, "axes", where);
   if (!axes.is_array() || axes.size() != 3) r.fail(where + "/axes", "expected 3 axes (x, y, z)");
+  std::array<RbfExpansion, 3> e;
   for (std::size_t a = 0; a < 3; ++a)
-    b.axes[a] = read_axis(r, axes[a], fmt::format("{}/axes/{}", where, a));
-  return b;
+    e[a] = read_axis(r, axes[a], fmt::format("{}/axes/{}", where, a));
+  BinModel full(std::move(e));  // the union table is built here
+  full.key_min = b.key_min, full.key_max = b.key_max, full.samples = b.samples;
+  full.offset = b.offset, full.scale = b.scale, full.box_min = b.box_min, full.box_max = b.box_max;
+  return full;
 }
 
 void read_reference(const Reader& r, const json& refs, const char* key, std::string& path,
@@ -172,6 +176,135 @@ StiffnessPrior read_map(const Reader& r, const json& sp, const std::string& w) {
   return m;
 }
 
+// The "train" object: the provenance's training parameters and statistics.
+json train_json(const ForceModelProvenance& pv) {
+  const TrainParams& p = pv.params;
+  const TrainStats& st = pv.stats;
+  return {{"bins", p.bins},
+          {"centers", p.centers},
+          {"nonzeros", p.nonzeros},
+          {"lambda_ratio", p.lambda_ratio},
+          {"seed", p.seed},
+          {"linear_tail", p.linear_tail},
+          {"sparsa_tolerance", p.sparsa_tolerance},
+          {"cg_tolerance", p.cg_tolerance},
+          {"ridge", p.ridge},
+          {"design", to_string(p.design)},
+          {"feature_weights", p.feature_weights},
+          {"normalize_columns", p.normalize_columns},
+          {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
+          {"sparsa_max_iterations", p.sparsa_iterations},
+          {"solver", to_string(p.solver)},
+          {"gap_tolerance", p.gap_tolerance},
+          {"kmeans_iterations", p.kmeans_iterations},
+          {"kmeans_min_moved", p.kmeans_min_moved},
+          {"box_margin", p.box_margin},
+          {"tangent_mirror", p.tangent_mirror},
+          {"stiffness_prior", p.stiffness_prior},
+          {"shear_prior", p.shear_prior},
+          {"friction_cone", p.friction_cone},
+          {"fallback", p.fallback},
+          {"fallback_near_mm", p.fallback_near_mm},
+          {"fallback_far_mm", p.fallback_far_mm},
+          {"samples", st.samples},
+          {"seconds", st.seconds},
+          {"support", arr3(st.support)},
+          {"sparsa_iterations", arr3(st.sparsa_iterations)},
+          {"gap", arr3(st.gap)},
+          {"l1_nonzeros", arr3(st.nonzeros)},
+          {"cg_iterations", arr3(st.cg_iterations)},
+          {"lambda", arr3(st.lambda)},
+          {"selected_rows", st.selected_rows},
+          {"modeling_range_n", p.modeling_range_n},
+          {"above_range", to_string(p.above_range)},
+          {"samples_offered", st.offered},
+          {"samples_above_range", st.above_range},
+          {"samples_excluded", st.excluded},
+          {"max_force_n", st.max_force_n}};
+}
+
+// Reads the "train" object `t` into the provenance (every key optional: older files lack some).
+void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
+  auto get = [&](const char* k, auto& dst) {
+    if (t.contains(k)) dst = t[k].get<std::decay_t<decltype(dst)>>();
+  };
+  try {
+    get("bins", pv.params.bins);
+    get("centers", pv.params.centers);
+    get("nonzeros", pv.params.nonzeros);
+    get("lambda_ratio", pv.params.lambda_ratio);
+    get("seed", pv.params.seed);
+    get("linear_tail", pv.params.linear_tail);
+    get("sparsa_tolerance", pv.params.sparsa_tolerance);
+    get("cg_tolerance", pv.params.cg_tolerance);
+    get("ridge", pv.params.ridge);
+    get("feature_weights", pv.params.feature_weights);
+    get("normalize_columns", pv.params.normalize_columns);
+    get("sparsa_max_iterations", pv.params.sparsa_iterations);
+    // Files written before the solver choice were trained by SpaRSA.
+    pv.params.solver = t.contains("solver") ? l1_solver_from_string(t["solver"].get<std::string>())
+                                            : L1Solver::kSparsa;
+    get("gap_tolerance", pv.params.gap_tolerance);
+    if (t.contains("design")) pv.params.design = design_from_string(t["design"].get<std::string>());
+    if (t.contains("sparsa_stop"))
+      pv.params.sparsa_stop =
+          t["sparsa_stop"] == "step" ? SparsaStop::kStep : SparsaStop::kObjective;
+    get("kmeans_iterations", pv.params.kmeans_iterations);
+    // Files written before the early stop ran k-means until no sample moved.
+    pv.params.kmeans_min_moved = 0;
+    get("kmeans_min_moved", pv.params.kmeans_min_moved);
+    get("box_margin", pv.params.box_margin);
+    if (t.contains("tangent_mirror")) pv.params.tangent_mirror = t["tangent_mirror"].get<bool>();
+    if (t.contains("stiffness_prior")) pv.params.stiffness_prior = t["stiffness_prior"].get<bool>();
+    if (t.contains("shear_prior")) pv.params.shear_prior = t["shear_prior"].get<bool>();
+    if (t.contains("friction_cone")) pv.params.friction_cone = t["friction_cone"].get<bool>();
+    if (t.contains("fallback")) pv.params.fallback = t["fallback"].get<bool>();
+    get("fallback_near_mm", pv.params.fallback_near_mm);
+    get("fallback_far_mm", pv.params.fallback_far_mm);
+    get("samples", pv.stats.samples);
+    get("seconds", pv.stats.seconds);
+    get("support", pv.stats.support);
+    get("sparsa_iterations", pv.stats.sparsa_iterations);
+    get("gap", pv.stats.gap);
+    get("l1_nonzeros", pv.stats.nonzeros);
+    get("cg_iterations", pv.stats.cg_iterations);
+    get("lambda", pv.stats.lambda);
+    get("selected_rows", pv.stats.selected_rows);
+    get("modeling_range_n", pv.params.modeling_range_n);
+    if (t.contains("above_range"))
+      pv.params.above_range = above_range_from_string(t["above_range"].get<std::string>());
+    get("samples_offered", pv.stats.offered);
+    get("samples_above_range", pv.stats.above_range);
+    get("samples_excluded", pv.stats.excluded);
+    get("max_force_n", pv.stats.max_force_n);
+  } catch (const json::exception& e) {
+    r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
+  } catch (const Error& e) {
+    r.fail("train", e.what());
+  }
+}
+
+// The "fallback" object (the distance grid is built after validation).
+Fallback read_fallback(const Reader& r, const json& fb) {
+  Fallback f;
+  f.near_mm = r.num(r.need(fb, "near_mm", "fallback"), "fallback/near_mm");
+  f.far_mm = r.num(r.need(fb, "far_mm", "fallback"), "fallback/far_mm");
+  const json& law = r.need(fb, "law", "fallback");
+  f.law.depth_mm = r.nums(r.need(law, "depth_mm", "fallback/law"), "fallback/law/depth_mm");
+  f.law.force_n = r.nums(r.need(law, "force_n", "fallback/law"), "fallback/law/force_n");
+  f.law.slope_n_per_mm =
+      r.num(r.need(law, "slope_n_per_mm", "fallback/law"), "fallback/law/slope_n_per_mm");
+  const json& sup = r.need(fb, "support", "fallback");
+  f.support.cell_mm = r.num(r.need(sup, "cell_mm", "fallback/support"), "fallback/support/cell_mm");
+  const json& pts = r.need(sup, "points_mm", "fallback/support");
+  if (!pts.is_array()) r.fail("fallback/support/points_mm", "expected an array of [x, y, z]");
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const auto x = r.nums(pts[k], fmt::format("fallback/support/points_mm/{}", k), 3);
+    f.support.points.emplace_back(x[0], x[1], x[2]);
+  }
+  return f;
+}
+
 }  // namespace
 
 std::string file_digest(const std::string& path) {
@@ -184,7 +317,7 @@ std::string file_digest(const std::string& path) {
   return fmt::format("{:016x}", h);
 }
 
-std::string force_model_to_json(const ForceModel& m) {
+std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance& pv) {
   json j;
   j["format"] = kFormat;
   j["version"] = kForceModelVersion;
@@ -200,53 +333,12 @@ std::string force_model_to_json(const ForceModel& m) {
                {"noise_bound_mm", m.foaw.noise_bound_mm}};
   json refs = json::object();
   refs["sys"] =
-      m.sys_path.empty() ? json(nullptr) : json{{"path", m.sys_path}, {"fnv1a64", m.sys_digest}};
-  refs["mesh"] =
-      m.mesh_path.empty() ? json(nullptr) : json{{"path", m.mesh_path}, {"fnv1a64", m.mesh_digest}};
+      pv.sys_path.empty() ? json(nullptr) : json{{"path", pv.sys_path}, {"fnv1a64", pv.sys_digest}};
+  refs["mesh"] = pv.mesh_path.empty() ? json(nullptr)
+                                      : json{{"path", pv.mesh_path}, {"fnv1a64", pv.mesh_digest}};
   j["references"] = refs;
-  j["proxy_source"] = m.proxy_source;
-  const TrainParams& p = m.params;
-  j["train"] = {{"bins", p.bins},
-                {"centers", p.centers},
-                {"nonzeros", p.nonzeros},
-                {"lambda_ratio", p.lambda_ratio},
-                {"seed", p.seed},
-                {"linear_tail", p.linear_tail},
-                {"sparsa_tolerance", p.sparsa_tolerance},
-                {"cg_tolerance", p.cg_tolerance},
-                {"ridge", p.ridge},
-                {"design", to_string(p.design)},
-                {"feature_weights", p.feature_weights},
-                {"normalize_columns", p.normalize_columns},
-                {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
-                {"sparsa_max_iterations", p.sparsa_iterations},
-                {"solver", to_string(p.solver)},
-                {"gap_tolerance", p.gap_tolerance},
-                {"kmeans_iterations", p.kmeans_iterations},
-                {"kmeans_min_moved", p.kmeans_min_moved},
-                {"box_margin", p.box_margin},
-                {"tangent_mirror", p.tangent_mirror},
-                {"stiffness_prior", p.stiffness_prior},
-                {"shear_prior", p.shear_prior},
-                {"friction_cone", p.friction_cone},
-                {"fallback", p.fallback},
-                {"fallback_near_mm", p.fallback_near_mm},
-                {"fallback_far_mm", p.fallback_far_mm},
-                {"samples", m.stats.samples},
-                {"seconds", m.stats.seconds},
-                {"support", arr3(m.stats.support)},
-                {"sparsa_iterations", arr3(m.stats.sparsa_iterations)},
-                {"gap", arr3(m.stats.gap)},
-                {"l1_nonzeros", arr3(m.stats.nonzeros)},
-                {"cg_iterations", arr3(m.stats.cg_iterations)},
-                {"lambda", arr3(m.stats.lambda)},
-                {"selected_rows", m.stats.selected_rows},
-                {"modeling_range_n", p.modeling_range_n},
-                {"above_range", to_string(p.above_range)},
-                {"samples_offered", m.stats.offered},
-                {"samples_above_range", m.stats.above_range},
-                {"samples_excluded", m.stats.excluded},
-                {"max_force_n", m.stats.max_force_n}};
+  j["proxy_source"] = pv.proxy_source;
+  j["train"] = train_json(pv);
   j["edges_mm"] = m.edges;
   json bins = json::array();
   for (const BinModel& b : m.bins) {
@@ -257,8 +349,8 @@ std::string force_model_to_json(const ForceModel& m) {
                     {"scale", b.scale},
                     {"box_min", b.box_min},
                     {"box_max", b.box_max},
-                    {"axes", json::array({axis_json(b.axes[0]), axis_json(b.axes[1]),
-                                          axis_json(b.axes[2])})}});
+                    {"axes", json::array({axis_json(b.axes()[0]), axis_json(b.axes()[1]),
+                                          axis_json(b.axes()[2])})}});
   }
   j["bins"] = std::move(bins);
   if (!m.prior.empty())
@@ -288,7 +380,8 @@ std::string force_model_to_json(const ForceModel& m) {
   return j.dump(1) + "\n";
 }
 
-ForceModel force_model_from_json(const std::string& text, const std::string& source) {
+TrainedForceModel trained_force_model_from_json(const std::string& text,
+                                                const std::string& source) {
   json j;
   try {
     j = json::parse(text);
@@ -310,7 +403,9 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
   if (version != kForceModelVersion)
     r.fail("version", fmt::format("expected {}, got {}", kForceModelVersion, version));
   r.integer(r.need(j, "feature_dim", "(root)"), "feature_dim", kFeatureDim, kFeatureDim);
-  ForceModel m;
+  TrainedForceModel out;
+  ForceModel& m = out.model;
+  ForceModelProvenance& pv = out.provenance;
   try {
     m.features = feature_set_from_string(r.str(r.need(j, "features", "(root)"), "features"));
   } catch (const ParseError&) {
@@ -333,96 +428,19 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
       r.integer(r.need(fo, "max_window", "foaw"), "foaw/max_window", 1, kFoawMaxWindow - 1));
   m.foaw.noise_bound_mm = r.num(r.need(fo, "noise_bound_mm", "foaw"), "foaw/noise_bound_mm");
   const json& refs = r.need(j, "references", "(root)");
-  read_reference(r, refs, "sys", m.sys_path, m.sys_digest);
-  read_reference(r, refs, "mesh", m.mesh_path, m.mesh_digest);
-  if (j.contains("proxy_source")) m.proxy_source = r.str(j["proxy_source"], "proxy_source");
+  read_reference(r, refs, "sys", pv.sys_path, pv.sys_digest);
+  read_reference(r, refs, "mesh", pv.mesh_path, pv.mesh_digest);
+  if (j.contains("proxy_source")) pv.proxy_source = r.str(j["proxy_source"], "proxy_source");
   if (j.contains("train") && j["train"].is_object()) {  // provenance; tolerated when partial
-    const json& t = j["train"];
-    auto get = [&](const char* k, auto& dst) {
-      if (t.contains(k)) dst = t[k].get<std::decay_t<decltype(dst)>>();
-    };
-    try {
-      get("bins", m.params.bins);
-      get("centers", m.params.centers);
-      get("nonzeros", m.params.nonzeros);
-      get("lambda_ratio", m.params.lambda_ratio);
-      get("seed", m.params.seed);
-      get("linear_tail", m.params.linear_tail);
-      get("sparsa_tolerance", m.params.sparsa_tolerance);
-      get("cg_tolerance", m.params.cg_tolerance);
-      get("ridge", m.params.ridge);
-      get("feature_weights", m.params.feature_weights);
-      get("normalize_columns", m.params.normalize_columns);
-      get("sparsa_max_iterations", m.params.sparsa_iterations);
-      // Files written before the solver choice were trained by SpaRSA.
-      m.params.solver = t.contains("solver") ? l1_solver_from_string(t["solver"].get<std::string>())
-                                             : L1Solver::kSparsa;
-      get("gap_tolerance", m.params.gap_tolerance);
-      if (t.contains("design"))
-        m.params.design = design_from_string(t["design"].get<std::string>());
-      if (t.contains("sparsa_stop"))
-        m.params.sparsa_stop =
-            t["sparsa_stop"] == "step" ? SparsaStop::kStep : SparsaStop::kObjective;
-      get("kmeans_iterations", m.params.kmeans_iterations);
-      // Files written before the early stop ran k-means until no sample moved.
-      m.params.kmeans_min_moved = 0;
-      get("kmeans_min_moved", m.params.kmeans_min_moved);
-      get("box_margin", m.params.box_margin);
-      if (t.contains("tangent_mirror")) m.params.tangent_mirror = t["tangent_mirror"].get<bool>();
-      if (t.contains("stiffness_prior"))
-        m.params.stiffness_prior = t["stiffness_prior"].get<bool>();
-      if (t.contains("shear_prior")) m.params.shear_prior = t["shear_prior"].get<bool>();
-      if (t.contains("friction_cone")) m.params.friction_cone = t["friction_cone"].get<bool>();
-      if (t.contains("fallback")) m.params.fallback = t["fallback"].get<bool>();
-      get("fallback_near_mm", m.params.fallback_near_mm);
-      get("fallback_far_mm", m.params.fallback_far_mm);
-      get("samples", m.stats.samples);
-      get("seconds", m.stats.seconds);
-      get("support", m.stats.support);
-      get("sparsa_iterations", m.stats.sparsa_iterations);
-      get("gap", m.stats.gap);
-      get("l1_nonzeros", m.stats.nonzeros);
-      get("cg_iterations", m.stats.cg_iterations);
-      get("lambda", m.stats.lambda);
-      get("selected_rows", m.stats.selected_rows);
-      get("modeling_range_n", m.params.modeling_range_n);
-      if (t.contains("above_range"))
-        m.params.above_range = above_range_from_string(t["above_range"].get<std::string>());
-      get("samples_offered", m.stats.offered);
-      get("samples_above_range", m.stats.above_range);
-      get("samples_excluded", m.stats.excluded);
-      get("max_force_n", m.stats.max_force_n);
-    } catch (const json::exception& e) {
-      r.fail("train", fmt::format("expected training parameters and statistics, got {}", e.what()));
-    } catch (const Error& e) {
-      r.fail("train", e.what());
-    }
-    m.params.features = m.features;
+    read_train(r, j["train"], pv);
+    pv.params.features = m.features;
   }
   if (j.contains("stiffness_prior") && !j["stiffness_prior"].is_null())
     m.prior = read_map(r, j["stiffness_prior"], "stiffness_prior");
   if (j.contains("shear_prior") && !j["shear_prior"].is_null())
     m.shear = read_map(r, j["shear_prior"], "shear_prior");
-  if (j.contains("fallback") && !j["fallback"].is_null()) {
-    const json& fb = j["fallback"];
-    m.fallback.near_mm = r.num(r.need(fb, "near_mm", "fallback"), "fallback/near_mm");
-    m.fallback.far_mm = r.num(r.need(fb, "far_mm", "fallback"), "fallback/far_mm");
-    const json& law = r.need(fb, "law", "fallback");
-    m.fallback.law.depth_mm =
-        r.nums(r.need(law, "depth_mm", "fallback/law"), "fallback/law/depth_mm");
-    m.fallback.law.force_n = r.nums(r.need(law, "force_n", "fallback/law"), "fallback/law/force_n");
-    m.fallback.law.slope_n_per_mm =
-        r.num(r.need(law, "slope_n_per_mm", "fallback/law"), "fallback/law/slope_n_per_mm");
-    const json& sup = r.need(fb, "support", "fallback");
-    m.fallback.support.cell_mm =
-        r.num(r.need(sup, "cell_mm", "fallback/support"), "fallback/support/cell_mm");
-    const json& pts = r.need(sup, "points_mm", "fallback/support");
-    if (!pts.is_array()) r.fail("fallback/support/points_mm", "expected an array of [x, y, z]");
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      const auto x = r.nums(pts[k], fmt::format("fallback/support/points_mm/{}", k), 3);
-      m.fallback.support.points.emplace_back(x[0], x[1], x[2]);
-    }
-  }
+  if (j.contains("fallback") && !j["fallback"].is_null())
+    m.fallback = read_fallback(r, j["fallback"]);
   m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
   const json& bins = r.need(j, "bins", "(root)");
   if (!bins.is_array()) r.fail("bins", "expected an array");
@@ -430,13 +448,17 @@ ForceModel force_model_from_json(const std::string& text, const std::string& sou
     m.bins.push_back(read_bin(r, bins[b], fmt::format("bins/{}", b)));
   try {
     validate_model(m, "");
-    finalize_model(m);
   } catch (const ParseError&) {
     throw;
   } catch (const Error& e) {
     throw ParseError(source, 0, e.what());
   }
-  return m;
+  if (!m.fallback.support.empty()) m.fallback.support.build(m.fallback.far_mm);
+  return out;
+}
+
+ForceModel force_model_from_json(const std::string& text, const std::string& source) {
+  return trained_force_model_from_json(text, source).model;
 }
 
 void validate_model(const ForceModel& m, const std::string& where) {
@@ -494,7 +516,7 @@ void validate_model(const ForceModel& m, const std::string& where) {
         fail(fmt::format("bins/{}/box_min/{}: expected box_min <= box_max", b, d));
     }
     for (std::size_t a = 0; a < 3; ++a) {
-      const RbfExpansion& e = bm.axes[a];
+      const RbfExpansion& e = bm.axes()[a];
       const std::string at = fmt::format("bins/{}/axes/{}", b, a);
       if (e.centres.cols() != kFeatureDim) fail(at + "/centres: expected 9 coordinates per centre");
       if (e.weights.size() != e.centres.rows())
@@ -507,13 +529,18 @@ void validate_model(const ForceModel& m, const std::string& where) {
   }
 }
 
-void save_force_model(const std::string& path, const ForceModel& model) {
+void save_force_model(const std::string& path, const ForceModel& model,
+                      const ForceModelProvenance& provenance) {
   validate_model(model, path);
-  write_file_atomic(path, force_model_to_json(model));
+  write_file_atomic(path, force_model_to_json(model, provenance));
+}
+
+TrainedForceModel load_trained_force_model(const std::string& path) {
+  return trained_force_model_from_json(read_file(path), path);
 }
 
 ForceModel load_force_model(const std::string& path) {
-  return force_model_from_json(read_file(path), path);
+  return load_trained_force_model(path).model;
 }
 
 }  // namespace inhap::datadriven

@@ -229,7 +229,8 @@ ForceSupport support_stats(ForceLabResult& d, const std::vector<char>& scored) {
     if (!te.contact[i] || !scored[i]) continue;
     ++s.samples;
     const Vec3 n = te.n.size() == rec.size() ? te.n[i] : Vec3::UnitZ();
-    const SupportCheck c = support_check(m, rec.p[i], vte[i], te.q[i], n);
+    const SupportCheck c =
+        support_check(m, d.proxy.provenance.params.box_margin, rec.p[i], vte[i], te.q[i], n);
     d.test_support[i] = c;
     const bool outside = c.excess[0] > 0 || c.excess[1] > 0 || c.excess[2] > 0;
     any += outside;
@@ -300,12 +301,14 @@ ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& score
   FoawParams foaw;
   foaw.dt_s = median_dt(d.train.rec);
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
-  p.progress = [&](const std::string&, double f, double) {
-    if (progress) progress(fmt::format("{} {}", label, what), f, 0);
-  };
   ForceVariant v;
-  v.model = train_force_model(set, p, foaw);
-  v.model.proxy_source = tr.proxy_source;
+  TrainedForceModel trained =
+      train_with_provenance(set, p, foaw, [&](const std::string&, double f, double) {
+        if (progress) progress(fmt::format("{} {}", label, what), f, 0);
+      });
+  v.model = std::move(trained.model);
+  v.provenance = std::move(trained.provenance);
+  v.provenance.proxy_source = tr.proxy_source;
   v.train_contact = set.size();
   v.replay = timed_replay(v.model, d.test.rec, te);
   // Scored against the measured force on the samples the lab says are in contact.
@@ -409,11 +412,13 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   }
   d.support = support_stats(d, scored);
   if (!o.keep.empty()) {
-    save_force_model(o.keep + "/" + name + "-model.json", d.proxy.model);
+    save_force_model(o.keep + "/" + name + "-model.json", d.proxy.model, d.proxy.provenance);
     write_replay(o.keep + "/" + name + "-test-replay.csv", d, scored);
     if (o.baselines) {
-      save_force_model(o.keep + "/" + name + "-model-noproxy.json", d.no_proxy.model);
-      save_force_model(o.keep + "/" + name + "-model-onset.json", d.onset.model);
+      save_force_model(o.keep + "/" + name + "-model-noproxy.json", d.no_proxy.model,
+                       d.no_proxy.provenance);
+      save_force_model(o.keep + "/" + name + "-model-onset.json", d.onset.model,
+                       d.onset.provenance);
     }
   }
   const std::vector<char> covered =
@@ -437,6 +442,19 @@ ForceCoverage training_coverage(const ForceLabResult& d) {
   c.cell_mm = map.params().cell_mm;
   c.map = map;
   return c;
+}
+
+void apply_thesis_settings(TrainParams& p, const std::function<bool(const std::string&)>& given) {
+  if (!given("--bins")) p.bins = 5;
+  if (!given("--tail")) p.linear_tail = false;
+  if (!given("--feature-weights")) p.feature_weights = {1.0, 1.0, 1.0};
+  if (!given("--ridge")) p.ridge = 0.0;
+  if (!given("--box-margin")) p.box_margin = 0.1;
+  if (!given("--bin-blend")) p.bin_blend = 0.0;
+  if (!given("--tangent-mirror")) p.tangent_mirror = false;
+  if (!given("--stiffness-prior")) p.stiffness_prior = false;
+  if (!given("--shear-prior")) p.shear_prior = false;
+  if (!given("--friction-cone")) p.friction_cone = false;
 }
 
 }  // namespace inhap::eval

@@ -50,8 +50,8 @@ json support_json(const ForceSupport& su) {
 }
 
 /// The settings and priors of a trained model.
-json model_json(const ForceModel& m) {
-  const TrainParams& p = m.params;
+json model_json(const ForceModel& m, const ForceModelProvenance& pv) {
+  const TrainParams& p = pv.params;
   return {{"design", to_string(p.design)},
           {"features", to_string(p.features)},
           {"bins", p.bins},
@@ -69,7 +69,7 @@ json model_json(const ForceModel& m) {
           {"bin_blend_mm", m.bin_blend},
           {"seed", p.seed},
           {"edges_mm", m.edges},
-          {"support", m.stats.support}};
+          {"support", pv.stats.support}};
 }
 
 json object_json(const ForceLabResult& d) {
@@ -86,7 +86,7 @@ json object_json(const ForceLabResult& d) {
   j["median_ae_n"] = xyz(v.all.ae_axis_median);
   j["re"] = mean_median(v.all.re_mean, v.all.re_median);
   j["no_proxy_re"] = mean_median(v0.all.re_mean, v0.all.re_median);
-  j["train_s"] = v.model.stats.seconds;
+  j["train_s"] = v.provenance.stats.seconds;
   j["step_us"] = {
       {"p50", quantile(us, 0.5)}, {"p99", quantile(us, 0.99)}, {"max", quantile(us, 1.0)}};
   j["proxy_source"] = d.train_track.proxy_source;
@@ -113,8 +113,8 @@ json object_json(const ForceLabResult& d) {
   j["no_proxy_rmse_n"] = xyz(v0.all.rmse);
   j["onset_proxy_re"] = mean_median(v1.all.re_mean, v1.all.re_median);
   j["onset_proxy_rmse_n"] = xyz(v1.all.rmse);
-  j["no_proxy_train_s"] = v0.model.stats.seconds;
-  j["model"] = model_json(v.model);
+  j["no_proxy_train_s"] = v0.provenance.stats.seconds;
+  j["model"] = model_json(v.model, v.provenance);
   j["errors"] = json::parse(force_errors_json(v.all));
   if (v0.all.n > 0) j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
   return j;
@@ -126,7 +126,7 @@ std::string force_lab_json(const ForceLabResult& d) {
   json j = object_json(d);
   // Training never clips a target (forces above the modeling range are kept and counted).
   j["clipped_training_samples"] = 0;
-  j["training_samples_above_range"] = d.proxy.model.stats.above_range;
+  j["training_samples_above_range"] = d.proxy.provenance.stats.above_range;
   const ForceCoverage cov = training_coverage(d);
   j["coverage"] = cov.outside;
   // Where the training run left the largest unvisited areas (x, y projection): explore there.

@@ -17,7 +17,7 @@ std::string force_lab_summary(const ForceLabResult& d) {
       d.name, v.all.rmse[0], v.all.rmse[1], v.all.rmse[2], v.all.ae_axis_median[0],
       v.all.ae_axis_median[1], v.all.ae_axis_median[2], v.all.re_mean, v.all.re_median,
       v.sliding.re_median, d.no_proxy.sliding.re_median, d.onset.sliding.re_median,
-      v.model.stats.seconds, quantile(v.replay.step_us, 0.5), quantile(v.replay.step_us, 0.99),
+      v.provenance.stats.seconds, quantile(v.replay.step_us, 0.5), quantile(v.replay.step_us, 0.99),
       d.train_track.proxy_source, d.palpation_s, d.support.outside_any,
       d.support.sse_share_outside[0], d.support.sse_share_outside[1],
       d.support.sse_share_outside[2]);

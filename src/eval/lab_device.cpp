@@ -135,4 +135,16 @@ LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
   return res;
 }
 
+std::string lab_device_banner(const LabDeviceOptions& o) {
+  return fmt::format("inhap lab device: scene {}, operator {}, joining inhap on {}:{}\n",
+                     o.scene_file.empty() ? o.scene : o.scene_file, o.operator_name, o.host,
+                     o.port);
+}
+
+std::string lab_device_summary(const LabDeviceResult& r) {
+  return fmt::format(
+      "\n{} ticks, {} answered, {} time-outs (zero force){}; largest force {:.3f} N\n", r.ticks,
+      r.answered, r.timeouts, r.stopped ? ", inhap stopped the session" : "", r.max_force_n);
+}
+
 }  // namespace inhap::eval

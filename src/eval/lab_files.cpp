@@ -37,4 +37,34 @@ void require_finite_recording(const Recording& rec, const std::string& out) {
           out, i + 1, rec.t[i]));
 }
 
+lab::RecordSpec lab_record_spec(const LabRecordRequest& a) {
+  lab::RecordSpec spec;
+  spec.operator_name = a.op;
+  spec.seconds = a.seconds;
+  spec.seed = a.seed;
+  if (a.probe == "tip")
+    spec.probe = lab::ProbeSpec::tip();
+  else if (a.probe == "sphere")
+    spec.probe = lab::ProbeSpec::sphere();
+  else
+    throw Error(fmt::format("--probe: expected sphere or tip, got '{}'", a.probe));
+  spec.noise = !a.no_noise;
+  spec.gravity = !a.no_gravity;
+  spec.inertia = !a.no_inertia;
+  spec.tap.whole_object = a.whole_object;
+  if (a.coverage && a.op != "explore")
+    throw Error(fmt::format("--coverage: expected --operator explore, got '{}'", a.op));
+  spec.explore.coverage = a.coverage;
+  spec.physics = lab::physics_from_string(a.physics);
+  return spec;
+}
+
+std::string long_recording_note(double seconds) {
+  if (!(seconds > kLongRecordingS)) return {};
+  return fmt::format(
+      "note: {:g} s at 1 kHz is {:.0f} rows, about {:.1f} GB of CSV (recording and "
+      "truth)\n",
+      seconds, seconds * 1000.0, seconds * 1000.0 * kBytesPerTick / 1e9);
+}
+
 }  // namespace inhap::eval

@@ -104,7 +104,8 @@ TrainParams resolve_train_params(const TrainRequest& r, bool have_normals, std::
   return p;
 }
 
-std::string range_note(const ForceModel& m, const TrainingSet& set, double force_limit_n) {
+std::string range_note(const ForceModelProvenance& m, const TrainingSet& set,
+                       double force_limit_n) {
   const TrainStats& s = m.stats;
   const TrainParams& p = m.params;
   if (s.above_range == 0)
@@ -174,15 +175,16 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
         "varied contact to generalise (expect large errors)",
         contact_s, kFewContactSeconds));
   const auto t0 = std::chrono::steady_clock::now();
+  Progress train_progress;
   if (o.progress)
-    params.progress = [t0, progress = o.progress](const std::string&, double frac, double) {
+    train_progress = [t0, progress = o.progress](const std::string&, double frac, double) {
       const double el =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       progress("train", frac, frac > 0 ? el * (1 - frac) / frac : 0);
     };
-  r.model = train_force_model(r.set, params, foaw);
-  ForceModel& m = r.model;
-  m.force_limit_n = o.force_limit_n;
+  r.model = train_with_provenance(r.set, params, foaw, train_progress);
+  r.model.model.force_limit_n = o.force_limit_n;
+  ForceModelProvenance& m = r.model.provenance;
   m.proxy_source = track.proxy_source;
   if (!o.sys.empty()) {
     m.sys_path = o.sys;
@@ -195,11 +197,12 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
   return r;
 }
 
-std::string train_summary(const ForceModel& m, bool verbose) {
+std::string train_summary(const TrainedForceModel& tm, bool verbose) {
+  const ForceModelProvenance& m = tm.provenance;
   std::string s = fmt::format(
       "trained {} samples in {:.1f} s: features {}, {} bins, design {}, non-zeros per "
       "axis",
-      m.stats.samples, m.stats.seconds, to_string(m.features), m.bins.size(),
+      m.stats.samples, m.stats.seconds, to_string(tm.model.features), tm.model.bins.size(),
       to_string(m.params.design));
   for (const auto& x : m.stats.support) s += fmt::format(" {}/{}/{}", x[0], x[1], x[2]);
   s += "\n";
@@ -219,7 +222,7 @@ std::string train_summary(const ForceModel& m, bool verbose) {
 }
 
 std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
-                       const ForceModel& m) {
+                       const ForceModelProvenance& m) {
   if (!mesh_flag.empty()) return mesh_flag;
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -238,16 +241,17 @@ std::string model_mesh(const std::string& model_path, const std::string& mesh_fl
       model_path, m.mesh_path));
 }
 
-ReplayedFile replay_file(const std::string& model_path, const ForceModel& m,
+ReplayedFile replay_file(const std::string& model_path, const TrainedForceModel& tm,
                          const std::string& recording, const ProxyColumnsSpec& proxy,
                          const std::string& mesh_flag) {
   ReplayedFile r{read_recording(recording), {}, {}};
   r.track = track_of(r.rec, recording, proxy);
+  const ForceModel& m = tm.model;
   if (m.features == FeatureSet::kLocalFrame) {
     // Normal columns in the recording come first; the mesh is only looked for without them.
     const bool has_normals = has_normal_columns(r.rec);
     add_normals(r.track, r.rec, recording,
-                has_normals ? std::string() : model_mesh(model_path, mesh_flag, m));
+                has_normals ? std::string() : model_mesh(model_path, mesh_flag, tm.provenance));
   }
   r.forces = replay(m, r.rec, r.track);
   return r;
@@ -281,8 +285,9 @@ std::string support_note(const SupportShare& c) {
 
 ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
                                     const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
-  const ForceModel m = load_force_model(model_path);
-  const ReplayedFile r = replay_file(model_path, m, recording, proxy, mesh_flag);
+  const TrainedForceModel tm = load_trained_force_model(model_path);
+  const ForceModel& m = tm.model;
+  const ReplayedFile r = replay_file(model_path, tm, recording, proxy, mesh_flag);
   std::vector<Vec3> rendered, measured;
   for (std::size_t i = 0; i < r.rec.size(); ++i)
     if (r.track.contact[i]) {
@@ -316,6 +321,37 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
                      {"outside_position_share", e.support.outside_position_share}};
   j["errors"] = nlohmann::ordered_json::parse(force_errors_json(e.errors));
   return e;
+}
+
+std::string model_eval_text(const ModelEvalResult& r) {
+  const ForceErrors& e = r.errors;
+  std::string s = fmt::format(
+      "{} contact samples: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE x/y/z {:.3f} {:.3f} {:.3f} "
+      "N, "
+      "RE mean {:.3f} median {:.3f}\n",
+      e.n, e.rmse[0], e.rmse[1], e.rmse[2], e.ae_axis_median[0], e.ae_axis_median[1],
+      e.ae_axis_median[2], e.re_mean, e.re_median);
+  if (r.above_force_limit > 0)
+    s += fmt::format(
+        "{} contact samples measured above the {:.2f} N render clamp (device limit): the "
+        "rendered force is capped there\n",
+        r.above_force_limit, r.force_limit_n);
+  return s;
+}
+
+void write_rendered_csv(const std::string& out, const ReplayedFile& r, const std::string& recording,
+                        const std::string& model_path) {
+  const std::vector<std::string> comments{
+      "units: t s, p mm, f (rendered) N, mf (measured) N",
+      fmt::format("rendered by inhap model render from {} with {}", recording, model_path)};
+  CsvWriter w(out, {"t", "px", "py", "pz", "fx", "fy", "fz", "mfx", "mfy", "mfz", "contact"},
+              comments);
+  for (std::size_t i = 0; i < r.rec.size(); ++i) {
+    const Vec3 &p = r.rec.p[i], &f = r.forces[i], &mf = r.rec.f[i];
+    w.row({r.rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), mf.x(), mf.y(), mf.z(),
+           r.track.contact[i] ? 1.0 : 0.0});
+  }
+  w.commit();
 }
 
 }  // namespace inhap::eval

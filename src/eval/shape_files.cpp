@@ -7,6 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <tuple>
 
+#include "inhap/core/csv.hpp"
+#include "inhap/core/error.hpp"
+#include "inhap/surface/point_io.hpp"
+
 namespace inhap::eval {
 
 std::string contacts_summary(const TappingResult& res) {
@@ -85,6 +89,71 @@ std::string compare_json(const CompareReport& r) {
   j["normal_overlap"] = r.options.normal_overlap;
   j["cropped"] = {{"a", r.cropped.a}, {"b", r.cropped.b}};
   return j.dump(2) + "\n";
+}
+
+CompareReport compare_meshes(const std::string& a_path, const TriMesh& a, const std::string& b_path,
+                             const TriMesh& b, const CompareRequest& r) {
+  CompareOptions o;
+  o.icp = r.icp;
+  o.density = r.density;
+  o.crop_distance = r.crop_distance;
+  o.exclude_boundary = r.overlap_only;
+  o.rim_margin = r.rim_margin;
+  o.normal_overlap = r.normal_overlap;
+  if (!r.crop_points.empty()) {
+    if (!(r.crop_radius > 0)) throw Error("--crop-points needs --crop-radius MM > 0");
+    o.region = read_points(r.crop_points).points;
+    o.region_radius = r.crop_radius;
+  }
+  const bool auto_sides = r.crop_sides == "auto";
+  o.crop_sides = auto_sides ? auto_crop_sides(a, b) : crop_sides_from_string(r.crop_sides);
+  return {a_path, b_path, o, cropped_sides(o), auto_sides, compare_surfaces(a, b, o)};
+}
+
+TriMesh error_colored(const TriMesh& a, const CompareResult& r) {
+  TriMesh out = a;
+  for (Vec3& p : out.positions) p = r.transform.apply(p);
+  out.compute_normals();
+  out.set_property("error", r.a_vertex_error);
+  return out;
+}
+
+ReconstructOptions reconstruct_options(const ReconstructRequest& a) {
+  ReconstructOptions o;
+  if (a.alpha != "auto") {
+    double v = 0;
+    if (!parse_double(a.alpha, v) || !(v > 0))
+      throw Error(fmt::format("--alpha: expected auto or a radius in mm > 0, got '{}'", a.alpha));
+    o.alpha = v;
+  }
+  o.mode = a.mode == "solid" ? SurfaceMode::kSolid : SurfaceMode::kShell;
+  o.taubin_iterations = a.taubin;
+  o.taubin_lambda = a.lambda;
+  o.taubin_mu = a.mu;
+  o.subdivisions = a.subdivide;
+  o.jet_k = a.jet_k;
+  o.outlier_k = a.outlier_k;
+  o.outlier_sigmas = a.outlier_sigmas;
+  o.shell_depth = a.shell_depth;
+  o.max_face_normal_deg = a.max_face_normal_deg;
+  return o;
+}
+
+ContactOptions contact_options(const ContactsRequest& a) {
+  ContactOptions o;
+  o.method = a.method == "threshold" ? ContactMethod::kThreshold : ContactMethod::kEstimate;
+  o.eps_f = a.eps;
+  o.window = a.window;
+  o.post = a.post;
+  o.min_contact = a.min_contact;
+  o.refine = !a.no_refine;
+  return o;
+}
+
+ForceSource force_source(const ContactsRequest& a) {
+  return a.force == "raw"        ? ForceSource::kRaw
+         : a.force == "recorded" ? ForceSource::kRecorded
+                                 : ForceSource::kAuto;
 }
 
 }  // namespace inhap::eval

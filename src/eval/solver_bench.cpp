@@ -119,4 +119,16 @@ std::string solver_bench_line(const SolverBenchResult& r) {
       r.sparsa.time_s, r.speedup);
 }
 
+nlohmann::ordered_json solver_bench_report(const SolverBenchOptions& o,
+                                           const std::vector<SolverBenchResult>& results) {
+  nlohmann::ordered_json out;
+  out["units"] = {{"time", "s"}};
+  out["seed"] = o.seed;
+  out["gap_tolerance"] = o.gap_tolerance;
+  out["threads"] = o.threads;
+  out["problems"] = nlohmann::ordered_json::array();
+  for (const SolverBenchResult& r : results) out["problems"].push_back(solver_bench_json(r));
+  return out;
+}
+
 }  // namespace inhap::eval

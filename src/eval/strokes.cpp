@@ -185,4 +185,15 @@ std::string strokes_table_row(const DatasetResult& r) {
       r.step_p50_us, r.step_p99_us);
 }
 
+StrokesConfig strokes_config(const std::vector<double>& speeds_mm_s, double force_n,
+                             std::uint64_t seed, bool quick) {
+  StrokesConfig cfg;
+  cfg.speeds_mm_s = quick ? std::vector<double>{20.0} : speeds_mm_s;
+  cfg.force_n = force_n;
+  cfg.seed = seed;
+  for (double v : cfg.speeds_mm_s)
+    if (!(v > 0)) throw Error(fmt::format("--speeds: expected speeds > 0 mm/s, got {}", v));
+  return cfg;
+}
+
 }  // namespace inhap::eval

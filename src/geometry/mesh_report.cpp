@@ -4,9 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "inhap/core/error.hpp"
+#include "inhap/geometry/heightmap.hpp"
 
 namespace inhap {
 
@@ -96,6 +99,79 @@ void scale_and_center(TriMesh& m, double scale_to, bool center, const std::strin
     scale = scale_to / largest;
   }
   if (center || scale != 1.0) m.transform(scale, origin);
+}
+
+void stiffness_from_property(TriMesh& m, const std::string& prop,
+                             const std::vector<double>& k_range) {
+  if (prop.empty()) {
+    if (!k_range.empty()) throw Error("--k-range needs --stiffness-from PROP");
+    return;
+  }
+  if (k_range.size() != 2) throw Error("--stiffness-from needs --k-range KMIN KMAX (N/mm)");
+  if (!(k_range[0] >= 0) || !(k_range[1] >= k_range[0]) || !std::isfinite(k_range[1]))
+    throw Error(fmt::format("--k-range: expected 0 <= KMIN <= KMAX N/mm, got {} {}", k_range[0],
+                            k_range[1]));
+  m.set_property("stiffness", map_linear(m.property(prop), k_range[0], k_range[1]));
+}
+
+std::string mesh_written_text(const std::string& out, const TriMesh& m) {
+  const Box3 nb = m.bbox();
+  std::string k;
+  if (m.has_property("stiffness")) {
+    const auto& v = m.property("stiffness");
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    k = fmt::format(", stiffness in [{:.4g}, {:.4g}] N/mm", *lo, *hi);
+  }
+  return fmt::format("wrote {}: {} vertices, {} faces, size {:.4g} x {:.4g} x {:.4g} mm{}\n", out,
+                     m.num_vertices(), m.num_triangles(), nb.size().x(), nb.size().y(),
+                     nb.size().z(), k);
+}
+
+std::string dropped_properties_text(const std::string& path,
+                                    const std::vector<std::string>& dropped) {
+  std::string s;
+  for (const auto& name : dropped)
+    s += fmt::format(
+        "inhap: warning: {}: the format cannot store vertex property '{}'; it was dropped\n", path,
+        name);
+  return s;
+}
+
+HeightmapMesh heightmap_mesh(const HeightmapMeshOptions& o) {
+  Grid h = read_grid(o.height);
+  for (auto& v : h.values) v *= o.height_scale;
+  if (o.level) level_plane(h);
+  std::unique_ptr<Grid> k;
+  if (!o.stiffness.empty() && !o.k_from_height.empty())
+    throw Error("give either --stiffness MAP or --stiffness-from-height KMIN KMAX, not both");
+  if (!o.stiffness.empty()) {
+    k = std::make_unique<Grid>(read_grid(o.stiffness));
+    if (o.k_range.size() == 2)  // map the map's raw levels [min, max] linearly onto the range
+      k->values = map_linear(k->values, o.k_range[0], o.k_range[1]);
+  } else if (o.k_from_height.size() == 2) {
+    k = std::make_unique<Grid>(h);
+    k->values = map_linear(h.values, o.k_from_height[0], o.k_from_height[1]);
+  }
+  double spacing = o.spacing_mm;
+  if (k && (k->width != h.width || k->height != h.height))
+    throw Error(
+        fmt::format("stiffness map {} is {}x{} but the height map is {}x{}: they must be "
+                    "the same size",
+                    o.stiffness, k->width, k->height, h.width, h.height));
+  if (o.downsample > 1) {  // after levelling and the stiffness mapping: same result per block
+    h = downsample(h, o.downsample);
+    if (k) *k = downsample(*k, o.downsample);
+    spacing *= o.downsample;
+  }
+  return {grid_to_mesh(h, spacing, k.get()), h.width, h.height};
+}
+
+std::string heightmap_written_text(const std::string& out, const HeightmapMesh& h) {
+  const Box3 b = h.mesh.bbox();
+  return fmt::format(
+      "wrote {}: {}x{} grid, {} vertices, {} triangles, size {:.4g} x {:.4g} x {:.4g} mm\n", out,
+      h.width, h.height, h.mesh.num_vertices(), h.mesh.num_triangles(), b.size().x(), b.size().y(),
+      b.size().z());
 }
 
 }  // namespace inhap

@@ -307,4 +307,20 @@ double fit_head(HeadModel& head, double fit_mm) {
   return scale;
 }
 
+std::string head_summary_text(const HeadModel& head, const HeadModelOptions& o, double scale) {
+  const TriMesh& m = head.mesh;
+  const auto& k = m.property("stiffness");
+  const auto [klo, khi] = std::minmax_element(k.begin(), k.end());
+  const Vec3 s = m.bbox().size();
+  return fmt::format(
+      "skin        iso {}: {} components, kept the largest: {} triangles, {} vertices\n"
+      "bone        iso {}: {} triangles\n"
+      "stiffness   {:.3f} .. {:.3f} N/mm, inverse to the skin-to-bone distance (k_max up to {:.1f} "
+      "mm, k_min from {:.1f} mm)\n"
+      "scaled      x{:.4g} into {:.1f} x {:.1f} x {:.1f} mm\n",
+      o.skin_iso, head.skin_components, m.num_triangles(), m.num_vertices(), o.bone_iso,
+      head.bone_triangles, *klo, *khi, o.k_min / o.k_max * head.distance_far_mm,
+      head.distance_far_mm, scale, s.x(), s.y(), s.z());
+}
+
 }  // namespace inhap

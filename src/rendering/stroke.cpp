@@ -12,6 +12,12 @@
 
 namespace inhap::rendering {
 
+std::optional<Algorithm> parse_algorithm(std::string_view s) {
+  if (s == "tca") return Algorithm::kTCA;
+  if (s == "cba") return Algorithm::kCBA;
+  return std::nullopt;
+}
+
 namespace {
 
 void check(const StrokeOptions& o, const Model& model) {

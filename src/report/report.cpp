@@ -6,7 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
+#include <memory>
+
+#include "inhap/core/error.hpp"
 
 namespace inhap::report {
 
@@ -113,6 +117,57 @@ std::string summary_text(const std::vector<StepRecord>& steps, double total, dou
                        s.result.cpu_seconds, s.result.note);
   out += fmt::format("total {:.1f} s wall, {:.1f} s CPU\n", total, cpu);
   return out;
+}
+
+std::vector<Step> select_steps(const std::vector<std::string>& only) {
+  std::vector<Step> steps = all_steps();
+  for (const auto& name : only)
+    if (std::none_of(steps.begin(), steps.end(), [&](const Step& s) { return s.name == name; })) {
+      std::string names;
+      for (const auto& s : steps) names += " " + s.name;
+      throw Error(fmt::format("--only: expected one of{}, got '{}'", names, name));
+    }
+  if (!only.empty())
+    std::erase_if(steps, [&](const Step& s) {
+      return std::find(only.begin(), only.end(), s.name) == only.end();
+    });
+  return steps;
+}
+
+std::vector<StepRecord> run_steps(const Options& o, const std::vector<Step>& steps,
+                                  const eval::Progress& progress, const eval::Progress& done,
+                                  const std::function<void(const std::string&)>& log) {
+  std::vector<StepRecord> records;
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    const Step& s = steps[i];
+    log(fmt::format("[demo] step {}/{}: {} (thesis {}): {}\n", i + 1, steps.size(), s.name,
+                    s.chapter, s.title));
+    Context c{o, s.name, progress};
+    const std::clock_t step_c0 = std::clock();
+    StepResult r = s.run(c);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
+    r.cpu_seconds = static_cast<double>(std::clock() - step_c0) / CLOCKS_PER_SEC;
+    if (r.available && done) done(s.name, 1.0, 0);
+    log(fmt::format("[demo] {} {} in {:.1f} s ({:.1f} s CPU)\n", s.name,
+                    r.available ? "done" : "skipped (" + r.note + ")", r.seconds, r.cpu_seconds));
+    records.push_back({s, std::move(r)});
+  }
+  return records;
+}
+
+eval::Progress step_progress_line(bool tty, const eval::Progress& line) {
+  if (tty)
+    return [line](const std::string& what, double fraction, double eta) {
+      line(what, std::min(fraction, 0.999), eta);
+    };
+  auto last =
+      std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  return [last](const std::string& what, double fraction, double eta) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - *last < std::chrono::seconds(5)) return;
+    *last = now;
+    fmt::print(stderr, "[{}] {:3.0f}% (eta {:.0f} s)\n", what, 100.0 * fraction, eta);
+  };
 }
 
 }  // namespace inhap::report

@@ -327,7 +327,7 @@ StepResult step_force_model(const Context& c) {
          {"no_proxy_re_median", baselines ? d.no_proxy.all.re_median : NAN},
          {"sliding_re_median", d.proxy.sliding.re_median},
          {"no_proxy_sliding_re_median", baselines ? d.no_proxy.sliding.re_median : NAN},
-         {"train_s", d.proxy.model.stats.seconds}});
+         {"train_s", d.proxy.provenance.stats.seconds}});
   }
   write_file_atomic(c.file(r, "forces.json"), summary.dump(2) + "\n");
   for (const auto& d : all)

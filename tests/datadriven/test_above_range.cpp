@@ -50,12 +50,14 @@ TEST(AboveRange, TrainingNeverClipsTargetsAndCountsThem) {
 
   TrainParams p;
   p.centers = 60;
-  const ForceModel kept = train_force_model(set, p);
-  EXPECT_EQ(kept.stats.offered, set.size());
-  EXPECT_EQ(kept.stats.above_range, over_range);
-  EXPECT_EQ(kept.stats.excluded, 0u);
-  EXPECT_EQ(kept.stats.samples, set.size());
-  EXPECT_DOUBLE_EQ(kept.stats.max_force_n, max_f);
+  const TrainedForceModel trained = train_with_provenance(set, p);
+  const ForceModel& kept = trained.model;
+  const TrainStats& st = trained.provenance.stats;
+  EXPECT_EQ(st.offered, set.size());
+  EXPECT_EQ(st.above_range, over_range);
+  EXPECT_EQ(st.excluded, 0u);
+  EXPECT_EQ(st.samples, set.size());
+  EXPECT_DOUBLE_EQ(st.max_force_n, max_f);
 
   // The model reproduces the deep pushes up to the device's clamp: a model trained on targets
   // clipped at the 5 N modeling range could not be learnt back above it. (The clamp itself is
@@ -71,10 +73,10 @@ TEST(AboveRange, TrainingNeverClipsTargetsAndCountsThem) {
 
   // Excluded on request: the samples above the range are left out and counted.
   p.above_range = AboveRange::kExclude;
-  const ForceModel excl = train_force_model(set, p);
-  EXPECT_EQ(excl.stats.above_range, over_range);
-  EXPECT_EQ(excl.stats.excluded, over_range);
-  EXPECT_EQ(excl.stats.samples, set.size() - over_range);
+  const TrainStats excl = train_with_provenance(set, p).provenance.stats;
+  EXPECT_EQ(excl.above_range, over_range);
+  EXPECT_EQ(excl.excluded, over_range);
+  EXPECT_EQ(excl.samples, set.size() - over_range);
 }
 
 TEST(AboveRange, PresetsAreTheDocumentedPipelines) {

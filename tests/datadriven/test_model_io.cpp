@@ -15,16 +15,19 @@
 namespace inhap::datadriven {
 namespace {
 
-const ForceModel& model() {
-  static const ForceModel m = [] {
+const TrainedForceModel& trained() {
+  static const TrainedForceModel m = [] {
     TrainParams p = test::small_params();
     p.linear_tail = true;
-    ForceModel fm = train_force_model(test::take(test::synthetic_set(3, 6000), 0, 2), p);
-    fm.sys_path = "sys.json";
-    fm.sys_digest = "0123456789abcdef";
+    TrainedForceModel fm = train_with_provenance(test::take(test::synthetic_set(3, 6000), 0, 2), p);
+    fm.provenance.sys_path = "sys.json";
+    fm.provenance.sys_digest = "0123456789abcdef";
     return fm;
   }();
   return m;
+}
+const ForceModel& model() {
+  return trained().model;
 }
 
 bool same_bits(const Vec3& a, const Vec3& b) {
@@ -34,8 +37,9 @@ bool same_bits(const Vec3& a, const Vec3& b) {
 TEST(ModelIo, ForcesAreBitIdenticalAfterSaveAndLoad) {
   inhap::test::TempDir dir;
   const std::string path = dir.path("model.json");
-  save_force_model(path, model());
-  const ForceModel back = load_force_model(path);
+  save_force_model(path, trained());
+  const TrainedForceModel loaded = load_trained_force_model(path);
+  const ForceModel& back = loaded.model;
   Rng rng(8);
   int nonzero = 0;
   for (int i = 0; i < 2000; ++i) {
@@ -47,10 +51,10 @@ TEST(ModelIo, ForcesAreBitIdenticalAfterSaveAndLoad) {
     nonzero += a.norm() > 0;
   }
   EXPECT_GT(nonzero, 1000);
-  EXPECT_EQ(back.sys_path, "sys.json");
-  EXPECT_EQ(back.sys_digest, "0123456789abcdef");
-  EXPECT_TRUE(back.mesh_path.empty());
-  EXPECT_EQ(force_model_to_json(back), force_model_to_json(model()));  // stable re-save
+  EXPECT_EQ(loaded.provenance.sys_path, "sys.json");
+  EXPECT_EQ(loaded.provenance.sys_digest, "0123456789abcdef");
+  EXPECT_TRUE(loaded.provenance.mesh_path.empty());
+  EXPECT_EQ(force_model_to_json(loaded), force_model_to_json(trained()));  // stable re-save
 }
 
 std::string expect_parse_error(const std::string& text, const std::string& path) {
@@ -74,7 +78,7 @@ void replace(std::string& s, const std::string& from, const std::string& to) {
 TEST(ModelIo, RejectsBadFilesNamingWhatIsWrong) {
   inhap::test::TempDir dir;
   const std::string path = dir.path("bad.json");
-  const std::string good = force_model_to_json(model());
+  const std::string good = force_model_to_json(trained());
 
   std::string s = good;
   replace(s, "\"version\": 1", "\"version\": 7");

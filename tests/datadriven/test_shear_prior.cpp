@@ -70,7 +70,8 @@ TEST(ShearPrior, ExtrapolatesTheSpringToLongerDrags) {
   // Trained on drags up to 1 mm only; the expansions are frozen beyond their box (50 % margin).
   const TrainingSet s = shear_set(2, 6000, 1.0);
   const ForceModel plain = train_force_model(s, shear_params(false));
-  const ForceModel prior = train_force_model(s, shear_params(true));
+  const TrainedForceModel trained = train_with_provenance(s, shear_params(true));
+  const ForceModel& prior = trained.model;
   ASSERT_TRUE(plain.shear.empty());
   test::expect_prior_gain("long drags on the soft spot, tangential RMS error",
                           long_drag_error(plain), long_drag_error(prior), 0.1);
@@ -78,7 +79,8 @@ TEST(ShearPrior, ExtrapolatesTheSpringToLongerDrags) {
   const ForceModel back =
       test::expect_same_force_after_save(prior, kSoft - Vec3(1.5, -0.7, 3.0), kSoft);
   EXPECT_FALSE(back.shear.empty());
-  EXPECT_TRUE(back.params.shear_prior);
+  EXPECT_TRUE(trained_force_model_from_json(force_model_to_json(trained), "mem")
+                  .provenance.params.shear_prior);  // the file's provenance says so
 }
 
 TEST(ShearPrior, IgnoresSamplesWhoseForceDoesNotOpposeTheDisplacement) {

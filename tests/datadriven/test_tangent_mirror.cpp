@@ -75,15 +75,16 @@ TEST(SupportCheck, ExcessIsTheDistanceBeyondTheTrainingRangeInUnitsOfIt) {
   for (const Vec3& q : s.q) xmin = std::min(xmin, q.x()), xmax = std::max(xmax, q.x());
   const Vec3 u(1.0, 0.0, 2.0);
   const Vec3 q_in(0.0, 0.0, 0.0), q_out(xmax + 6.0, 0.0, 0.0);
-  const SupportCheck in = support_check(m, q_in - u, Vec3::Zero(), q_in, Vec3::UnitZ());
-  const SupportCheck out = support_check(m, q_out - u, Vec3::Zero(), q_out, Vec3::UnitZ());
+  const double mg = p.box_margin;
+  const SupportCheck in = support_check(m, mg, q_in - u, Vec3::Zero(), q_in, Vec3::UnitZ());
+  const SupportCheck out = support_check(m, mg, q_out - u, Vec3::Zero(), q_out, Vec3::UnitZ());
   EXPECT_EQ(in.bin, 0);
   EXPECT_EQ(in.excess[0], 0.0);
   EXPECT_EQ(in.excess[1], 0.0);
   EXPECT_NEAR(out.excess[1], 6.0 / (xmax - xmin), 1e-9);
   EXPECT_EQ(out.excess[0], 0.0);
   EXPECT_GT(out.nearest, in.nearest);
-  const SupportCheck bad = support_check(m, Vec3(NAN, 0, 0), Vec3::Zero(), q_in, Vec3::UnitZ());
+  const SupportCheck bad = support_check(m, mg, Vec3(NAN, 0, 0), Vec3::Zero(), q_in, Vec3::UnitZ());
   EXPECT_EQ(bad.bin, -1);
 }
 

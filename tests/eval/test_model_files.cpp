@@ -78,7 +78,8 @@ TEST(ModelFiles, AModelScoredOnItsOwnRenderingHasNoError) {
   EXPECT_NE(r.notes.back().find("only 4.0 s of contact"), std::string::npos);
   datadriven::save_force_model(dir.path("model.json"), r.model);
 
-  const datadriven::ForceModel m = datadriven::load_force_model(dir.path("model.json"));
+  const datadriven::TrainedForceModel m =
+      datadriven::load_trained_force_model(dir.path("model.json"));
   ReplayedFile rendered = replay_file(dir.path("model.json"), m, o.recording, {}, "");
   ASSERT_EQ(rendered.forces.size(), 4000u);
   Recording own = rendered.rec;

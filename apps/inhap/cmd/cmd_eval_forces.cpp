@@ -30,36 +30,23 @@ using namespace inhap::eval;
 using json = nlohmann::ordered_json;
 
 struct EvalForcesOptions {
-  std::string json_path, keep;
+  ForceLabOptions lab;  // seeds, params, keep, proxy, training run, baselines, quick (flags)
+  std::string json_path;
   std::vector<std::string> scenes{"planar", "dome"};
-  std::uint64_t train_seed = 1, test_seed = 2;
   std::string design = to_string(TrainParams{}.design);
   std::string features = to_string(lab_train_params().features);
-  TrainParams params = lab_train_params();
-  bool quick = false, baselines = true;
-  double coverage_share = 0.65, seconds_per_spot = 1.5;
   std::vector<double> coverage_force{lab::ExploreOptions{}.coverage_force_min,
                                      lab::ExploreOptions{}.coverage_force_max};
-  std::string proxy = "estimated", train_operator = "coverage", physics = "builtin";
+  std::string physics = "builtin";
 };
 
 json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
-  ForceLabOptions fo;
+  ForceLabOptions fo = o.lab;
   fo.scene = name;
-  fo.train_seed = o.train_seed;
-  fo.test_seed = o.test_seed;
-  fo.params = o.params;
   fo.params.design = design_from_string(o.design);
   fo.params.features = feature_set_from_string(o.features);
-  fo.quick = o.quick;
-  fo.keep = o.keep;
-  fo.proxy = o.proxy;
-  fo.baselines = o.baselines;
-  fo.coverage_share = o.coverage_share;
-  fo.seconds_per_spot = o.seconds_per_spot;
   fo.coverage_force_min = o.coverage_force[0];
   fo.coverage_force_max = o.coverage_force[1];
-  fo.train_operator = o.train_operator;
   fo.progress = cli::progress;
   fo.physics = lab::physics_from_string(o.physics);
   const ForceLabResult d = evaluate_forces_on_lab(fo);
@@ -68,49 +55,32 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
 }
 
 void run_eval_forces(const EvalForcesOptions& o) {
-  json out = forces_report_head(o.physics, o.proxy);
+  json out = forces_report_head(o.physics, o.lab.proxy);
   out["objects"] = json::array();
   for (const auto& s : o.scenes) out["objects"].push_back(evaluate_object(o, s));
   write_file_atomic(o.json_path, out.dump(1) + "\n");
   fmt::print("report -> {}\n", o.json_path);
 }
 
-/// --design thesis restores the thesis' model settings (sec. 4.4) unless given explicitly:
-/// world-frame (q - p, q, pdot), 5 bins, no tail, equal weights, plain least squares, 10 %
-/// clamping margin, hard bin switch.
-void apply_thesis_defaults(EvalForcesOptions& o, const CLI::App& cmd) {
-  if (!cmd.count("--features")) o.features = "ue_q_v";
-  if (!cmd.count("--bins")) o.params.bins = 5;
-  if (!cmd.count("--tail")) o.params.linear_tail = false;
-  if (!cmd.count("--feature-weights")) o.params.feature_weights = {1.0, 1.0, 1.0};
-  if (!cmd.count("--ridge")) o.params.ridge = 0.0;
-  if (!cmd.count("--box-margin")) o.params.box_margin = 0.1;
-  if (!cmd.count("--bin-blend")) o.params.bin_blend = 0.0;
-  if (!cmd.count("--tangent-mirror")) o.params.tangent_mirror = false;
-  if (!cmd.count("--stiffness-prior")) o.params.stiffness_prior = false;
-  if (!cmd.count("--shear-prior")) o.params.shear_prior = false;
-  if (!cmd.count("--friction-cone")) o.params.friction_cone = false;
-}
-
 // The lab runs behind the evaluation: proxy source, physics and the coverage training operator.
 void add_lab_run_flags(CLI::App& cmd, EvalForcesOptions& o) {
-  cmd.add_option("--proxy", o.proxy,
+  cmd.add_option("--proxy", o.lab.proxy,
                  "estimated (palpate the scene, run the proxy estimator) or truth (the lab's true "
                  "proxy and contact)")
       ->capture_default_str()
       ->check(CLI::IsMember({"estimated", "truth"}));
   cli::add_physics_option(cmd, o.physics,
                           "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)");
-  cmd.add_option("--train-operator", o.train_operator,
+  cmd.add_option("--train-operator", o.lab.train_operator,
                  "Training run: coverage (grid of spots, every depth, slides between) or random "
                  "(the ordinary exploration, as the test run)")
       ->capture_default_str()
       ->check(CLI::IsMember({"coverage", "random"}));
-  cmd.add_option("--coverage-share", o.coverage_share,
+  cmd.add_option("--coverage-share", o.lab.coverage_share,
                  "Coverage training run: share of the run spent on the grid of spots")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  cmd.add_option("--spot-seconds", o.seconds_per_spot,
+  cmd.add_option("--spot-seconds", o.lab.seconds_per_spot,
                  "Coverage training run: planned seconds per spot (sets the grid spacing)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 10.0));
@@ -135,9 +105,10 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_option("--scenes", o->scenes, "Lab scenes to evaluate")
       ->capture_default_str()
       ->delimiter(',');
-  cmd->add_option("--train-seed", o->train_seed, "Seed of the training recording")
+  cmd->add_option("--train-seed", o->lab.train_seed, "Seed of the training recording")
       ->capture_default_str();
-  cmd->add_option("--test-seed", o->test_seed, "Seed of the test recording")->capture_default_str();
+  cmd->add_option("--test-seed", o->lab.test_seed, "Seed of the test recording")
+      ->capture_default_str();
   cmd->add_option(
          "--design", o->design,
          "thesis (A~ M x N_bin, and the thesis' settings: features ue_q_v, 5 bins, no "
@@ -150,38 +121,43 @@ void register_eval_forces(CLI::App& app) {
                   "in the surface frame at q)")
       ->capture_default_str()
       ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
-  cmd->add_option("--bins", o->params.bins, "Bins by ||q - p||")
+  cmd->add_option("--bins", o->lab.params.bins, "Bins by ||q - p||")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
-  cmd->add_option("--centers", o->params.centers, "M per bin")
+  cmd->add_option("--centers", o->lab.params.centers, "M per bin")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--lambda-ratio", o->params.lambda_ratio, "lambda / ||A~^T f~||_inf")
+  cmd->add_option("--lambda-ratio", o->lab.params.lambda_ratio, "lambda / ||A~^T f~||_inf")
       ->capture_default_str();
-  cmd->add_option("--seed", o->params.seed, "k-means++ seed")->capture_default_str();
-  cli::add_switch(*cmd, "tail", o->params.linear_tail, "Linear tail on every expansion");
+  cmd->add_option("--seed", o->lab.params.seed, "k-means++ seed")->capture_default_str();
+  cli::add_switch(*cmd, "tail", o->lab.params.linear_tail, "Linear tail on every expansion");
   cmd->add_option(
-      "--feature-weights", o->params.feature_weights,
+      "--feature-weights", o->lab.params.feature_weights,
       "Weights of the feature groups (q - p, q, pdot) after standardisation (default 1 5 0.5)");
-  cmd->add_option("--bin-blend", o->params.bin_blend,
+  cmd->add_option("--bin-blend", o->lab.params.bin_blend,
                   "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard switch)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  add_local_training_flags(*cmd, o->params, "default on");
-  cmd->add_option("--ridge", o->params.ridge, "Relative Tikhonov term of the CG debiasing")
+  add_local_training_flags(*cmd, o->lab.params, "default on");
+  cmd->add_option("--ridge", o->lab.params.ridge, "Relative Tikhonov term of the CG debiasing")
       ->capture_default_str();
-  cmd->add_option("--box-margin", o->params.box_margin,
+  cmd->add_option("--box-margin", o->lab.params.box_margin,
                   "Clamping box margin (fraction of the range)")
       ->capture_default_str();
-  cmd->add_option("--threads", o->params.threads, "Training threads (0 = all cores)")
+  cmd->add_option("--threads", o->lab.params.threads, "Training threads (0 = all cores)")
       ->capture_default_str();
-  cmd->add_option("--keep", o->keep, "Folder to keep the recordings, truth and models in");
+  cmd->add_option("--keep", o->lab.keep, "Folder to keep the recordings, truth and models in");
   add_lab_run_flags(*cmd, *o);
-  cli::add_switch(*cmd, "baselines", o->baselines,
+  cli::add_switch(*cmd, "baselines", o->lab.baselines,
                   "Also train the no-proxy and onset-proxy models (off: their fields are null)");
-  cmd->add_flag("--quick", o->quick, "Recordings 2x shorter (a smoke test, not the evaluation)");
+  cmd->add_flag("--quick", o->lab.quick,
+                "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o, cmd] {
-    if (o->design == "thesis") apply_thesis_defaults(*o, *cmd);
+    if (o->design == "thesis") {  // the thesis' settings unless given
+      auto given = [cmd](const std::string& flag) { return cmd->count(flag) > 0; };
+      if (!given("--features")) o->features = "ue_q_v";
+      apply_thesis_settings(o->lab.params, given);
+    }
     run_eval_forces(*o);
   });
 }

@@ -12,15 +12,16 @@
 #include <vector>
 
 #include "command.hpp"
-#include "demo/demo_strokes.hpp"
 #include "inhap/contact/contact_io.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/eval/contacts_lab.hpp"
+#include "inhap/eval/lab_objects.hpp"
 #include "inhap/eval/shape_lab.hpp"
 #include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
+#include "inhap/report/strokes.hpp"
 #include "inhap/surface/compare.hpp"
 
 namespace {
@@ -30,18 +31,11 @@ using namespace inhap::cli;
 using namespace inhap::eval;
 using json = nlohmann::json;
 
-json to_json(const ErrorSummary& s) {
-  return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
-}
-
 // --- eval contacts ----------------------------------------------------------------------------
 
 struct EvalContactsArgs {
+  ContactObjectOptions o;  // taps, seed, eps, window (flags; physics below)
   std::string json_out;
-  std::size_t taps = 100;
-  std::uint64_t seed = 1;
-  double eps = 0.2;
-  std::size_t window = 100;
   std::string physics = "builtin";
 };
 
@@ -49,11 +43,7 @@ void run_eval_contacts(const EvalContactsArgs& a) {
   json objects = json::array();
   fmt::print("{:<21} {:>8} {:>5} | {:>25} | {:>25} | {:>5}\n", "object", "k N/mm", "taps",
              "estimate mm (med/p95/max)", "threshold mm (med/p95/max)", "ratio");
-  ContactObjectOptions o;
-  o.taps = a.taps;
-  o.seed = a.seed;
-  o.eps = a.eps;
-  o.window = a.window;
+  ContactObjectOptions o = a.o;
   o.physics = lab::physics_from_string(a.physics);
   for (const std::string& name : lab::tapping_scene_names()) {
     o.progress = [&](const std::string&, double f, double) {
@@ -70,18 +60,9 @@ void run_eval_contacts(const EvalContactsArgs& a) {
         "{:>5.1f}\n",
         name, r.stiffness_n_per_mm, r.taps, se.median, se.p95, se.max, st.median, st.p95, st.max,
         se.median > 0 ? st.median / se.median : 0.0);
-    objects.push_back({{"name", name},
-                       {"stiffness_n_per_mm", r.stiffness_n_per_mm},
-                       {"taps", r.taps},
-                       {"false_detections", r.false_detections},
-                       {"estimate_mm", to_json(se)},
-                       {"threshold_mm", to_json(st)}});
+    objects.push_back(contact_object_json(r));
   }
-  const json out = {{"objects", objects},
-                    {"units", "mm; stiffness N/mm (effective, at 5 N)"},
-                    {"eps_f_n", a.eps},
-                    {"window_samples", a.window},
-                    {"seed", a.seed}};
+  const json out = contacts_run_json(objects, o.eps, o.window, o.seed);
   if (!a.json_out.empty()) {
     write_file_atomic(a.json_out, out.dump(2) + "\n");
     fmt::print("wrote {}\n", a.json_out);
@@ -91,12 +72,10 @@ void run_eval_contacts(const EvalContactsArgs& a) {
 // --- eval shape -------------------------------------------------------------------------------
 
 struct EvalShapeArgs {
+  ShapeEvalSettings st;  // seed, protocol, comparison (flags; physics below)
   std::string json_out, out_dir, data;
   std::vector<std::string> objects;
   std::size_t taps = 0;  ///< 0: the thesis' counts
-  std::uint64_t seed = 1;
-  double region_mm = 5.0, rim_margin_mm = 1.0;
-  bool icp = false, no_normal_overlap = false, quick = false, top_only = false;
   std::string physics = "builtin";
 };
 
@@ -109,27 +88,16 @@ void write_variant(const std::string& dir, const std::string& tag, const ShapeVa
   write_mesh(dir + "/" + tag + ".mesh.ply", colored);
 }
 
-struct ShapeTarget {
-  std::string name;
-  std::size_t taps;
-};
+ShapeEvalSettings settings_of(const EvalShapeArgs& a) {
+  ShapeEvalSettings st = a.st;
+  st.physics = lab::physics_from_string(a.physics);
+  return st;
+}
 
 /// Records, reconstructs and scores one object (eval::run_shape_object); prints its row and
 /// returns its JSON.
 json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const EvalShapeArgs& a) {
-  ShapeObjectOptions o;
-  o.taps = t.taps;
-  o.seed = a.seed;
-  o.physics = lab::physics_from_string(a.physics);
-  o.tap.whole_object = !a.top_only;
-  o.compare.icp = a.icp;
-  o.compare.region_mm = a.region_mm;
-  o.compare.rim_margin_mm = a.rim_margin_mm;
-  o.compare.normal_overlap = !a.no_normal_overlap;
-  o.compare.uncropped_reconstruction = !a.top_only;
-  o.score_reachable_part = !a.top_only;
-  o.coverage_samples = a.quick ? 5000 : 20000;
-  o.count_entry_sides = true;
+  ShapeObjectOptions o = shape_object_options(t.taps, settings_of(a));
   o.progress = [&](const std::string&, double f, double) {
     cli::progress("eval shape " + t.name, f, 0);
   };
@@ -145,26 +113,7 @@ json eval_shape_object(const ShapeTarget& t, const lab::Scene& scene, const Eval
       "{:>5}\n",
       t.name, e.points, e.vertices, e.faces, e.cmp.hausdorff, s.cmp.hausdorff, e.cmp.mean,
       s.cmp.mean, r.coverage, r.taps_per_minute, r.sides.far_side_first_contacts);
-  auto side = [](const OneSided& d) { return json{{"max", d.max}, {"mean", d.mean}}; };
-  return {
-      {"name", t.name},
-      {"points", e.points},
-      {"vertices", e.vertices},
-      {"faces", e.faces},
-      {"hausdorff_mm", {{"estimate", e.cmp.hausdorff}, {"threshold", s.cmp.hausdorff}}},
-      {"mean_mm", {{"estimate", e.cmp.mean}, {"threshold", s.cmp.mean}}},
-      {"rms_mm", {{"estimate", e.cmp.rms}, {"threshold", s.cmp.rms}}},
-      {"threshold_variant", {{"points", s.points}, {"vertices", s.vertices}, {"faces", s.faces}}},
-      {"coverage", r.coverage},
-      {"taps_per_minute", r.taps_per_minute},
-      {"recording_s", r.recording_s},
-      {"reconstruction_to_reference_mm",
-       {{"estimate", side(e.cmp.a_to_b)}, {"threshold", side(s.cmp.a_to_b)}}},
-      {"reference_to_reconstruction_mm",
-       {{"estimate", side(e.cmp.b_to_a)}, {"threshold", side(s.cmp.b_to_a)}}},
-      {"episodes", r.sides.episodes},
-      {"far_side_first_contacts", r.sides.far_side_first_contacts},
-      {"force_reversals", r.sides.force_reversals}};
+  return shape_object_json(t.name, r);
 }
 
 void run_eval_shape(const EvalShapeArgs& a) {
@@ -174,26 +123,17 @@ void run_eval_shape(const EvalShapeArgs& a) {
   if (!a.out_dir.empty()) folder.emplace(a.out_dir);
   if (!a.json_out.empty()) check_output_path(a.json_out);
   OutputTransaction tx;
-  std::vector<ShapeTarget> targets = {
-      {"foam-ball", 1000}, {"ridged-silicone", 950}, {"silicone-hemisphere", 300}, {"bunny", 1000}};
-  if (a.top_only) targets.pop_back();  // the top-cap protocol has no bunny
   json objects = json::array();
   fmt::print("{:<21} {:>6} {:>8} {:>8} | {:>21} | {:>21} | {:>8} {:>7} {:>5}\n", "object", "points",
              "vertices", "faces", "hausdorff mm est/thr", "mean mm est/thr", "coverage", "taps/min",
              "far");
-  for (ShapeTarget t : targets) {
-    if (!a.objects.empty() &&
-        std::find(a.objects.begin(), a.objects.end(), t.name) == a.objects.end())
-      continue;
-    if (a.taps > 0)
-      t.taps = a.taps;
-    else if (a.quick)
-      t.taps = std::max<std::size_t>(60, t.taps / 5);
-    const lab::Scene scene = t.name == "bunny"
-                                 ? bunny_scene((std::filesystem::path(demo::find_data_dir(a.data)) /
-                                                "bunny" / "bun_zipper.ply")
-                                                   .string())
-                                 : lab::builtin_scene(t.name);
+  for (const ShapeTarget& t : shape_targets(a.st.top_only, a.objects, a.taps, a.st.quick)) {
+    const std::string bunny =  // only the bunny needs the data folder
+        t.name != "bunny"
+            ? std::string()
+            : (std::filesystem::path(report::find_data_dir(a.data)) / "bunny" / "bun_zipper.ply")
+                  .string();
+    const lab::Scene scene = shape_target_scene(t.name, bunny);
     const lab::Physics physics = lab::physics_from_string(a.physics);
     if (physics == lab::Physics::kMujoco && !lab::mujoco_represents(scene.object.shape())) {
       fmt::print("{:<21} skipped: MuJoCo cannot represent a {} shape\n", t.name,
@@ -202,17 +142,7 @@ void run_eval_shape(const EvalShapeArgs& a) {
     }
     objects.push_back(eval_shape_object(t, scene, a));
   }
-  const json out = {
-      {"objects", objects},
-      {"units", "mm; coverage: share of the reachable surface within 5 mm of a tap"},
-      {"protocol", a.top_only ? "top caps (region seen from above)" : "whole objects"},
-      {"common_region",
-       fmt::format("reference within {} mm of the true contact points, overlap only; the "
-                   "reconstruction {}",
-                   a.region_mm, a.top_only ? "cropped likewise" : "uncropped")},
-      {"icp", a.icp},
-      {"normal_overlap", !a.no_normal_overlap},
-      {"seed", a.seed}};
+  const json out = shape_run_json(objects, settings_of(a));
   if (!a.json_out.empty()) write_file_atomic(a.json_out, out.dump(2) + "\n");
   tx.commit();
   if (folder) folder->keep();
@@ -228,13 +158,13 @@ void register_eval_shape(CLI::App& app) {
       "Thesis fig. 3.4: contact-point error (mm) of true-contact estimation and of plain\n"
       "thresholding on the five lab tapping objects (tip probe, simulated operator).");
   contacts->add_option("--json", c->json_out, "write the numbers as JSON");
-  contacts->add_option("--taps", c->taps, "taps per object")->check(CLI::Range(1, 100000));
-  contacts->add_option("--seed", c->seed, "random seed of the lab (same seed, same numbers)");
+  contacts->add_option("--taps", c->o.taps, "taps per object")->check(CLI::Range(1, 100000));
+  contacts->add_option("--seed", c->o.seed, "random seed of the lab (same seed, same numbers)");
   cli::add_physics_option(*contacts, c->physics,
                           "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent "
                           "are skipped)");
-  contacts->add_option("--eps", c->eps, "contact threshold, N")->check(CLI::PositiveNumber);
-  contacts->add_option("--window", c->window, "knee-fit window, samples")
+  contacts->add_option("--eps", c->o.eps, "contact threshold, N")->check(CLI::PositiveNumber);
+  contacts->add_option("--window", c->o.window, "knee-fit window, samples")
       ->check(CLI::Range(4, 100000));
   contacts->callback([c] { run_eval_contacts(*c); });
 
@@ -248,7 +178,7 @@ void register_eval_shape(CLI::App& app) {
       "reconstruction uncropped, the reference cropped to the tapped part; coverage = share of\n"
       "the reachable surface within 5 mm of a tap; taps per simulated minute.");
   shape->add_option("--json", s->json_out, "write the numbers as JSON");
-  shape->add_option("--seed", s->seed, "random seed of the lab");
+  shape->add_option("--seed", s->st.seed, "random seed of the lab");
   cli::add_physics_option(
       *shape, s->physics,
       "lab contact physics: builtin | mujoco (objects MuJoCo cannot represent are "
@@ -260,26 +190,26 @@ void register_eval_shape(CLI::App& app) {
       ->add_option("--taps", s->taps,
                    "taps per object instead of the thesis' 1000/950/300 (bunny 1000)")
       ->check(CLI::Range(20, 100000));
-  shape->add_flag("--quick", s->quick,
+  shape->add_flag("--quick", s->st.quick,
                   "a fifth of the taps (at least 60) and a coarser coverage estimate (tests)");
-  shape->add_flag("--top-only", s->top_only,
+  shape->add_flag("--top-only", s->st.top_only,
                   "the earlier protocol: taps on the region seen from above, both sides cropped");
   shape->add_option("--data", s->data,
                     "folder with bunny/bun_zipper.ply (default: INHAP_DATA, else data/ near the "
                     "program)");
   shape
-      ->add_option("--region", s->region_mm,
+      ->add_option("--region", s->st.region_mm,
                    "common region: reference within this distance of the true contact points, mm")
       ->check(CLI::PositiveNumber);
   shape
-      ->add_option("--rim-margin", s->rim_margin_mm,
+      ->add_option("--rim-margin", s->st.rim_margin_mm,
                    "common region: drop reference samples whose closest point on the\n"
                    "reconstruction is within this distance of its rim, mm")
       ->check(CLI::NonNegativeNumber);
-  shape->add_flag("--no-normal-overlap", s->no_normal_overlap,
+  shape->add_flag("--no-normal-overlap", s->st.no_normal_overlap,
                   "common region: keep samples whose normal line misses the other surface (the\n"
                   "rim test alone, as before; counts e.g. the slab's untapped end walls)");
-  shape->add_flag("--icp", s->icp, "ICP-align each reconstruction onto the reference first");
+  shape->add_flag("--icp", s->st.icp, "ICP-align each reconstruction onto the reference first");
   shape->add_option(
       "--out-dir", s->out_dir,
       "also write points, meshes (vertex property 'error', mm) and references (created if\n"

@@ -32,12 +32,7 @@ void run_eval_strokes(EvalStrokesOptions o) {
     throw Error(
         "eval strokes: no data/ folder found; give --data DIR (with afm-topography/, "
         "bunny/, headsq/)");
-  eval::StrokesConfig cfg;
-  cfg.speeds_mm_s = o.quick ? std::vector<double>{20.0} : o.speeds;
-  cfg.force_n = o.force;
-  cfg.seed = o.seed;
-  for (double v : cfg.speeds_mm_s)
-    if (!(v > 0)) throw Error(fmt::format("--speeds: expected speeds > 0 mm/s, got {}", v));
+  const eval::StrokesConfig cfg = eval::strokes_config(o.speeds, o.force, o.seed, o.quick);
   const std::vector<rendering::RealDataset> sets = rendering::load_real_datasets(dir);
   std::vector<eval::DatasetResult> results;
   fmt::print("{}", eval::strokes_table_header());

@@ -20,21 +20,14 @@ using namespace inhap::eval;
 using nlohmann::json;
 
 struct EvalSysOptions {
+  SysLabOptions lab;  // seconds, seed, quick, physics (flags)
   std::string json;
   std::string scenes = "planar,dome";
-  double seconds = 60.0;
-  std::uint64_t seed = 1;
-  bool quick = false;
-  std::string physics = "builtin";  ///< lab contact physics
 };
 
 json eval_scene(const std::string& name, const EvalSysOptions& o) {
-  SysLabOptions so;
+  SysLabOptions so = o.lab;
   so.scene = name;
-  so.seconds = o.seconds;
-  so.seed = o.seed;
-  so.quick = o.quick;
-  so.physics = o.physics;
   so.progress = cli::progress;
   return sys_lab_json(name, evaluate_sys_on_lab(so));
 }
@@ -58,12 +51,12 @@ void register_eval_sys(CLI::App& app) {
       "tangential anchor. Units: mm, N, s.");
   cmd->add_option("--json", o->json, "write the results as JSON to this file");
   cmd->add_option("--scenes", o->scenes, "comma-separated built-in scenes")->capture_default_str();
-  cmd->add_option("--seconds", o->seconds, "length of the exploration recording, s")
+  cmd->add_option("--seconds", o->lab.seconds, "length of the exploration recording, s")
       ->capture_default_str();
-  cli::add_physics_option(*cmd, o->physics, "lab contact physics: builtin | mujoco");
-  cmd->add_option("--seed", o->seed, "seed of the device noise and the operator")
+  cli::add_physics_option(*cmd, o->lab.physics, "lab contact physics: builtin | mujoco");
+  cmd->add_option("--seed", o->lab.seed, "seed of the device noise and the operator")
       ->capture_default_str();
-  cmd->add_flag("--quick", o->quick,
+  cmd->add_flag("--quick", o->lab.quick,
                 "4 (3) reference points, f_N 1 and 3 N, 4 directions, 10 s (tests)");
   cmd->callback([o] { run_eval_sys(*o); });
 }

@@ -13,22 +13,14 @@ namespace inhap::cli {
 namespace {
 
 struct EvalTcaOptions {
-  std::uint64_t seed = 1;
-  int participants = 16, trials = 5, threads = 2;
+  eval::TcaStudyOptions study;  // seed, participants, trials, threads (flags)
   bool quick = false;
   std::string json, afm;
 };
 
 void run_eval_tca(EvalTcaOptions o) {
-  if (o.quick) {
-    o.participants = std::min(o.participants, 4);
-    o.trials = std::min(o.trials, 2);
-  }
-  eval::TcaStudyOptions so;
-  so.seed = o.seed;
-  so.participants = o.participants;
-  so.trials = o.trials;
-  so.threads = o.threads;
+  eval::TcaStudyOptions& so = o.study;
+  if (o.quick) so.participants = std::min(so.participants, 4), so.trials = std::min(so.trials, 2);
   so.progress = [](const std::string&, double f, double eta) { progress("eval tca", f, eta); };
   const eval::TcaEvalReport r = eval::run_tca_eval(so, o.afm);
   fmt::print("{}", eval::tca_eval_text(r));
@@ -45,13 +37,14 @@ void register_eval_tca(CLI::App& app) {
       "and label shape (bump/hole/flat) and stiffness (harder/softer/same). Also times the servo "
       "step on a\n"
       "131,072-triangle height map. Units: mm, N, N/mm, s; step times in microseconds.");
-  cmd->add_option("--seed", opt->seed, "Seed of participants and layouts")->capture_default_str();
-  cmd->add_option("--participants", opt->participants, "Number of virtual participants")
+  cmd->add_option("--seed", opt->study.seed, "Seed of participants and layouts")
       ->capture_default_str();
-  cmd->add_option("--trials", opt->trials,
+  cmd->add_option("--participants", opt->study.participants, "Number of virtual participants")
+      ->capture_default_str();
+  cmd->add_option("--trials", opt->study.trials,
                   "Trials per session (one session per algorithm and task)")
       ->capture_default_str();
-  cmd->add_option("--threads", opt->threads, "Worker threads (participants run in parallel)")
+  cmd->add_option("--threads", opt->study.threads, "Worker threads (participants run in parallel)")
       ->capture_default_str();
   cmd->add_flag("--quick", opt->quick, "At most 4 participants x 2 trials");
   cmd->add_option("--json", opt->json, "Write the results as JSON to this file");

@@ -18,15 +18,12 @@ using namespace inhap;
 using namespace inhap::lab;
 
 struct RecordArgs {
-  std::string scene, scene_file, op = "explore", out, probe = "sphere", physics = "builtin";
-  double seconds = 60;
-  std::uint64_t seed = 1;
-  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false,
-       coverage = false;
+  eval::LabRecordRequest req;
+  std::string scene, scene_file, out;
 };
 
-constexpr double kLongRecordingS = 600.0, kMaxRecordingS = 3600.0;
-constexpr double kBytesPerTick = 400.0;  // a recording row plus its truth row, roughly
+constexpr double kMaxRecordingS = 3600.0;
+using eval::kBytesPerTick;
 
 void run_scenes() {
   fmt::print("{}", eval::scenes_table());
@@ -34,33 +31,12 @@ void run_scenes() {
 
 void run_record(const RecordArgs& a) {
   const Scene scene = eval::pick_scene(a.scene, a.scene_file);
-  RecordSpec spec;
-  spec.operator_name = a.op;
-  spec.seconds = a.seconds;
-  spec.seed = a.seed;
-  if (a.probe == "tip")
-    spec.probe = ProbeSpec::tip();
-  else if (a.probe == "sphere")
-    spec.probe = ProbeSpec::sphere();
-  else
-    throw Error(fmt::format("--probe: expected sphere or tip, got '{}'", a.probe));
-  spec.noise = !a.no_noise;
-  spec.gravity = !a.no_gravity;
-  spec.inertia = !a.no_inertia;
-  spec.tap.whole_object = a.whole_object;
-  if (a.coverage && a.op != "explore")
-    throw Error(fmt::format("--coverage: expected --operator explore, got '{}'", a.op));
-  spec.explore.coverage = a.coverage;
+  const RecordSpec spec = eval::lab_record_spec(a.req);
   // Both outputs are checked before the simulation (which may take minutes) and written
   // all-or-nothing after it.
   check_output_path(a.out);
   check_output_path(truth_path_for(a.out));
-  if (a.seconds > kLongRecordingS)
-    fmt::print(stderr,
-               "note: {:g} s at 1 kHz is {:.0f} rows, about {:.1f} GB of CSV (recording and "
-               "truth)\n",
-               a.seconds, a.seconds * 1000.0, a.seconds * 1000.0 * kBytesPerTick / 1e9);
-  spec.physics = physics_from_string(a.physics);
+  fmt::print(stderr, "{}", eval::long_recording_note(a.req.seconds));
   const auto t0 = std::chrono::steady_clock::now();
   const std::string what = fmt::format("lab record {}", scene.name);
   const LabRecording lab = record_scene(scene, spec, [&](const std::string&, double f, double) {
@@ -101,35 +77,36 @@ void register_lab(CLI::App& app) {
       "plus its ground truth beside it (OUT.truth.csv).");
   rec->add_option("--scene", a->scene, "built-in scene (see `inhap lab scenes`)");
   rec->add_option("--scene-file", a->scene_file, "scene JSON file");
-  rec->add_option("--operator", a->op, "tap | explore | air")
+  rec->add_option("--operator", a->req.op, "tap | explore | air")
       ->capture_default_str()
       ->check(CLI::IsMember({"tap", "explore", "air"}));
-  rec->add_option("--seconds", a->seconds,
+  rec->add_option("--seconds", a->req.seconds,
                   fmt::format("length of the recording, s (at most {:g}: about {:.0f} MB per "
                               "minute of CSV)",
                               kMaxRecordingS, 60e3 * kBytesPerTick / 1e6))
       ->capture_default_str()
       ->check(CLI::Range(0.001, kMaxRecordingS));
-  rec->add_option("--seed", a->seed, "random seed (same seed, same bytes)")->capture_default_str();
+  rec->add_option("--seed", a->req.seed, "random seed (same seed, same bytes)")
+      ->capture_default_str();
   rec->add_option("--out,-o", a->out, "output CSV (truth goes to OUT.truth.csv)")->required();
-  rec->add_option("--probe", a->probe, "sphere (8 mm radius) | tip")
+  rec->add_option("--probe", a->req.probe, "sphere (8 mm radius) | tip")
       ->capture_default_str()
       ->check(CLI::IsMember({"sphere", "tip"}));
   cli::add_physics_option(
-      *rec, a->physics,
+      *rec, a->req.physics,
       "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
       "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
       "hemisphere, sphere and box shapes; docs/lab-mujoco.md)");
-  rec->add_flag("--no-noise", a->no_noise, "no force-sensor noise in the raw reading");
-  rec->add_flag("--whole-object", a->whole_object,
+  rec->add_flag("--no-noise", a->req.no_noise, "no force-sensor noise in the raw reading");
+  rec->add_flag("--whole-object", a->req.whole_object,
                 "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"
                 "excluded), spread evenly, >= 1 tap/s, instead of the region seen from above");
-  rec->add_flag("--coverage", a->coverage,
+  rec->add_flag("--coverage", a->req.coverage,
                 "explore operator: a training exploration that covers the object (a grid of\n"
                 "spots over the region, every depth at each, slides between them; then the random\n"
                 "exploration), as eval forces records its training run; see docs/force-model.md");
-  rec->add_flag("--no-gravity", a->no_gravity, "no tool weight in the raw reading");
-  rec->add_flag("--no-inertia", a->no_inertia, "no tool inertia in the raw reading");
+  rec->add_flag("--no-gravity", a->req.no_gravity, "no tool weight in the raw reading");
+  rec->add_flag("--no-inertia", a->req.no_inertia, "no tool inertia in the raw reading");
   rec->callback([a] { run_record(*a); });
 }
 

@@ -20,36 +20,18 @@ struct LabDeviceArgs {
   int port = 47110;
 };
 
-Vec3 parse_point(const std::string& s, const char* flag) {
-  Vec3 p;
-  std::size_t start = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t end = s.find(',', start);
-    const std::string tok = s.substr(start, end == std::string::npos ? end : end - start);
-    double v = 0;
-    if (!parse_double(tok, v) || (k < 2 && end == std::string::npos) ||
-        (k == 2 && end != std::string::npos))
-      throw Error(fmt::format("{}: expected X,Y,Z in mm, got {}", flag, quote_token(s)));
-    p[k] = v;
-    start = end + 1;
-  }
-  return p;
-}
-
 void run_lab_device(LabDeviceArgs a) {
   if (a.port < 1 || a.port > 65535) throw Error("--port: expected 1-65535");
   a.o.port = static_cast<std::uint16_t>(a.port);
   a.o.probe = a.probe == "tip" ? lab::ProbeSpec::tip() : lab::ProbeSpec::sphere();
-  if (!a.place.empty()) a.o.place = parse_point(a.place, "--place");
+  if (Vec3 p; !a.place.empty()) {
+    if (!parse_number_list(a.place, 3, p.data()))
+      throw Error(fmt::format("--place: expected X,Y,Z in mm, got {}", quote_token(a.place)));
+    a.o.place = p;
+  }
   a.o.progress = [](const std::string& what, double f, double eta) { progress(what, f, eta); };
-  fmt::print(stderr, "inhap lab device: scene {}, operator {}, joining inhap on {}:{}\n",
-             a.o.scene_file.empty() ? a.o.scene : a.o.scene_file, a.o.operator_name, a.o.host,
-             a.o.port);
-  const eval::LabDeviceResult r = eval::run_lab_device(a.o);
-  fmt::print(stderr,
-             "\n{} ticks, {} answered, {} time-outs (zero force){}; largest force {:.3f} N\n",
-             r.ticks, r.answered, r.timeouts, r.stopped ? ", inhap stopped the session" : "",
-             r.max_force_n);
+  fmt::print(stderr, "{}", eval::lab_device_banner(a.o));
+  fmt::print(stderr, "{}", eval::lab_device_summary(eval::run_lab_device(a.o)));
 }
 
 void register_lab_device(CLI::App& app) {

@@ -21,10 +21,7 @@ namespace inhap::cli {
 namespace {
 
 void print_warnings(const std::string& path, const std::vector<std::string>& dropped) {
-  for (const auto& name : dropped)
-    fmt::print(stderr,
-               "inhap: warning: {}: the format cannot store vertex property '{}'; it was dropped\n",
-               path, name);
+  fmt::print(stderr, "{}", dropped_properties_text(path, dropped));
 }
 
 // ------------------------------------------------------------------------------------ info
@@ -49,71 +46,23 @@ struct ConvertOptions {
 
 void run_convert(const ConvertOptions& o) {
   TriMesh m = read_mesh(o.in);
-  if (!o.stiffness_from.empty()) {
-    if (o.k_range.size() != 2) throw Error("--stiffness-from needs --k-range KMIN KMAX (N/mm)");
-    if (!(o.k_range[0] >= 0) || !(o.k_range[1] >= o.k_range[0]) || !std::isfinite(o.k_range[1]))
-      throw Error(fmt::format("--k-range: expected 0 <= KMIN <= KMAX N/mm, got {} {}", o.k_range[0],
-                              o.k_range[1]));
-    m.set_property("stiffness",
-                   map_linear(m.property(o.stiffness_from), o.k_range[0], o.k_range[1]));
-  } else if (!o.k_range.empty()) {
-    throw Error("--k-range needs --stiffness-from PROP");
-  }
+  stiffness_from_property(m, o.stiffness_from, o.k_range);
   scale_and_center(m, o.scale_to, o.center, o.in);
   print_warnings(o.out, write_mesh(o.out, m, MeshWriteOptions{.ascii = o.ascii}));
-  Box3 nb = m.bbox();
-  fmt::print(
-      "wrote {}: {} vertices, {} faces, size {:.4g} x {:.4g} x {:.4g} mm{}\n", o.out,
-      m.num_vertices(), m.num_triangles(), nb.size().x(), nb.size().y(), nb.size().z(),
-      m.has_property("stiffness")
-          ? fmt::format(
-                ", stiffness in [{:.4g}, {:.4g}] N/mm",
-                *std::min_element(m.property("stiffness").begin(), m.property("stiffness").end()),
-                *std::max_element(m.property("stiffness").begin(), m.property("stiffness").end()))
-          : std::string());
+  fmt::print("{}", mesh_written_text(o.out, m));
 }
 
 // ------------------------------------------------------------------------------- heightmap
 struct HeightmapOptions {
-  std::string height, stiffness, out;
-  double spacing = 0, height_scale = 1.0;
-  int downsample = 1;
-  std::vector<double> k_range, k_from_height;
-  bool level = false, ascii = false;
+  HeightmapMeshOptions map;
+  std::string out;
+  bool ascii = false;
 };
 
 void run_heightmap(const HeightmapOptions& o) {
-  Grid h = read_grid(o.height);
-  for (auto& v : h.values) v *= o.height_scale;
-  if (o.level) level_plane(h);
-  std::unique_ptr<Grid> k;
-  if (!o.stiffness.empty() && !o.k_from_height.empty())
-    throw Error("give either --stiffness MAP or --stiffness-from-height KMIN KMAX, not both");
-  if (!o.stiffness.empty()) {
-    k = std::make_unique<Grid>(read_grid(o.stiffness));
-    if (o.k_range.size() == 2)  // map the map's raw levels [min, max] linearly onto the range
-      k->values = map_linear(k->values, o.k_range[0], o.k_range[1]);
-  } else if (o.k_from_height.size() == 2) {
-    k = std::make_unique<Grid>(h);
-    k->values = map_linear(h.values, o.k_from_height[0], o.k_from_height[1]);
-  }
-  double spacing = o.spacing;
-  if (k && (k->width != h.width || k->height != h.height))
-    throw Error(
-        fmt::format("stiffness map {} is {}x{} but the height map is {}x{}: they must be "
-                    "the same size",
-                    o.stiffness, k->width, k->height, h.width, h.height));
-  if (o.downsample > 1) {  // after levelling and the stiffness mapping: same result per block
-    h = downsample(h, o.downsample);
-    if (k) *k = downsample(*k, o.downsample);
-    spacing *= o.downsample;
-  }
-  TriMesh m = grid_to_mesh(h, spacing, k.get());
-  print_warnings(o.out, write_mesh(o.out, m, MeshWriteOptions{.ascii = o.ascii}));
-  Box3 b = m.bbox();
-  fmt::print("wrote {}: {}x{} grid, {} vertices, {} triangles, size {:.4g} x {:.4g} x {:.4g} mm\n",
-             o.out, h.width, h.height, m.num_vertices(), m.num_triangles(), b.size().x(),
-             b.size().y(), b.size().z());
+  const HeightmapMesh h = heightmap_mesh(o.map);
+  print_warnings(o.out, write_mesh(o.out, h.mesh, MeshWriteOptions{.ascii = o.ascii}));
+  fmt::print("{}", heightmap_written_text(o.out, h));
 }
 
 void register_mesh(CLI::App& app) {
@@ -157,23 +106,23 @@ void register_mesh(CLI::App& app) {
       "Height map (+ optional stiffness map of the same size) -> triangle mesh.\n"
       "A WxH grid gives 2(W-1)(H-1) triangles; vertex (x*spacing, y*spacing, height).\n"
       "Grids: CSV of numbers (one row per line) or PGM (P2/P5, 8/16-bit).");
-  ch->add_option("HEIGHT", hm->height, "Height map file; values in mm (times --height-scale)")
+  ch->add_option("HEIGHT", hm->map.height, "Height map file; values in mm (times --height-scale)")
       ->required();
-  ch->add_option("--stiffness", hm->stiffness,
+  ch->add_option("--stiffness", hm->map.stiffness,
                  "Stiffness map file, N/mm (or raw levels mapped by --k-range)");
-  ch->add_option("--k-range", hm->k_range,
+  ch->add_option("--k-range", hm->map.k_range,
                  "KMIN KMAX: map the stiffness map's min..max linearly to N/mm")
       ->expected(2);
-  ch->add_option("--stiffness-from-height", hm->k_from_height,
+  ch->add_option("--stiffness-from-height", hm->map.k_from_height,
                  "KMIN KMAX: stiffness linear in height (lowest..highest), N/mm")
       ->expected(2);
-  ch->add_option("--spacing", hm->spacing, "Pixel spacing, mm")
+  ch->add_option("--spacing", hm->map.spacing_mm, "Pixel spacing, mm")
       ->required()
       ->check(CLI::PositiveNumber);
-  ch->add_option("--height-scale", hm->height_scale,
+  ch->add_option("--height-scale", hm->map.height_scale,
                  "Multiply height values by this to get mm (default 1)");
-  ch->add_flag("--level", hm->level, "Remove the best-fitting plane (level the tilt)");
-  ch->add_option("--downsample", hm->downsample,
+  ch->add_flag("--level", hm->map.level, "Remove the best-fitting plane (level the tilt)");
+  ch->add_option("--downsample", hm->map.downsample,
                  "K: average KxK pixel blocks (spacing becomes K*spacing), e.g. 2 turns a\n"
                  "512x512 AFM scan (522,242 triangles) into 256x256 (130,050)")
       ->check(CLI::Range(1, 4096));

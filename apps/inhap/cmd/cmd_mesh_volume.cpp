@@ -3,12 +3,12 @@
 // cube. Units: mm, N/mm.
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <memory>
 
 #include "command.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "inhap/geometry/mesh_report.hpp"
 #include "inhap/geometry/volume.hpp"
 
 namespace inhap::cli {
@@ -43,23 +43,10 @@ void run_from_volume(const FromVolumeOptions& o) {
   HeadModel head = head_from_volume(vol, ho);
   const double scale = fit_head(head, o.fit_mm);
   const TriMesh& m = head.mesh;
-  const auto& k = m.property("stiffness");
-  const auto [klo, khi] = std::minmax_element(k.begin(), k.end());
-  fmt::print("skin        iso {}: {} components, kept the largest: {} triangles, {} vertices\n",
-             o.iso, head.skin_components, m.num_triangles(), m.num_vertices());
-  fmt::print("bone        iso {}: {} triangles\n", o.bone_iso, head.bone_triangles);
-  fmt::print(
-      "stiffness   {:.3f} .. {:.3f} N/mm, inverse to the skin-to-bone distance (k_max up to {:.1f} "
-      "mm, k_min from {:.1f} mm)\n",
-      *klo, *khi, ho.k_min / ho.k_max * head.distance_far_mm, head.distance_far_mm);
-  const Vec3 s = m.bbox().size();
-  fmt::print("scaled      x{:.4g} into {:.1f} x {:.1f} x {:.1f} mm\n", scale, s.x(), s.y(), s.z());
+  fmt::print("{}", head_summary_text(head, ho, scale));
   MeshWriteOptions wo;
   wo.ascii = o.ascii;
-  for (const auto& name : write_mesh(o.out, m, wo))
-    fmt::print(stderr,
-               "inhap: warning: {}: the format cannot store vertex property '{}'; it was dropped\n",
-               o.out, name);
+  fmt::print(stderr, "{}", dropped_properties_text(o.out, write_mesh(o.out, m, wo)));
   fmt::print("wrote       {}\n", o.out);
 }
 

@@ -6,7 +6,6 @@
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
-#include "inhap/core/csv.hpp"
 #include "inhap/core/device.hpp"
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/model_io.hpp"
@@ -44,7 +43,8 @@ void run_train(TrainOptions o) {
   o.file.on_note = [](const std::string& note) { fmt::print(stderr, "inhap: {}\n", note); };
   const eval::TrainFileResult r = eval::train_from_file(o.file);
   save_force_model(o.out, r.model);
-  fmt::print(stderr, "inhap: {}\n", eval::range_note(r.model, r.set, o.file.force_limit_n));
+  fmt::print(stderr, "inhap: {}\n",
+             eval::range_note(r.model.provenance, r.set, o.file.force_limit_n));
   for (const std::string& line : eval::write_training_coverage(r.set, coverage_path_for(o.out)))
     fmt::print(stderr, "inhap: {}\n", line);
   fmt::print("{}model -> {}\n", eval::train_summary(r.model, o.verbose), o.out);
@@ -60,35 +60,14 @@ void run_eval(const ReplayOptions& o) {
   const eval::ModelEvalResult r = eval::evaluate_model_file(o.model, o.recording, o.proxy, o.mesh);
   fmt::print(stderr, "inhap: {}\n", eval::support_note(r.support));
   if (!o.json.empty()) write_file_atomic(o.json, r.json.dump(1) + "\n");
-  const ForceErrors& e = r.errors;
-  fmt::print(
-      "{} contact samples: RMSE x/y/z {:.3f} {:.3f} {:.3f} N, median AE x/y/z {:.3f} {:.3f} {:.3f} "
-      "N, "
-      "RE mean {:.3f} median {:.3f}\n",
-      e.n, e.rmse[0], e.rmse[1], e.rmse[2], e.ae_axis_median[0], e.ae_axis_median[1],
-      e.ae_axis_median[2], e.re_mean, e.re_median);
-  if (r.above_force_limit > 0)
-    fmt::print(
-        "{} contact samples measured above the {:.2f} N render clamp (device limit): the "
-        "rendered force is capped there\n",
-        r.above_force_limit, r.force_limit_n);
+  fmt::print("{}", eval::model_eval_text(r));
 }
 
 void run_render(const ReplayOptions& o) {
-  const ForceModel m = load_force_model(o.model);
+  const TrainedForceModel m = load_trained_force_model(o.model);
   const eval::ReplayedFile r = eval::replay_file(o.model, m, o.recording, o.proxy, o.mesh);
   fmt::print(stderr, "inhap: {}\n", eval::support_note(eval::support_share(o.model, r)));
-  const std::vector<std::string> comments{
-      "units: t s, p mm, f (rendered) N, mf (measured) N",
-      fmt::format("rendered by inhap model render from {} with {}", o.recording, o.model)};
-  CsvWriter w(o.out, {"t", "px", "py", "pz", "fx", "fy", "fz", "mfx", "mfy", "mfz", "contact"},
-              comments);
-  for (std::size_t i = 0; i < r.rec.size(); ++i) {
-    const Vec3 &p = r.rec.p[i], &f = r.forces[i], &mf = r.rec.f[i];
-    w.row({r.rec.t[i], p.x(), p.y(), p.z(), f.x(), f.y(), f.z(), mf.x(), mf.y(), mf.z(),
-           r.track.contact[i] ? 1.0 : 0.0});
-  }
-  w.commit();
+  eval::write_rendered_csv(o.out, r, o.recording, o.model);
   fmt::print("{} samples rendered -> {}\n", r.rec.size(), o.out);
 }
 

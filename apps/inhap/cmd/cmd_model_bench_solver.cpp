@@ -22,21 +22,14 @@ struct BenchSolverOptions : eval::SolverBenchOptions {
   std::vector<std::string> problems{"r3_cube", "r3_cube_normalised", "force_model"};
 };
 
-ordered_json bench_problem(const std::string& name, const BenchSolverOptions& o) {
-  const eval::SolverBenchResult r = eval::bench_l1_solver(name, o);
-  fmt::print("{}\n", eval::solver_bench_line(r));
-  return eval::solver_bench_json(r);
-}
-
 void run_bench_solver(const BenchSolverOptions& o) {
-  ordered_json out;
-  out["units"] = {{"time", "s"}};
-  out["seed"] = o.seed;
-  out["gap_tolerance"] = o.gap_tolerance;
-  out["threads"] = o.threads;
-  out["problems"] = ordered_json::array();
-  for (const std::string& name : o.problems) out["problems"].push_back(bench_problem(name, o));
-  if (!o.json.empty()) write_file_atomic(o.json, out.dump(1) + "\n");
+  std::vector<eval::SolverBenchResult> results;
+  for (const std::string& name : o.problems) {
+    results.push_back(eval::bench_l1_solver(name, o));
+    fmt::print("{}\n", eval::solver_bench_line(results.back()));
+  }
+  if (!o.json.empty())
+    write_file_atomic(o.json, eval::solver_bench_report(o, results).dump(1) + "\n");
 }
 
 void register_bench_solver(CLI::App& app) {

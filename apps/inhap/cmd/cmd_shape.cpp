@@ -2,11 +2,9 @@
 // from a recording, mesh reconstruction, surface comparison. Units: mm, N, s, N/mm.
 #include <fmt/format.h>
 
-#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <tuple>
 
 #include "command.hpp"
 #include "inhap/contact/contact_io.hpp"
@@ -24,23 +22,14 @@ namespace {
 using namespace inhap;
 
 struct ContactsArgs {
-  std::string rec, out, csv, method = "estimate", force = "auto";
-  double eps = 0.2;
-  std::size_t window = 100, post = 0, min_contact = 5;
-  bool no_refine = false, ascii = false;
+  eval::ContactsRequest req;
+  std::string rec, out, csv;
+  bool ascii = false;
 };
 
 void run_contacts(const ContactsArgs& a) {
-  ContactOptions o;
-  o.method = a.method == "threshold" ? ContactMethod::kThreshold : ContactMethod::kEstimate;
-  o.eps_f = a.eps;
-  o.window = a.window;
-  o.post = a.post;
-  o.min_contact = a.min_contact;
-  o.refine = !a.no_refine;
-  const ForceSource source = a.force == "raw"        ? ForceSource::kRaw
-                             : a.force == "recorded" ? ForceSource::kRecorded
-                                                     : ForceSource::kAuto;
+  const ContactOptions o = eval::contact_options(a.req);
+  const ForceSource source = eval::force_source(a.req);
   check_output_path(a.out);
   if (!a.csv.empty()) check_output_path(a.csv);
   const Recording rec = read_recording(a.rec);
@@ -54,31 +43,13 @@ void run_contacts(const ContactsArgs& a) {
 }
 
 struct ReconstructArgs {
-  std::string points, out, alpha = "auto", mode = "shell", directions = "auto";
-  std::size_t taubin = 10, subdivide = 1, jet_k = 18, outlier_k = 8;
-  double outlier_sigmas = 6.0, shell_depth = 0, lambda = 0.5, mu = -0.53;
-  double max_face_normal_deg = ReconstructOptions{}.max_face_normal_deg;
+  eval::ReconstructRequest req;
+  std::string points, out, directions = "auto";
   bool ascii = false;
 };
 
 void run_reconstruct(const ReconstructArgs& a) {
-  ReconstructOptions o;
-  if (a.alpha != "auto") {
-    double v = 0;
-    if (!parse_double(a.alpha, v) || !(v > 0))
-      throw Error(fmt::format("--alpha: expected auto or a radius in mm > 0, got '{}'", a.alpha));
-    o.alpha = v;
-  }
-  o.mode = a.mode == "solid" ? SurfaceMode::kSolid : SurfaceMode::kShell;
-  o.taubin_iterations = a.taubin;
-  o.taubin_lambda = a.lambda;
-  o.taubin_mu = a.mu;
-  o.subdivisions = a.subdivide;
-  o.jet_k = a.jet_k;
-  o.outlier_k = a.outlier_k;
-  o.outlier_sigmas = a.outlier_sigmas;
-  o.shell_depth = a.shell_depth;
-  o.max_face_normal_deg = a.max_face_normal_deg;
+  const ReconstructOptions o = eval::reconstruct_options(a.req);
   const PointSet pts = read_points(a.points);
   const bool use_dirs = a.directions == "auto" && !pts.directions.empty();
   ReconstructReport rep;
@@ -88,47 +59,24 @@ void run_reconstruct(const ReconstructArgs& a) {
   MeshWriteOptions wo;
   wo.ascii = a.ascii;
   write_mesh(a.out, mesh, wo);
-  fmt::print("{}\nwrote {}\n", eval::reconstruct_summary(rep, o, a.mode, use_dirs), a.out);
+  fmt::print("{}\nwrote {}\n", eval::reconstruct_summary(rep, o, a.req.mode, use_dirs), a.out);
 }
 
 struct CompareArgs {
-  std::string a, b, json, crop_points, colored, crop_sides = "auto";
-  bool icp = false, overlap_only = false, normal_overlap = false;
-  double crop_radius = 0, crop_distance = 0, density = 4.0, rim_margin = 0;
+  eval::CompareRequest req;
+  std::string a, b, json, colored;
 };
 
 void run_compare(const CompareArgs& args) {
   const TriMesh a = read_mesh(args.a), b = read_mesh(args.b);
-  CompareOptions o;
-  o.icp = args.icp;
-  o.density = args.density;
-  o.crop_distance = args.crop_distance;
-  o.exclude_boundary = args.overlap_only;
-  o.rim_margin = args.rim_margin;
-  o.normal_overlap = args.normal_overlap;
-  if (!args.crop_points.empty()) {
-    if (!(args.crop_radius > 0)) throw Error("--crop-points needs --crop-radius MM > 0");
-    o.region = read_points(args.crop_points).points;
-    o.region_radius = args.crop_radius;
-  }
-  const bool auto_sides = args.crop_sides == "auto";
-  o.crop_sides = auto_sides ? auto_crop_sides(a, b) : crop_sides_from_string(args.crop_sides);
-  const eval::CompareReport rep{args.a,           args.b,     o,
-                                cropped_sides(o), auto_sides, compare_surfaces(a, b, o)};
-  const CompareResult& r = rep.result;
+  const eval::CompareReport rep = eval::compare_meshes(args.a, a, args.b, b, args.req);
   fmt::print("{}", eval::compare_text(rep));
   OutputTransaction tx;  // the coloured mesh and the JSON: both or neither
   if (!args.colored.empty()) {
-    TriMesh out = a;
-    for (Vec3& p : out.positions) p = r.transform.apply(p);
-    out.compute_normals();
-    out.set_property("error", r.a_vertex_error);
-    write_mesh(args.colored, out);
+    write_mesh(args.colored, eval::error_colored(a, rep.result));
     fmt::print("wrote {} (vertex property 'error', mm)\n", args.colored);
   }
-  if (!args.json.empty()) {
-    write_file_atomic(args.json, eval::compare_json(rep));
-  }
+  if (!args.json.empty()) write_file_atomic(args.json, eval::compare_json(rep));
   tx.commit();
 }
 
@@ -159,26 +107,26 @@ void add_contacts(CLI::App& shape_cmd) {
       "peak_force N, estimated 0/1). No contact: an empty PLY and a message.");
   contacts->add_option("recording", c->rec, "recording CSV")->required()->check(CLI::ExistingFile);
   contacts->add_option("--out,-o", c->out, "output point PLY")->required();
-  contacts->add_option("--method", c->method, "estimate (knee fit) | threshold")
+  contacts->add_option("--method", c->req.method, "estimate (knee fit) | threshold")
       ->capture_default_str()
       ->check(CLI::IsMember({"estimate", "threshold"}));
-  contacts->add_option("--eps", c->eps, "contact threshold on ||f||, N")
+  contacts->add_option("--eps", c->req.eps, "contact threshold on ||f||, N")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  contacts->add_option("--window", c->window, "knee-fit window before detection, samples")
+  contacts->add_option("--window", c->req.window, "knee-fit window before detection, samples")
       ->capture_default_str()
       ->check(CLI::Range(4, 100000));
-  contacts->add_option("--post", c->post, "samples after detection added to the fit window")
+  contacts->add_option("--post", c->req.post, "samples after detection added to the fit window")
       ->capture_default_str();
   contacts
-      ->add_option("--min-contact", c->min_contact,
+      ->add_option("--min-contact", c->req.min_contact,
                    "samples ||f|| must stay above eps for a tap (rejects noise spikes)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
-  contacts->add_flag("--no-refine", c->no_refine,
+  contacts->add_flag("--no-refine", c->req.no_refine,
                      "knee on a sample time only (no continuous refinement between samples)");
   contacts
-      ->add_option("--force", c->force,
+      ->add_option("--force", c->req.force,
                    "auto (raw columns compensated offline if present) | recorded | raw")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "recorded", "raw"}));
@@ -198,24 +146,24 @@ void add_reconstruct(CLI::App& shape_cmd) {
       ->required()
       ->check(CLI::ExistingFile);
   rec->add_option("--out,-o", r->out, "output mesh (.ply or .obj)")->required();
-  rec->add_option("--alpha", r->alpha,
+  rec->add_option("--alpha", r->req.alpha,
                   "auto (from the point spacing: the smallest alpha whose boundary is a closed\n"
                   "manifold of one or more components, docs/shape-modeling.md) or a radius in mm");
-  rec->add_option("--mode", r->mode,
+  rec->add_option("--mode", r->req.mode,
                   "shell (points + inner twins: for partial samplings, default) | solid (the\n"
                   "thesis' alpha solid)")
       ->check(CLI::IsMember({"shell", "solid"}));
-  rec->add_option("--taubin", r->taubin, "Taubin smoothing iterations (0: none)");
-  rec->add_option("--lambda", r->lambda, "Taubin lambda")->check(CLI::Range(0.0, 1.0));
-  rec->add_option("--mu", r->mu, "Taubin mu (< -lambda)")->check(CLI::Range(-1.0, 0.0));
-  rec->add_option("--subdivide", r->subdivide, "sqrt(3) subdivision steps (0: none)")
+  rec->add_option("--taubin", r->req.taubin, "Taubin smoothing iterations (0: none)");
+  rec->add_option("--lambda", r->req.lambda, "Taubin lambda")->check(CLI::Range(0.0, 1.0));
+  rec->add_option("--mu", r->req.mu, "Taubin mu (< -lambda)")->check(CLI::Range(-1.0, 0.0));
+  rec->add_option("--subdivide", r->req.subdivide, "sqrt(3) subdivision steps (0: none)")
       ->check(CLI::Range(0, 6));
-  rec->add_option("--jet-k", r->jet_k, "neighbours of the jet fit (0: no smoothing)");
-  rec->add_option("--outlier-k", r->outlier_k, "neighbours of the outlier test (0: none)");
-  rec->add_option("--outlier-sigmas", r->outlier_sigmas, "robust z-score of an outlier")
+  rec->add_option("--jet-k", r->req.jet_k, "neighbours of the jet fit (0: no smoothing)");
+  rec->add_option("--outlier-k", r->req.outlier_k, "neighbours of the outlier test (0: none)");
+  rec->add_option("--outlier-sigmas", r->req.outlier_sigmas, "robust z-score of an outlier")
       ->check(CLI::PositiveNumber);
-  rec->add_option("--shell-depth", r->shell_depth, "shell twin depth, mm (0: point spacing)");
-  rec->add_option("--max-face-normal", r->max_face_normal_deg,
+  rec->add_option("--shell-depth", r->req.shell_depth, "shell twin depth, mm (0: point spacing)");
+  rec->add_option("--max-face-normal", r->req.max_face_normal_deg,
                   "shell: drop faces whose normal is more than this from a point's normal, deg\n"
                   "(faces across a thin part sampled on both sides; 0: keep all)")
       ->capture_default_str()
@@ -237,31 +185,31 @@ void add_compare(CLI::App& shape_cmd) {
       "symmetric Hausdorff, mean and RMS in mm. Optionally ICP-align A onto B first.");
   cmp->add_option("a", m->a, "first mesh (moved by --icp)")->required()->check(CLI::ExistingFile);
   cmp->add_option("b", m->b, "second mesh (reference)")->required()->check(CLI::ExistingFile);
-  cmp->add_flag("--icp", m->icp, "align A onto B by point-to-plane ICP first");
+  cmp->add_flag("--icp", m->req.icp, "align A onto B by point-to-plane ICP first");
   cmp->add_option("--json", m->json, "write the numbers as JSON");
-  cmp->add_option("--crop-points", m->crop_points,
+  cmp->add_option("--crop-points", m->req.crop_points,
                   "common region: only surface within --crop-radius of these points counts");
-  cmp->add_option("--crop-radius", m->crop_radius, "mm")->check(CLI::NonNegativeNumber);
-  cmp->add_option("--crop-distance", m->crop_distance,
+  cmp->add_option("--crop-radius", m->req.crop_radius, "mm")->check(CLI::NonNegativeNumber);
+  cmp->add_option("--crop-distance", m->req.crop_distance,
                   "ignore samples farther than this from the other surface, mm (0: off)")
       ->check(CLI::NonNegativeNumber);
-  cmp->add_flag("--overlap-only", m->overlap_only,
+  cmp->add_flag("--overlap-only", m->req.overlap_only,
                 "drop samples whose closest point is on the other surface's open rim (compare a\n"
                 "partial reconstruction with a complete reference over their overlap)");
-  cmp->add_option("--rim-margin", m->rim_margin,
+  cmp->add_option("--rim-margin", m->req.rim_margin,
                   "with --overlap-only: also drop samples whose closest point is within this\n"
                   "distance of the other surface's rim, mm")
       ->check(CLI::NonNegativeNumber);
-  cmp->add_flag("--normal-overlap", m->normal_overlap,
+  cmp->add_flag("--normal-overlap", m->req.normal_overlap,
                 "drop samples whose normal line (both ways) does not meet the other surface (e.g.\n"
                 "a reference's side wall below a partial reconstruction's rim)");
-  cmp->add_option("--crop-sides", m->crop_sides,
+  cmp->add_option("--crop-sides", m->req.crop_sides,
                   "which meshes the crops above apply to: auto | both | a | b. auto: when exactly\n"
                   "one mesh is closed (a complete reference) only it is cropped and the other is\n"
                   "scored whole, so a partial reconstruction's stray parts cannot hide; else both")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "both", "a", "b"}));
-  cmp->add_option("--density", m->density, "face samples per mm^2")->check(CLI::PositiveNumber);
+  cmp->add_option("--density", m->req.density, "face samples per mm^2")->check(CLI::PositiveNumber);
   cmp->add_option("--colored", m->colored,
                   "write A (aligned) with vertex property 'error' (mm) for colouring");
   cmp->callback([m] { run_compare(*m); });

@@ -2,34 +2,23 @@
 // Table 4.1, estimate the proxy of a recording. Units: mm, N, s, rad.
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cstdio>
 #include <memory>
-#include <optional>
 
 #include "command.hpp"
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/sys_bridge.hpp"
 #include "inhap/eval/sys_files.hpp"
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/friction/cycles_io.hpp"
-#include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/mesh_io.hpp"
-#include "inhap/haptics/bridge_device.hpp"
 
 namespace {
 
 using namespace inhap;
 using namespace inhap::friction;
-
-Vec3 parse_vec3(const std::string& s, const char* flag) {
-  Vec3 v;
-  if (std::sscanf(s.c_str(), "%lf,%lf,%lf", &v.x(), &v.y(), &v.z()) != 3 || !v.allFinite())
-    throw Error(fmt::format("{}: expected x,y,z, got '{}'", flag, s));
-  return v;
-}
 
 struct FitArgs {
   eval::SysFitFileOptions opt;
@@ -37,7 +26,7 @@ struct FitArgs {
 };
 
 void run_fit(FitArgs a) {
-  a.opt.tangent_reference = parse_vec3(a.tangent_reference, "--tangent-reference");
+  a.opt.tangent_reference = eval::parse_vec3(a.tangent_reference, "--tangent-reference");
   const eval::SysFitFileResult r = eval::fit_sys_file(a.opt);
   write_sys_json(a.out, r.sys);
   fmt::print("{}", eval::sys_summary(r.sys));
@@ -61,78 +50,45 @@ void run_table(const TableArgs& a) {
   tx.commit();
 }
 
-std::string stem_of(const std::string& out) {
-  return out.size() > 5 && out.substr(out.size() - 5) == ".json" ? out.substr(0, out.size() - 5)
-                                                                 : out;
-}
-
 struct PalpateArgs {
   eval::ScenePalpationOptions opt;
   std::string out;
-  // --device udp: a real (or `inhap lab device`) device over the bridge
-  std::string device, shape, refs;
-  double probe_radius = 0, tool_mass = 0, connect = 60;
+  eval::BridgePalpationOptions dev;  ///< --device udp: a device over the bridge
 };
 
 // `sys palpate --device udp[:PORT]`: the protocol over the bridge, on a shape mesh the user gives.
-void run_palpate_device(const PalpateArgs& a) {
-  if (a.shape.empty() || a.refs.empty())
-    throw Error("--device needs --shape MESH (probe-centre surface) and --refs REFS.csv");
-  const std::string stem = stem_of(a.out);
+void run_palpate_device(PalpateArgs a) {
+  const std::string stem = eval::sys_output_stem(a.out);
   for (const std::string& path : {stem + ".cycles.csv", a.out}) check_output_path(path);
-  const MeshSurface shape(read_mesh(a.shape), a.probe_radius);
-  std::vector<Vec3> points, normals;
-  eval::read_reference_points(a.refs, shape, points, normals);
-  haptics::BridgeOptions bo;
-  const std::string& d = a.device;
-  const std::optional<std::uint16_t> port = haptics::parse_udp_device(d);
-  if (!port)
-    throw Error(
-        fmt::format("--device: expected udp or udp:PORT (PORT 1-65535), got {}", quote_token(d)));
-  bo.port = *port;
-  bo.info.tool_mass_kg = a.tool_mass;
-  bo.info.probe_radius_mm = a.probe_radius;
-  haptics::BridgeDevice dev(bo);
-  fmt::print(stderr, "sys palpate: waiting for a device on udp 127.0.0.1:{}\n", dev.port());
-  if (!dev.connect(a.connect))
-    throw Error(fmt::format("no device joined within {:g} s", a.connect));
-  const friction::PalpationConfig cfg = eval::palpation_config(a.opt.quick);
-  const eval::DevicePalpation r =
-      eval::palpate_points(dev, shape, points, normals, cfg, cli::progress, "sys palpate");
-  dev.stop();
-  const SysModel sys = eval::fit_palpation(r.cycles, shape, cfg);
+  eval::BridgePalpationOptions& o = a.dev;
+  o.quick = a.opt.quick;
+  o.progress = cli::progress;
+  o.on_listening = [](std::uint16_t port) {
+    fmt::print(stderr, "sys palpate: waiting for a device on udp 127.0.0.1:{}\n", port);
+  };
+  const eval::BridgePalpationResult r = eval::palpate_bridge(o);
   OutputTransaction tx;  // two outputs: both or neither
   write_cycles_csv(stem + ".cycles.csv", r.cycles);
-  write_sys_json(a.out, sys);
+  write_sys_json(a.out, r.sys);
   tx.commit();
-  fmt::print("{}", eval::sys_summary(sys));
+  fmt::print("{}", eval::sys_summary(r.sys));
   fmt::print(stderr,
              "{} cycles, {} ticks, bridge: {} time-outs, {} lost; wrote {}, {}.cycles.csv\n",
-             r.cycles.size(), r.ticks, dev.stats().timeouts, dev.stats().lost, a.out, stem);
+             r.cycles.size(), r.ticks, r.bridge.timeouts, r.bridge.lost, a.out, stem);
 }
 
 void run_palpate(PalpateArgs a) {
-  if (!a.device.empty()) return run_palpate_device(a);
+  if (!a.dev.device.empty()) return run_palpate_device(a);
   a.opt.progress_label = "sys palpate";
   a.opt.progress = cli::progress;
-  const std::string stem = stem_of(a.out);
+  const std::string stem = eval::sys_output_stem(a.out);
   for (const std::string& path :
        {stem + ".cycles.csv", stem + ".shape.ply", stem + ".refs.csv", a.out})
     check_output_path(path);  // before the palpation, which takes minutes
   const eval::ScenePalpation r = eval::palpate_scene(a.opt);
-  OutputTransaction tx;  // four outputs: all or none
-  write_cycles_csv(stem + ".cycles.csv", r.cycles);
-  write_mesh(stem + ".shape.ply", r.shape_mesh);
-  eval::write_reference_points(stem + ".refs.csv", r.points, r.normals);
-  write_sys_json(a.out, r.sys);
-  tx.commit();
+  eval::write_scene_palpation(a.out, r);
   fmt::print("{}", eval::sys_summary(r.sys));
-  fmt::print(
-      stderr,
-      "{} cycles, {:.2f} simulated hours, {:.1f} s wall ({:.1f} s per point, {:.1f} s CPU)\n",
-      r.cycles.size(), r.ticks / 3.6e6, r.wall_s, r.wall_s / r.points.size(), r.cpu_s);
-  fmt::print(stderr, "wrote {}, {}.cycles.csv, {}.shape.ply, {}.refs.csv\n", a.out, stem, stem,
-             stem);
+  fmt::print(stderr, "{}", eval::scene_palpation_text(a.out, r));
 }
 
 struct ProxyArgs {
@@ -142,23 +98,11 @@ struct ProxyArgs {
 };
 
 void run_proxy(const ProxyArgs& a) {
-  const SysModel sys = read_sys_json(a.sys);
-  const TriMesh mesh = read_mesh(a.mesh);
-  Recording rec = read_recording(a.rec);
-  const eval::ProxyFileResult r =
-      eval::add_proxy_columns(rec, sys, mesh, a.probe_radius, !a.no_creep);
-  write_recording(a.out, rec);
+  const auto [r, rows] = eval::proxy_file(a.sys, a.mesh, a.rec, a.out, a.probe_radius, !a.no_creep);
   fmt::print(stderr,
              "{} rows: {} in contact, {} with the proxy sliding, {} beyond the mesh rim -> {}\n",
-             rec.size(), r.contact, r.sliding, r.beyond, a.out);
-  if (r.beyond > 0)
-    fmt::print(stderr,
-               "inhap: warning: {} of {} in-contact samples ({:.1f} %) lie beyond the rim of the "
-               "shape mesh {} (up to {:.2f} mm; column beyond_mesh): the proxy there follows the "
-               "rim, not the object; model a wider area of the object\n",
-               r.beyond, r.contact,
-               100.0 * double(r.beyond) / double(std::max<std::size_t>(r.contact, 1)), a.mesh,
-               r.beyond_max_mm);
+             rows, r.contact, r.sliding, r.beyond, a.out);
+  fmt::print(stderr, "{}", eval::beyond_rim_warning(r, a.mesh));
 }
 
 void register_fit(CLI::App* sys) {
@@ -247,22 +191,23 @@ void register_palpate(CLI::App* sys) {
   palpate->add_flag("--quick", pa->opt.quick, "f_N 1 and 3 N, 4 directions (for tests)");
   cli::add_physics_option(*palpate, pa->opt.physics, "lab contact physics: builtin | mujoco");
   palpate->add_option("--out,-o", pa->out, "sys.json to write")->required();
-  palpate->add_option("--device", pa->device,
+  palpate->add_option("--device", pa->dev.device,
                       "udp or udp:PORT: palpate a device that joins over the bridge "
                       "(docs/bridge.md) instead of the lab; needs --shape and --refs");
-  palpate->add_option("--shape", pa->shape,
+  palpate->add_option("--shape", pa->dev.shape,
                       "--device: shape mesh (PLY/OBJ, mm; the probe-centre surface as sys palpate "
                       "writes it, or the object surface with --probe-radius)");
-  palpate->add_option("--refs", pa->refs,
+  palpate->add_option("--refs", pa->dev.refs,
                       "--device: reference points CSV x,y,z[,nx,ny,nz] (mm; as sys palpate writes "
                       "<out>.refs.csv)");
-  palpate->add_option("--probe-radius", pa->probe_radius, "--device: probe radius, mm")
+  palpate->add_option("--probe-radius", pa->dev.probe_radius_mm, "--device: probe radius, mm")
       ->capture_default_str();
   palpate
-      ->add_option("--tool-mass", pa->tool_mass, "--device: tool mass beyond the force sensor, kg")
+      ->add_option("--tool-mass", pa->dev.tool_mass_kg,
+                   "--device: tool mass beyond the force sensor, kg")
       ->capture_default_str();
   palpate
-      ->add_option("--connect-timeout", pa->connect,
+      ->add_option("--connect-timeout", pa->dev.connect_s,
                    "--device: give up if no device joins within this, s")
       ->capture_default_str();
   palpate->callback([pa] { run_palpate(*pa); });

@@ -18,52 +18,37 @@ namespace {
 
 struct StrokeArgs {
   std::string mesh, algorithm = "tca", from, to, out;
-  double force = 1.0, speed = 20.0, tremor = 0.0;
-  double a_s = rendering::Params{}.a_s, a_t = rendering::Params{}.a_t;
-  double stiffness = rendering::Params{}.default_stiffness;
+  rendering::StrokeOptions o;  // force_n, speed_mm_s, tremor_n, seed (flags)
+  rendering::Params params;    // a_s, a_t, default_stiffness (flags)
   bool no_shading = false;
-  std::uint64_t seed = 1;
 };
 
 Vec2 parse_xy(const std::string& flag, const std::string& text) {
-  const auto comma = text.find(',');
-  double x = 0, y = 0;
-  if (comma == std::string::npos || !parse_double(text.substr(0, comma), x) ||
-      !parse_double(text.substr(comma + 1), y) || !std::isfinite(x) || !std::isfinite(y))
+  Vec2 v;
+  if (!parse_number_list(text, 2, v.data()) || !v.allFinite())
     throw Error(
         fmt::format("{}: expected X,Y in mm (e.g. 12.5,-3), got {}", flag, quote_token(text)));
-  return {x, y};
+  return v;
 }
 
 void run_stroke(const StrokeArgs& a) {
-  rendering::Algorithm alg;
-  if (a.algorithm == "tca")
-    alg = rendering::Algorithm::kTCA;
-  else if (a.algorithm == "cba")
-    alg = rendering::Algorithm::kCBA;
-  else
+  const std::optional<rendering::Algorithm> alg = rendering::parse_algorithm(a.algorithm);
+  if (!alg)
     throw Error(fmt::format("--algorithm: expected tca or cba, got {}", quote_token(a.algorithm)));
-  rendering::StrokeOptions o;
+  rendering::StrokeOptions o = a.o;
   o.from = parse_xy("--from", a.from);
   o.to = parse_xy("--to", a.to);
-  o.force_n = a.force;
-  o.speed_mm_s = a.speed;
-  o.tremor_n = a.tremor;
-  o.seed = a.seed;
-  rendering::Params params;
-  params.a_s = a.a_s;
-  params.a_t = a.a_t;
-  params.default_stiffness = a.stiffness;
+  rendering::Params params = a.params;
   params.force_shading = !a.no_shading;
   const rendering::Model model(read_mesh(a.mesh), params);
-  const auto samples = rendering::simulate_stroke(model, alg, o);
+  const auto samples = rendering::simulate_stroke(model, *alg, o);
 
   rendering::write_stroke_csv(
       a.out, samples,
       fmt::format(
           "inhap tca stroke --mesh {} --algorithm {} --from {} --to {} --force {} --speed {} "
           "--seed {}",
-          a.mesh, a.algorithm, a.from, a.to, a.force, a.speed, a.seed));
+          a.mesh, a.algorithm, a.from, a.to, o.force_n, o.speed_mm_s, o.seed));
   fmt::print("{}: {}\n", a.out, rendering::stroke_summary(samples));
 }
 
@@ -102,18 +87,19 @@ void register_stroke(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--from", args->from, "start X,Y in mm")->required();
   cmd->add_option("--to", args->to, "end X,Y in mm")->required();
-  cmd->add_option("--force", args->force, "force the hand holds, N (at most 6.2)")
+  cmd->add_option("--force", args->o.force_n, "force the hand holds, N (at most 6.2)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output CSV")->required();
-  cmd->add_option("--speed", args->speed, "stroke speed, mm/s")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "seed of the hand's force tremor")->capture_default_str();
-  cmd->add_option("--tremor", args->tremor, "RMS force tremor of the hand (10 Hz), N")
+  cmd->add_option("--speed", args->o.speed_mm_s, "stroke speed, mm/s")->capture_default_str();
+  cmd->add_option("--seed", args->o.seed, "seed of the hand's force tremor")->capture_default_str();
+  cmd->add_option("--tremor", args->o.tremor_n, "RMS force tremor of the hand (10 Hz), N")
       ->capture_default_str();
-  cmd->add_option("--a-s", args->a_s, "TCA height restoration slope a_s (eq. 5.11)")
+  cmd->add_option("--a-s", args->params.a_s, "TCA height restoration slope a_s (eq. 5.11)")
       ->capture_default_str();
-  cmd->add_option("--a-t", args->a_t, "TCA mesh restoration ratio a_t (eq. 5.15)")
+  cmd->add_option("--a-t", args->params.a_t, "TCA mesh restoration ratio a_t (eq. 5.15)")
       ->capture_default_str();
-  cmd->add_option("--stiffness", args->stiffness, "stiffness for meshes without the property, N/mm")
+  cmd->add_option("--stiffness", args->params.default_stiffness,
+                  "stiffness for meshes without the property, N/mm")
       ->capture_default_str();
   cmd->add_flag("--no-force-shading", args->no_shading,
                 "use face normals instead of interpolated vertex normals");

@@ -21,34 +21,9 @@ using namespace inhap::report;
 
 namespace {
 
-// The step's progress line: on a terminal the usual line, in logs (CI) one line every 5 s at
-// most.
-void step_progress(const std::string& label, double fraction, double eta) {
-  static const bool tty = ::isatty(2);
-  if (tty) {
-    cli::progress(label, std::min(fraction, 0.999), eta);
-    return;
-  }
-  static auto last = std::chrono::steady_clock::now();
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last < std::chrono::seconds(5)) return;
-  last = now;
-  fmt::print(stderr, "[{}] {:3.0f}% (eta {:.0f} s)\n", label, 100.0 * fraction, eta);
-}
-
 void run_demo(const Options& o) {
   const std::string web = find_web_dir(o.web_dir);  // fail early when ./run setup is missing
-  std::vector<Step> steps = all_steps();
-  for (const auto& name : o.only)
-    if (std::none_of(steps.begin(), steps.end(), [&](const Step& s) { return s.name == name; })) {
-      std::string names;
-      for (const auto& s : steps) names += " " + s.name;
-      throw Error(fmt::format("--only: expected one of{}, got '{}'", names, name));
-    }
-  if (!o.only.empty())
-    std::erase_if(steps, [&](const Step& s) {
-      return std::find(o.only.begin(), o.only.end(), s.name) == o.only.end();
-    });
+  const std::vector<Step> steps = select_steps(o.only);
   // All outputs or none: OUT is created (or checked) before the steps, which take minutes, and
   // every file is renamed into place after the report, the last one, is written.
   OutputFolder folder(o.out);
@@ -56,21 +31,9 @@ void run_demo(const Options& o) {
   OutputTransaction tx;
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t c0 = std::clock();
-  std::vector<StepRecord> done;
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    const Step& s = steps[i];
-    fmt::print(stderr, "[demo] step {}/{}: {} (thesis {}): {}\n", i + 1, steps.size(), s.name,
-               s.chapter, s.title);
-    Context c{o, s.name, step_progress};
-    const std::clock_t step_c0 = std::clock();
-    StepResult r = s.run(c);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
-    r.cpu_seconds = static_cast<double>(std::clock() - step_c0) / CLOCKS_PER_SEC;
-    if (r.available) cli::progress(s.name, 1.0, 0);
-    fmt::print(stderr, "[demo] {} {} in {:.1f} s ({:.1f} s CPU)\n", s.name,
-               r.available ? "done" : "skipped (" + r.note + ")", r.seconds, r.cpu_seconds);
-    done.push_back({s, std::move(r)});
-  }
+  const std::vector<StepRecord> done =
+      run_steps(o, steps, step_progress_line(::isatty(2), cli::progress), cli::progress,
+                [](const std::string& line) { fmt::print(stderr, "{}", line); });
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   write_report(o, web, done, total, cpu);

@@ -97,6 +97,10 @@ std::string read_file(const std::string& path);
 namespace fault {
 void fail_nth_write(long n);
 void fail_nth_rename(long n);
+/// The same across the process boundary: INHAP_TEST_FAIL_NTH_WRITE=n /
+/// INHAP_TEST_FAIL_NTH_RENAME=n (unset, empty or not positive: no fault). What the program calls
+/// at start.
+void from_environment();
 }  // namespace fault
 
 }  // namespace inhap

@@ -125,5 +125,8 @@ void write_recording(const std::string& path, const Recording& rec);
 
 /// Parses one number like the CSV reader does (used by other text readers).
 bool parse_double(std::string_view token, double& out);
+/// Parses exactly `n` comma-separated numbers ("1.5,-2,3") into out[0..n-1] with parse_double;
+/// false for another count or a token that is not a number.
+bool parse_number_list(std::string_view s, std::size_t n, double* out);
 
 }  // namespace inhap

@@ -176,29 +176,38 @@ struct TrainParams {
   /// or excluded as `above_range` says. Training never clips a target.
   double modeling_range_n = 5.0;
   AboveRange above_range = AboveRange::kKeep;
-  int threads = 0;  ///< worker threads (0 = hardware concurrency)
-  /// Called (from worker threads, serialised) with "bin K done", the fraction done, eta 0.
-  Progress progress;
+  int threads = 0;        ///< worker threads (0 = hardware concurrency)
   void validate() const;  ///< throws inhap::Error on out-of-range values
 };
 
-/// One bin of ||q - p|| (mm) with its normalisation and one expansion per force axis.
+/// One bin of ||q - p|| (mm) with its normalisation and one expansion per force axis. Complete
+/// when constructed: the constructor builds the evaluation table of its expansions, which are
+/// read-only afterwards (a new set of expansions is a new BinModel).
 struct BinModel {
   double key_min = 0, key_max = 0;           ///< range of ||q - p|| among its training samples, mm
   std::array<double, kFeatureDim> offset{};  ///< normalisation: z = (x - offset) / scale
   ///< (scale = standard deviation / feature weight)
   std::array<double, kFeatureDim> scale{};
   std::array<double, kFeatureDim> box_min{}, box_max{};  ///< clamping box of z
-  std::array<RbfExpansion, 3> axes;                      ///< centres in z, weights in N
   std::size_t samples = 0;                               ///< training samples in the bin
 
-  /// Derived (not saved; built by finalize_model): the union of the three axes' centres with a
-  /// weight column per axis (zero where an axis does not use a centre), so that each distance
-  /// is computed once per step. K_union x D column-major and K_union x 3.
-  Eigen::MatrixXd union_centres, union_weights;
+  BinModel() = default;  ///< no expansions (zero force)
+  /// Centres in z, weights in N; builds the union table (none when an axis has not 9 coordinates
+  /// per centre and one weight per centre: such a bin renders zero and fails validate_model).
+  explicit BinModel(std::array<RbfExpansion, 3> axes);
+  const std::array<RbfExpansion, 3>& axes() const { return axes_; }
+  /// Derived (not saved): the union of the three axes' centres with a weight column per axis
+  /// (zero where an axis does not use a centre), so that each distance is computed once per
+  /// step. K_union x D column-major and K_union x 3.
+  const Eigen::MatrixXd& union_centres() const { return union_centres_; }
+  const Eigen::MatrixXd& union_weights() const { return union_weights_; }
+
+ private:
+  std::array<RbfExpansion, 3> axes_;
+  Eigen::MatrixXd union_centres_, union_weights_;
 };
 
-/// Training diagnostics (not needed to render; saved for provenance).
+/// Training diagnostics (not needed to render; part of the provenance).
 struct TrainStats {
   double seconds = 0;
   std::size_t samples = 0;
@@ -222,6 +231,10 @@ struct TrainStats {
   std::vector<std::pair<std::string, double>> stage_cpu_s;
 };
 
+/// The run-time model: the constants the servo step reads, nothing else (how it was made is the
+/// ForceModelProvenance beside it). Complete when its parts are: the bins build their tables when
+/// constructed, the fallback's distance grid is built by whoever makes it (training, the file
+/// reader).
 struct ForceModel {
   FeatureSet features = FeatureSet::kDisplacementProxyVelocity;
   std::vector<double> edges;  ///< bins-1 increasing thresholds on ||q - p||, mm
@@ -229,11 +242,6 @@ struct ForceModel {
   FoawParams foaw;             ///< velocity filter used for training; the renderer uses the same
   double force_limit_n = 6.2;  ///< output clamp, N (device limit)
   double bin_blend = 0.0;      ///< mm; see TrainParams::bin_blend
-  TrainParams params;          ///< as trained (progress callback not kept)
-  TrainStats stats;
-  std::string sys_path, mesh_path;       ///< references (may be empty)
-  std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
-  std::string proxy_source = "columns";  ///< where q came from when training
   StiffnessPrior prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
   StiffnessPrior shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
@@ -241,6 +249,21 @@ struct ForceModel {
 
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;
+};
+
+/// How a model was made (not needed to render): kept beside the model in its file.
+struct ForceModelProvenance {
+  TrainParams params;  ///< as trained
+  TrainStats stats;
+  std::string sys_path, mesh_path;       ///< references (may be empty)
+  std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
+  std::string proxy_source = "columns";  ///< where q came from when training
+};
+
+/// A model with its provenance: what training returns and a model file holds.
+struct TrainedForceModel {
+  ForceModel model;
+  ForceModelProvenance provenance;
 };
 
 /// Names of the training presets: "best" (the documented pipeline: local-frame features, tangent
@@ -256,14 +279,15 @@ TrainParams preset_params(const std::string& name);
 /// Counts the samples with |f| > modeling_range_n (a diagnostic; training does it too).
 std::size_t count_above(const std::vector<Vec3>& f, double modeling_range_n);
 
-/// Trains the model. Throws inhap::Error when there are too few samples (fewer than 2 per
-/// bin), non-finite values or bad parameters.
+/// Trains the model; `progress` is called (from worker threads, serialised) with "bin K done",
+/// the fraction done, eta 0. The provenance holds `params`, the statistics and proxy_source
+/// "columns" (the caller fills in the references). Throws inhap::Error when there are too few
+/// samples (fewer than 2 per bin), non-finite values or bad parameters.
+TrainedForceModel train_with_provenance(const TrainingSet& data, const TrainParams& params,
+                                        const FoawParams& foaw = {}, const Progress& progress = {});
+/// The same, the model alone.
 ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
-                             const FoawParams& foaw = {});
-
-/// Builds the derived evaluation tables of every bin (called by training and loading; call it
-/// after editing a model's expansions by hand).
-void finalize_model(ForceModel& model);
+                             const FoawParams& foaw = {}, const Progress& progress = {});
 
 /// Model force for one input, N: bin by ||q - p||, normalise, clamp to the bin's box, evaluate
 /// the three expansions, clamp the magnitude to force_limit_n. Non-finite input gives zero.
@@ -282,8 +306,10 @@ struct SupportCheck {
   std::array<double, 3> excess{};
   double nearest = 0;  ///< distance from the normalised input to the bin's nearest centre (z units)
 };
-SupportCheck support_check(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                           const Vec3& normal);
+/// `box_margin`: TrainParams::box_margin of the training (the bins' boxes are the training range
+/// widened by it).
+SupportCheck support_check(const ForceModel& model, double box_margin, const Vec3& p, const Vec3& v,
+                           const Vec3& q, const Vec3& normal);
 
 /// Checks a model's internal consistency (sizes, finiteness, ordering). Throws inhap::Error
 /// naming what is wrong, prefixed with `where`.

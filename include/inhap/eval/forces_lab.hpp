@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,13 @@ struct ForceLabOptions {
   double coverage_force_max = lab::ExploreOptions{}.coverage_force_max;
 };
 
+/// `eval forces --design thesis`: the thesis' model settings (sec. 4.4) for every setting whose
+/// flag was not given (`given("--bins")` ...): 5 bins, no tail, weights 1 1 1, ridge 0, box margin
+/// 0.1, hard bin switch, no tangent mirror, no priors, no friction cone. (The features,
+/// ue_q_v unless given, are the caller's.)
+void apply_thesis_settings(datadriven::TrainParams& p,
+                           const std::function<bool(const std::string& flag)>& given);
+
 /// Servo replay of a test recording: forces per sample, step latency of in-contact steps.
 struct ForceReplay {
   std::vector<Vec3> forces;
@@ -61,6 +69,7 @@ struct ForceReplay {
 /// One model variant (with proxy, without, onset anchor): trained, replayed, scored.
 struct ForceVariant {
   datadriven::ForceModel model;
+  datadriven::ForceModelProvenance provenance;  ///< its training parameters and statistics
   ForceReplay replay;
   std::size_t train_contact = 0;
   datadriven::ForceErrors all, sliding;

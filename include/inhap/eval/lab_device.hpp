@@ -58,4 +58,8 @@ struct LabDeviceResult {
 /// socket cannot be opened, no inhap answers within connect_timeout_s, or the scene is invalid.
 LabDeviceResult run_lab_device(const LabDeviceOptions& options);
 
+/// The lines `inhap lab device` prints before and after the session.
+std::string lab_device_banner(const LabDeviceOptions& o);
+std::string lab_device_summary(const LabDeviceResult& r);
+
 }  // namespace inhap::eval

@@ -2,9 +2,11 @@
 // table, and the check a recording passes before it is written. Units: mm, N, s, N/mm.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "inhap/core/csv.hpp"
+#include "inhap/lab/operators.hpp"
 #include "inhap/lab/scene.hpp"
 
 namespace inhap::eval {
@@ -18,5 +20,26 @@ std::string scenes_table();
 /// Error naming `out` and the row when a time, position or force of `rec` is not finite (inhap
 /// could not read it back: the scene or the operator drove the simulation out of range).
 void require_finite_recording(const Recording& rec, const std::string& out);
+
+/// The flags of `lab record` that shape the simulation.
+struct LabRecordRequest {
+  std::string op = "explore";    ///< tap | explore | air
+  std::string probe = "sphere";  ///< sphere | tip
+  std::string physics = "builtin";
+  double seconds = 60;
+  std::uint64_t seed = 1;
+  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false,
+       coverage = false;
+};
+/// The lab's RecordSpec for them. Error naming the flag for an unknown probe, or --coverage with
+/// an operator other than explore.
+lab::RecordSpec lab_record_spec(const LabRecordRequest& r);
+
+/// Recordings longer than this (s) get a note on their size.
+inline constexpr double kLongRecordingS = 600.0;
+/// Bytes of CSV per 1 kHz tick: a recording row plus its truth row, roughly.
+inline constexpr double kBytesPerTick = 400.0;
+/// The note on the size of a long recording (empty up to kLongRecordingS).
+std::string long_recording_note(double seconds);
 
 }  // namespace inhap::eval

@@ -54,8 +54,8 @@ datadriven::TrainParams resolve_train_params(const TrainRequest& r, bool have_no
                                              std::string* note);
 
 /// One line on the forces above the modeling range and above the render clamp.
-std::string range_note(const datadriven::ForceModel& m, const datadriven::TrainingSet& set,
-                       double force_limit_n);
+std::string range_note(const datadriven::ForceModelProvenance& m,
+                       const datadriven::TrainingSet& set, double force_limit_n);
 
 /// Writes where the recording covered the object (coverage file `path`) and says it: one line,
 /// and one more with the largest unvisited gaps when there are any.
@@ -74,7 +74,7 @@ struct TrainFileOptions {
 };
 
 struct TrainFileResult {
-  datadriven::ForceModel model;
+  datadriven::TrainedForceModel model;  ///< with its provenance (references, proxy source)
   datadriven::TrainingSet set;
   std::vector<std::string> notes;  ///< what the program says on stderr, in order
 };
@@ -84,12 +84,13 @@ TrainFileResult train_from_file(const TrainFileOptions& o);
 
 /// The model's training report: samples, features, bins, design, non-zeros per axis, then the
 /// l1 fit's certificate per bin and axis (and the CPU time per stage when `verbose`).
-std::string train_summary(const datadriven::ForceModel& m, bool verbose);
+std::string train_summary(const datadriven::TrainedForceModel& m, bool verbose);
 
-/// The mesh a local-frame model needs: `mesh_flag`, else the model's reference, taken as written
-/// (relative to the current folder) or relative to the model file's folder. Error otherwise.
+/// The mesh a local-frame model needs: `mesh_flag`, else the model's reference (its provenance),
+/// taken as written (relative to the current folder) or relative to the model file's folder.
+/// Error otherwise.
 std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
-                       const datadriven::ForceModel& m);
+                       const datadriven::ForceModelProvenance& m);
 
 struct ReplayedFile {
   Recording rec;
@@ -99,7 +100,7 @@ struct ReplayedFile {
 
 /// Replays a recording file through the servo renderer (normals from its columns, else from the
 /// model's mesh or `mesh_flag`).
-ReplayedFile replay_file(const std::string& model_path, const datadriven::ForceModel& m,
+ReplayedFile replay_file(const std::string& model_path, const datadriven::TrainedForceModel& m,
                          const std::string& recording, const ProxyColumnsSpec& proxy,
                          const std::string& mesh_flag);
 
@@ -124,5 +125,13 @@ struct ModelEvalResult {
 };
 ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
                                     const ProxyColumnsSpec& proxy, const std::string& mesh_flag);
+/// The lines `model eval` prints: RMSE, median AE and RE of the contact samples, and how many
+/// were measured above the render clamp.
+std::string model_eval_text(const ModelEvalResult& r);
+
+/// `model render`'s CSV: t, p, the rendered force f, the measured force mf, contact (0/1);
+/// comments name the recording and the model file.
+void write_rendered_csv(const std::string& out, const ReplayedFile& r, const std::string& recording,
+                        const std::string& model_path);
 
 }  // namespace inhap::eval

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "inhap/datadriven/l1_problems.hpp"
 
@@ -50,6 +51,10 @@ SolverBenchResult bench_l1_solver(const std::string& name, const SolverBenchOpti
 /// One problem's result as JSON: size, lambda, optimum, cd's objective, gap, excess, KKT,
 /// non-zeros, sweeps, passes and time, SpaRSA's as "baseline", the speed-up.
 nlohmann::ordered_json solver_bench_json(const SolverBenchResult& r);
+/// The whole `model bench-solver --json` document: units, seed, gap tolerance, threads and one
+/// entry per problem (solver_bench_json).
+nlohmann::ordered_json solver_bench_report(const SolverBenchOptions& o,
+                                           const std::vector<SolverBenchResult>& results);
 /// The line `model bench-solver` prints for it.
 std::string solver_bench_line(const SolverBenchResult& r);
 

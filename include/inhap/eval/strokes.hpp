@@ -70,6 +70,11 @@ struct StrokesConfig {
   bool keep_samples = false;
 };
 
+/// The configuration of `eval strokes`: one speed (20 mm/s) when `quick`, else `speeds_mm_s`.
+/// Error naming --speeds for a speed that is not > 0.
+StrokesConfig strokes_config(const std::vector<double>& speeds_mm_s, double force_n,
+                             std::uint64_t seed, bool quick);
+
 struct DatasetResult {
   std::string name;
   std::size_t triangles = 0;

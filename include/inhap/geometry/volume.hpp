@@ -85,4 +85,9 @@ HeadModel head_from_volume(const Volume& volume, const HeadModelOptions& options
 /// (`fit_mm` 0: the scanner's mm, unmoved), `bone_distance` with it; returns the scale.
 double fit_head(HeadModel& head, double fit_mm);
 
+/// What `mesh from-volume` prints about a head built from `volume` with `options` and scaled by
+/// `scale`: skin (components, triangles, vertices), bone triangles, the stiffness range and the
+/// distances it was mapped from (mm), the scaled size.
+std::string head_summary_text(const HeadModel& head, const HeadModelOptions& options, double scale);
+
 }  // namespace inhap

@@ -7,12 +7,17 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "inhap/core/types.hpp"
 #include "inhap/rendering/renderer.hpp"
 
 namespace inhap::rendering {
+
+/// "tca" (TCA-MESH) or "cba" (the god-object); nothing for any other word.
+std::optional<Algorithm> parse_algorithm(std::string_view s);
 
 struct StrokeOptions {
   Vec2 from = Vec2::Zero();           ///< start (x, y) of the stroke, mm

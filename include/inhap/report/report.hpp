@@ -95,6 +95,9 @@ class ForwardProgress {
 /// Every step in the order of the thesis (tap, contacts, shape, palpation, explore, force-model,
 /// strokes, study, data).
 std::vector<Step> all_steps();
+/// all_steps() kept to the names in `only` (all when empty), in thesis order. Throws
+/// inhap::Error "--only: expected one of ..., got 'X'" for an unknown name.
+std::vector<Step> select_steps(const std::vector<std::string>& only);
 
 // Steps (src/report/steps_*.cpp).
 StepResult step_tap(const Context& c);
@@ -130,6 +133,17 @@ struct StepRecord {
 /// The summary table printed after a run: every row (step, quantity, measured, thesis), then
 /// each step's wall and CPU time and note, then the totals.
 std::string summary_text(const std::vector<StepRecord>& steps, double total_s, double cpu_s);
+/// The demo's step progress: on a terminal (`tty`) the program's progress line `line` (the
+/// fraction capped below 1, the step's end is reported once by run_steps), in logs (CI) one line
+/// "[what] NN% (eta S s)" on stderr every 5 s at most.
+eval::Progress step_progress_line(bool tty, const eval::Progress& line);
+
+/// Runs the steps in order; each reports to `progress` (its Context's progress_to), `done` gets
+/// (name, 1, 0) when a step ran, and `log` a line before and after each ("[demo] step i/n: ...",
+/// "[demo] NAME done in ..."). Wall and CPU seconds of each step go into its result.
+std::vector<StepRecord> run_steps(const Options& o, const std::vector<Step>& steps,
+                                  const eval::Progress& progress, const eval::Progress& done,
+                                  const std::function<void(const std::string&)>& log);
 /// Folder with node_modules/plotly.js-dist-min etc.: --web-dir, INHAP_WEB_DIR, or web/ found
 /// beside or above the executable / the working directory. Throws Error telling to run
 /// ./run setup when the libraries are missing.
