@@ -4,11 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
+#include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
+#include "inhap/surface/alpha_shape.hpp"
 #include "inhap/surface/points.hpp"
 #include "inhap/surface/reconstruct.hpp"
 #include "surface/sphere_points.hpp"
@@ -123,36 +124,27 @@ TEST(WholeObject, TwoBallsAGapApartGiveTwoPiecesAndNoFaceAcrossTheGap) {
   EXPECT_GT(spanning(reconstruct_surface(pts, dirs, off)), 0u);
 }
 
-TEST(WholeObject, LocalAlphaKeepsADenselySampledCreaseThatASparseSpotWouldBridge) {
-  // A 90 deg valley z = |x| (a concave crease along y, like the base of a bunny's ear) sampled
-  // every 2.5 mm for |y| < 20, and every 7 mm beyond (y up to 60): the sparse part sets one
-  // automatic alpha for all, and its tetrahedra bridge the densely sampled crease; with alpha
-  // local to the spacing the crease is kept.
-  Rng rng(5);
-  std::vector<Vec3> pts, dirs;
-  auto add = [&](double step, double y0, double y1) {
-    for (double y = y0; y < y1; y += step)
-      for (double x = -20; x <= 20; x += step) {
-        const double px = x + rng.uniform(-0.2, 0.2) * step, py = y + rng.uniform(-0.2, 0.2) * step;
-        pts.emplace_back(px, py, std::abs(px));
-        dirs.push_back(Vec3(px < 0 ? 1 : -1, 0, 1).normalized());
-      }
-  };
-  add(2.5, -20, 20);
-  add(7.0, 20, 60);
-  // Distance of the crease (x = 0, z = 0) to the mesh, away from the sampling's edges.
-  auto crease_error = [&](const TriMesh& m) {
-    const MeshIndex index(m);
-    double e = 0;
-    for (double y = -12; y <= 12; y += 0.5)
-      e = std::max(e, std::sqrt(index.closest_point(Vec3(0, y, 0)).distance2));
-    return e;
-  };
-  ReconstructOptions global;
-  global.local_alpha = 0;
-  const double local = crease_error(reconstruct_surface(pts, dirs, {}));
-  const double one = crease_error(reconstruct_surface(pts, dirs, global));
-  std::printf("crease error local %.3f global %.3f\n", local, one);
-  EXPECT_LT(local, 1.0);
-  EXPECT_GT(one, 2.0);
+TEST(WholeObject, LocalAlphaComparesEachCircumradiusWithItsPointsSpacing) {
+  // One regular tetrahedron, circumradius 3 mm: with point lengths 2, 2, 4, 4 mm (mean 3) it is
+  // solid (4 boundary faces) at a local alpha just above 1 and empty just below; one alpha for
+  // all compares 3 mm itself.
+  const double a = 3.0 * std::sqrt(8.0 / 3.0);  // edge of a regular tetrahedron of radius 3
+  const std::vector<Vec3> tet{{0, 0, 0},
+                              {a, 0, 0},
+                              {a / 2, a * std::sqrt(3.0) / 2, 0},
+                              {a / 2, a * std::sqrt(3.0) / 6, a * std::sqrt(2.0 / 3.0)}};
+  AlphaShapeOptions o;
+  o.point_scale = {2, 2, 4, 4};
+  o.alpha = 1.01;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 4u);
+  o.alpha = 0.99;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 0u);
+  o.point_scale = {1, 1, 1, 1};
+  o.alpha = 2.99;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 0u);
+  o.point_scale.clear();
+  o.alpha = 3.01;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 4u);
+  o.point_scale = {1, 1, 1};
+  EXPECT_THROW(alpha_shape(tet, o), Error);
 }
