@@ -12,8 +12,10 @@ using json = nlohmann::json;
 
 std::vector<ShapeTarget> shape_targets(bool top_only, const std::vector<std::string>& only,
                                        std::size_t taps, bool quick) {
-  std::vector<ShapeTarget> targets = {
-      {"foam-ball", 1000}, {"ridged-silicone", 950}, {"silicone-hemisphere", 300}, {"bunny", 1000}};
+  std::vector<ShapeTarget> targets = {{"foam-ball", 1000},
+                                      {"ridged-silicone", 950},
+                                      {"silicone-hemisphere", 300},
+                                      {"bunny", kBunnyTaps}};
   if (top_only) targets.pop_back();  // the top-cap protocol has no bunny
   std::vector<ShapeTarget> out;
   for (ShapeTarget t : targets) {

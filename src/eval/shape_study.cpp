@@ -16,6 +16,8 @@ ShapeObjectResult run_shape_object(const lab::Scene& scene, const ShapeObjectOpt
   const TriMesh reachable = reachable_part(r.reference, scene.object, o.tap.reach);
   ShapeCompareOptions co = o.compare;
   co.reachable_reference = o.score_reachable_part ? &reachable : nullptr;
+  if (o.tap.whole_object && !(co.reconstruct.local_alpha > 0))
+    co.reconstruct.local_alpha = o.whole_object_local_alpha;
   r.estimate = reconstruct_and_compare(rec, ContactMethod::kEstimate, o.taps, r.reference, co);
   r.threshold = reconstruct_and_compare(rec, ContactMethod::kThreshold, o.taps, r.reference, co);
   r.coverage = tap_coverage(scene.object, r.estimate.matched.truth, o.coverage_radius_mm,

@@ -8,6 +8,7 @@
 
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/error.hpp"
+#include "inhap/eval/lab_objects.hpp"
 #include "inhap/eval/shape_lab.hpp"
 #include "inhap/eval/shape_study.hpp"
 #include "inhap/geometry/mesh_io.hpp"
@@ -142,7 +143,7 @@ StepResult step_shape(const Context& c) {
     targets.push_back({"silicone-hemisphere", "silicone hemisphere", 300, "3.30 / 6.69"});
     try {
       bunny_ply = find_data_dir(c.options.data) + "/bunny/bun_zipper.ply";
-      targets.push_back({"bunny", "bunny (100 mm, Ecoflex 00-30)", 1000, "-"});
+      targets.push_back({"bunny", "bunny (100 mm, Ecoflex 00-30)", eval::kBunnyTaps, "-"});
     } catch (const Error&) {
       // no data folder: the bunny is left out (the data steps say so)
     }

@@ -41,7 +41,7 @@ struct Cells {
   std::vector<std::array<std::int32_t, 4>> vertex;  // input point indices
 };
 
-Cells index_cells(Delaunay& dt) {
+Cells index_cells(Delaunay& dt, const std::vector<double>& scale) {
   Cells c;
   for (auto it = dt.all_cells_begin(); it != dt.all_cells_end(); ++it) it->info() = -1;
   for (auto it = dt.finite_cells_begin(); it != dt.finite_cells_end(); ++it) {
@@ -56,10 +56,13 @@ Cells index_cells(Delaunay& dt) {
     const auto& h = c.handle[i];
     c.r2[i] = CGAL::squared_radius(h->vertex(0)->point(), h->vertex(1)->point(),
                                    h->vertex(2)->point(), h->vertex(3)->point());
+    double s = 0;
     for (int k = 0; k < 4; ++k) {
       c.nb[i][static_cast<std::size_t>(k)] = h->neighbor(k)->info();
       c.vertex[i][static_cast<std::size_t>(k)] = h->vertex(k)->info();
+      if (!scale.empty()) s += 0.25 * scale[static_cast<std::size_t>(h->vertex(k)->info())];
     }
+    if (!scale.empty()) c.r2[i] /= s * s;  // radius in units of the local length
   }
   return c;
 }
@@ -240,7 +243,16 @@ AlphaShapeResult alpha_shape(std::span<const Vec3> points, const AlphaShapeOptio
   if (dt.dimension() < 3)
     throw Error("alpha shape: expected points spanning 3D, got " + std::to_string(points.size()) +
                 " points of dimension " + std::to_string(dt.dimension()));
-  const Cells cells = index_cells(dt);
+  if (!options.point_scale.empty()) {
+    if (options.point_scale.size() != points.size())
+      throw Error("alpha shape: expected one length per point, got " +
+                  std::to_string(options.point_scale.size()) + " for " +
+                  std::to_string(points.size()));
+    for (double v : options.point_scale)
+      if (!(v > 0) || !std::isfinite(v))
+        throw Error("alpha shape: expected positive finite point lengths");
+  }
+  const Cells cells = index_cells(dt, options.point_scale);
   double a2 = options.alpha * options.alpha;
   std::vector<Tri> tris;
   if (options.alpha > 0) {

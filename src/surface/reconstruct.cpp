@@ -66,6 +66,20 @@ std::vector<double> twin_depths(const std::vector<Vec3>& pts, const std::vector<
   return depths;
 }
 
+/// Local point spacing: each point's mean distance to its 6 nearest neighbours, averaged over
+/// the point and those neighbours (mm).
+std::vector<double> local_spacing(const std::vector<Vec3>& pts) {
+  const std::vector<double> d = knn_mean_distances(pts, 6);
+  const KnnTable t = knn_table(pts, 6);
+  std::vector<double> out(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    double s = d[i];
+    for (std::size_t j = 0; j < t.k; ++j) s += d[static_cast<std::size_t>(t.index[i * t.k + j])];
+    out[i] = s / static_cast<double>(t.k + 1);
+  }
+  return out;
+}
+
 /// Shell mode: alpha shape of the points and their inner twins, faces on points only.
 TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
                       const ReconstructOptions& o, ReconstructReport& rep) {
@@ -84,8 +98,14 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
   // Patches: alpha from the point spacing, patch_alpha_factor times the median 6-NN spacing, so
   // no sheet spans a gap between separately tapped parts wider than about twice that (the
   // hollow between a bunny's ears); points sparser than that stay off the shell.
-  if (o.patches && !(o.alpha > 0) && o.patch_alpha_factor > 0)
+  if (o.patches && !(o.alpha > 0) && !(o.local_alpha > 0) && o.patch_alpha_factor > 0)
     ao.alpha = o.patch_alpha_factor * median(knn_mean_distances(pts, 6), 0.0);
+  if (o.patches && !(o.alpha > 0) && o.local_alpha > 0) {
+    const std::vector<double> sp = local_spacing(pts);
+    ao.point_scale = sp;
+    ao.point_scale.insert(ao.point_scale.end(), sp.begin(), sp.end());
+    ao.alpha = o.local_alpha;
+  }
   AlphaShapeResult as = alpha_shape(both, ao);
   rep.alpha = as.alpha;
   rep.solid_components = as.solid_components;
@@ -128,10 +148,10 @@ TriMesh shell_surface(const std::vector<Vec3>& pts, std::span<const Vec3> dirs,
 }
 
 /// Drops the faces of `mesh` (vertices at points of `pts`) two of whose points face each other
-/// across air, and the vertices no face uses any more.
-void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
+/// across air, and the vertices no face uses any more. Returns true when a face was dropped.
+bool drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
                            const std::vector<Vec3>& dirs, double max_cos) {
-  if (mesh.positions.empty()) return;
+  if (mesh.positions.empty()) return false;
   const NearestSites ns = nearest_sites(pts, mesh.positions);
   std::vector<Tri> kept;
   for (const Tri& t : mesh.triangles) {
@@ -147,7 +167,7 @@ void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
     }
     if (!air) kept.push_back(t);
   }
-  if (kept.size() == mesh.triangles.size()) return;
+  if (kept.size() == mesh.triangles.size()) return false;
   TriMesh out;
   std::vector<std::int32_t> remap(mesh.positions.size(), -1);
   for (Tri t : kept) {
@@ -163,6 +183,7 @@ void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
   }
   out.compute_normals();
   mesh = std::move(out);
+  return true;
 }
 
 /// Shell: where a twin showed through the outer side a few faces are missing; closes such small
@@ -173,7 +194,10 @@ void drop_faces_across_air(TriMesh& mesh, const std::vector<Vec3>& pts,
 std::size_t close_small_holes(TriMesh& mesh, const std::vector<Vec3>& pts,
                               const std::vector<Vec3>& dirs, const ReconstructOptions& o) {
   const std::size_t filled = fill_small_holes(mesh, 10, 0.1);
-  if (!dirs.empty() && o.air_gap_cos >= -1) drop_faces_across_air(mesh, pts, dirs, o.air_gap_cos);
+  // Dropping faces can pinch a vertex between two fans (a non-manifold vertex, which the
+  // subdivision refuses): repaired as after the alpha shape.
+  if (!dirs.empty() && o.air_gap_cos >= -1 && drop_faces_across_air(mesh, pts, dirs, o.air_gap_cos))
+    mesh = make_manifold(mesh, !o.patches, nullptr, o.patches ? o.min_patch_faces : 0);
   return filled;
 }
 

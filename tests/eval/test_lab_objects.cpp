@@ -15,6 +15,7 @@ TEST(LabObjects, ShapeTargetsAndTheirTaps) {
   EXPECT_EQ(all[1].taps, 950u);
   EXPECT_EQ(all[2].taps, 300u);
   EXPECT_EQ(all[3].name, "bunny");
+  EXPECT_EQ(all[3].taps, kBunnyTaps);
   const auto quick = shape_targets(false, {}, 0, true);  // a fifth, at least 60
   EXPECT_EQ(quick[0].taps, 200u);
   EXPECT_EQ(quick[1].taps, 190u);

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/geometry/mesh_index.hpp"
+#include "inhap/surface/alpha_shape.hpp"
 #include "inhap/surface/points.hpp"
 #include "inhap/surface/reconstruct.hpp"
 #include "surface/sphere_points.hpp"
@@ -120,4 +122,29 @@ TEST(WholeObject, TwoBallsAGapApartGiveTwoPiecesAndNoFaceAcrossTheGap) {
   ReconstructOptions off;
   off.air_gap_cos = -2;  // the rule off
   EXPECT_GT(spanning(reconstruct_surface(pts, dirs, off)), 0u);
+}
+
+TEST(WholeObject, LocalAlphaComparesEachCircumradiusWithItsPointsSpacing) {
+  // One regular tetrahedron, circumradius 3 mm: with point lengths 2, 2, 4, 4 mm (mean 3) it is
+  // solid (4 boundary faces) at a local alpha just above 1 and empty just below; one alpha for
+  // all compares 3 mm itself.
+  const double a = 3.0 * std::sqrt(8.0 / 3.0);  // edge of a regular tetrahedron of radius 3
+  const std::vector<Vec3> tet{{0, 0, 0},
+                              {a, 0, 0},
+                              {a / 2, a * std::sqrt(3.0) / 2, 0},
+                              {a / 2, a * std::sqrt(3.0) / 6, a * std::sqrt(2.0 / 3.0)}};
+  AlphaShapeOptions o;
+  o.point_scale = {2, 2, 4, 4};
+  o.alpha = 1.01;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 4u);
+  o.alpha = 0.99;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 0u);
+  o.point_scale = {1, 1, 1, 1};
+  o.alpha = 2.99;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 0u);
+  o.point_scale.clear();
+  o.alpha = 3.01;
+  EXPECT_EQ(alpha_shape(tet, o).mesh.num_triangles(), 4u);
+  o.point_scale = {1, 1, 1};
+  EXPECT_THROW(alpha_shape(tet, o), Error);
 }

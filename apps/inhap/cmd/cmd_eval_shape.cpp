@@ -173,7 +173,7 @@ void register_eval_shape(CLI::App& app) {
       "shape",
       "Thesis Table 3.1 on whole objects: the lab operator taps the foam ball (1000 taps), ridged\n"
       "silicone (950), silicone hemisphere (300) and the Stanford bunny scaled to 100 mm in\n"
-      "Ecoflex 00-30 (1000) all over what a stylus reaches (base excluded); each is reconstructed\n"
+      "Ecoflex 00-30 (1500) all over what a stylus reaches (base excluded); each is reconstructed\n"
       "from estimated and from thresholded contact points. Hausdorff and mean distance (mm): the\n"
       "reconstruction uncropped, the reference cropped to the tapped part; coverage = share of\n"
       "the reachable surface within 5 mm of a tap; taps per simulated minute.");
@@ -188,7 +188,7 @@ void register_eval_shape(CLI::App& app) {
       ->check(CLI::IsMember({"foam-ball", "ridged-silicone", "silicone-hemisphere", "bunny"}));
   shape
       ->add_option("--taps", s->taps,
-                   "taps per object instead of the thesis' 1000/950/300 (bunny 1000)")
+                   "taps per object instead of the thesis' 1000/950/300 (bunny 1500)")
       ->check(CLI::Range(20, 100000));
   shape->add_flag("--quick", s->st.quick,
                   "a fifth of the taps (at least 60) and a coarser coverage estimate (tests)");

@@ -26,6 +26,9 @@ struct ShapeObjectOptions {
   std::size_t coverage_samples = 20000;  ///< tap_coverage() samples
   double coverage_radius_mm = 5.0;
   bool count_entry_sides = false;  ///< also run count_far_side_contacts()
+  /// Whole-object taps (an even, blue-noise sampling): the reconstruction's alpha local to the
+  /// spacing (ReconstructOptions::local_alpha) when the compare options leave it at 0.
+  double whole_object_local_alpha = 1.0;
   /// Fractions: recording 0..0.8 ("taps"), then "reconstruct" at 0.8, "done" at 1.
   Progress progress;
 };

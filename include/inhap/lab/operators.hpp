@@ -63,7 +63,7 @@ struct TapOptions {
   /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s).
   bool whole_object = false;
   ReachOptions reach;
-  std::size_t candidates = 8000;  ///< whole-object mode: surface samples the spots come from
+  std::size_t candidates = 30000;  ///< whole-object mode: surface samples the spots come from
 };
 
 struct ExploreOptions {

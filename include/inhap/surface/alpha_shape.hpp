@@ -29,14 +29,19 @@ struct AlphaShapeOptions {
   bool one_component = true;
   double scan_step = 0.02;
   double scan_max_factor = 3.0;
+  /// Empty, or one length per input point (mm): each tetrahedron's circumradius is then divided
+  /// by the mean length of its four points, and alpha (given or automatic) is in units of that
+  /// length — an alpha local to the point spacing, so a sparse spot does not set the alpha of a
+  /// densely sampled crease.
+  std::vector<double> point_scale;
 };
 
 struct AlphaShapeResult {
   TriMesh mesh;  ///< outward-oriented boundary of the regularized alpha solid
   std::vector<std::int32_t> input_index;  ///< input point of each mesh vertex
-  double alpha = 0;                       ///< radius used, mm
-  double alpha_one_component = 0;         ///< automatic mode: the bare one-component alpha, mm
-  bool closed_manifold = false;           ///< the boundary is a closed 2-manifold
+  double alpha = 0;  ///< radius used, mm (with point_scale: in units of the points' lengths)
+  double alpha_one_component = 0;  ///< automatic mode: the bare one-component alpha, mm
+  bool closed_manifold = false;    ///< the boundary is a closed 2-manifold
   std::size_t solid_components = 0;
   std::size_t points_on_surface = 0;  ///< input points that are vertices of `mesh`
 };

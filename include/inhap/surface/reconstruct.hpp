@@ -54,6 +54,17 @@ struct ReconstructOptions {
   /// Patches: alpha = this x the median 6-NN spacing (0: the smallest alpha putting every
   /// point on the shell, scanned up to a closed manifold of one or more components).
   double patch_alpha_factor = 0;
+  /// Shell, patches, automatic alpha, > 0: alpha local to the spacing: a tetrahedron of the
+  /// shell is solid when its circumradius is at most this x the mean local spacing of its four
+  /// points (each point's mean distance to its 6 nearest neighbours, averaged over it and those
+  /// neighbours; a twin has its point's), so the sparsest spot no longer sets one alpha for the
+  /// densely sampled creases (a bunny's cheek and ear bases). Needs an even sampling (a
+  /// person's taps, blue noise): a uniformly random one has voids that open holes at 1.0 (the
+  /// noisy-sphere and V-groove tests), so it is off by default; `inhap eval shape` uses 1.0 on
+  /// whole-object tap sets. 0: one alpha for all (above).
+  double local_alpha = 0;
+  bool local_alpha_scan = false;
+  bool local_spacing_max = true;
   /// Shell: drop a face whose normal is more than this from one of its points' normals (a face
   /// across a thin part sampled on both sides, e.g. an ear, joins points facing away from it);
   /// 0 or >= 180: keep every face.
