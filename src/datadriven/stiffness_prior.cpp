@@ -1,5 +1,5 @@
 // Local stiffness prior f_n ~ k(q) d^alpha: backfitting of a smoothed ln k map and one exponent
-// (see stiffness_map.hpp). Units: mm, N.
+// (see stiffness_prior.hpp). Units: mm, N.
 #include "inhap/datadriven/stiffness_prior.hpp"
 
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-// Local stiffness prior (stiffness_map.hpp, TrainParams::stiffness_prior) on synthetic data with
+// Local stiffness prior (stiffness_prior.hpp, TrainParams::stiffness_prior) on synthetic data with
 // a known law: a flat surface (normal +z) with f_n = k(q) d^1.5, k(q) = 0.4 (1 - 0.6 exp(-|q -
 // c|^2 / (8 mm)^2)) N/mm^1.5 (a soft inclusion at c), d = n . (q - p).
 #include <gtest/gtest.h>

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "inhap/eval/sys_lab.hpp"
@@ -39,17 +40,33 @@ void expect_same(const friction::CycleRecord& a, const friction::CycleRecord& b)
   EXPECT_EQ(a.status, b.status);
 }
 
+// The lab dome, its device (seed 5) and the shape a palpation runs on (the probe centre's height
+// field over the dome, mm).
+struct Dome {
+  lab::Scene scene = lab::builtin_scene("dome");
+  lab::DeviceParams dp = [] {
+    lab::DeviceParams p;
+    p.seed = 5;
+    return p;
+  }();
+  TriMesh shape_mesh =
+      eval::shape_height_field(scene, dp.probe.radius_mm, scene.region.radius + 15.0);
+  friction::MeshSurface shape{shape_mesh, 0.0};
+  /// The probe centre dropped onto the dome `dx` mm beside the region's centre.
+  std::optional<Vec3> drop(double dx) const {
+    return scene.object.shape().drop(scene.region.center.x() + dx, scene.region.center.y(),
+                                     dp.probe.radius_mm);
+  }
+};
+
 }  // namespace
 
 TEST(StudioPalpation, RendererGivesTheCyclesOfSysPalpateAndTheLabsFriction) {
-  const lab::Scene scene = lab::builtin_scene("dome");
-  lab::DeviceParams dp;
-  dp.seed = 5;
-  const TriMesh shape_mesh =
-      eval::shape_height_field(scene, dp.probe.radius_mm, scene.region.radius + 15.0);
-  const friction::MeshSurface shape(shape_mesh, 0.0);
-  const auto top = scene.object.shape().drop(scene.region.center.x() + 6.0, scene.region.center.y(),
-                                             dp.probe.radius_mm);
+  const Dome d;
+  const lab::Scene& scene = d.scene;
+  const lab::DeviceParams& dp = d.dp;
+  const friction::MeshSurface& shape = d.shape;
+  const auto top = d.drop(6.0);
   ASSERT_TRUE(top);
   Vec3 c, n;
   ASSERT_TRUE(shape.closest(*top, c, n));
@@ -142,14 +159,11 @@ TEST(StudioPalpation, SessionRefusesWhatItCannotDo) {
 // pointer to its static text until error() formats it on the reader's side. Two ways to fail: a
 // reference point in the air (the approach finds no surface) and a non-finite device reading.
 TEST(StudioPalpation, AFailedPointAllocatesNothingOnTheServoThread) {
-  const lab::Scene scene = lab::builtin_scene("dome");
-  lab::DeviceParams dp;
-  dp.seed = 5;
-  const TriMesh shape_mesh =
-      eval::shape_height_field(scene, dp.probe.radius_mm, scene.region.radius + 15.0);
-  const friction::MeshSurface shape(shape_mesh, 0.0);
-  const auto top = scene.object.shape().drop(scene.region.center.x(), scene.region.center.y(),
-                                             dp.probe.radius_mm);
+  const Dome d;
+  const lab::Scene& scene = d.scene;
+  const lab::DeviceParams& dp = d.dp;
+  const friction::MeshSurface& shape = d.shape;
+  const auto top = d.drop(0.0);
   ASSERT_TRUE(top);
   const Vec3 n = Vec3::UnitZ(), air = *top + 20.0 * n;
   const friction::PalpationConfig cfg = eval::palpation_config(true);

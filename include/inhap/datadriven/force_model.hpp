@@ -147,7 +147,7 @@ struct TrainParams {
   /// tangential force from its neighbours' shear. Doubles the training rows.
   bool tangent_mirror = false;
   /// Local-frame features only: fit a local stiffness prior f_n = k(q) d^alpha (d = n . (q - p),
-  /// see stiffness_map.hpp) to all training samples first; the RBFs learn the rest and the prior
+  /// see stiffness_prior.hpp) to all training samples first; the RBFs learn the rest and the prior
   /// is added back when rendering, so the stiffness seen at shallow depth carries to deep pushes.
   bool stiffness_prior = false;
   StiffnessPriorParams stiffness;  ///< settings of the prior's fit
