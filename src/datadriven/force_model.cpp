@@ -190,6 +190,46 @@ BinModel with_axes(const BinModel& g, std::array<RbfExpansion, 3> axes) {
   return b;
 }
 
+// Least-squares refit of each axis on the support SpaRSA chose (and the tail), warm-started at
+// its weights; fills the per-axis counts of `out`.
+std::array<RbfExpansion, 3> debias(const Problem& pb, const Eigen::MatrixXd& x,
+                                   const std::vector<L1Fit>& sol, const Eigen::VectorXd& colscale,
+                                   const Eigen::MatrixXd& tail_coef, const TrainParams& prm,
+                                   BinResult& out) {
+  const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
+  std::array<RbfExpansion, 3> axes;
+  for (int c = 0; c < 3; ++c) {
+    const auto uc = static_cast<std::size_t>(c);
+    const std::vector<int>& sup = sol[uc].support;
+    const Eigen::Index k = static_cast<Eigen::Index>(sup.size());
+    Eigen::MatrixXd b(rows, k + t);
+    Eigen::VectorXd x0(k + t);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const int col = sup[static_cast<std::size_t>(j)];
+      b.col(j) = pb.a.col(col);
+      x0[j] = sol[uc].w[col] / colscale[col];
+    }
+    if (t) {
+      b.rightCols(t) = pb.p;
+      x0.tail(t) = tail_coef.col(c);
+    }
+    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance, 0, prm.ridge);
+    RbfExpansion& e = axes[uc];
+    e.centres.resize(k, kFeatureDim);
+    for (Eigen::Index j = 0; j < k; ++j)
+      e.centres.row(j) =
+          x.row(pb.candidate[static_cast<std::size_t>(sup[static_cast<std::size_t>(j)])]);
+    e.weights = cg.x.head(k);
+    if (t) e.tail = cg.x.tail(t);
+    out.support[uc] = static_cast<int>(k);
+    out.sparsa_it[uc] = sol[uc].iterations;
+    out.nonzeros[uc] = sol[uc].nonzeros;
+    out.gap[uc] = sol[uc].relative_gap;
+    out.cg_it[uc] = cg.iterations;
+  }
+  return axes;
+}
+
 BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainParams& prm, int bin,
                     StageLog& log) {
   double clock = thread_cpu_s();
@@ -236,37 +276,7 @@ BinResult train_bin(Eigen::MatrixXd x, const Eigen::MatrixXd& f, const TrainPara
   const std::vector<L1Fit> sol = solve_l1(prm.solver, pb.a, target, lambda, sp, lp);
   log.lap("l1", clock);
   if (prm.normalize_columns) pb.a *= colscale.asDiagonal();
-  const Eigen::Index rows = pb.a.rows(), t = prm.linear_tail ? kFeatureDim + 1 : 0;
-  std::array<RbfExpansion, 3> axes;
-  for (int c = 0; c < 3; ++c) {
-    const auto uc = static_cast<std::size_t>(c);
-    const std::vector<int>& sup = sol[uc].support;
-    const Eigen::Index k = static_cast<Eigen::Index>(sup.size());
-    Eigen::MatrixXd b(rows, k + t);
-    Eigen::VectorXd x0(k + t);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const int col = sup[static_cast<std::size_t>(j)];
-      b.col(j) = pb.a.col(col);
-      x0[j] = sol[uc].w[col] / colscale[col];
-    }
-    if (t) {
-      b.rightCols(t) = pb.p;
-      x0.tail(t) = tail_coef.col(c);
-    }
-    const CgResult cg = cg_least_squares(b, pb.f.col(c), x0, prm.cg_tolerance, 0, prm.ridge);
-    RbfExpansion& e = axes[uc];
-    e.centres.resize(k, kFeatureDim);
-    for (Eigen::Index j = 0; j < k; ++j)
-      e.centres.row(j) =
-          x.row(pb.candidate[static_cast<std::size_t>(sup[static_cast<std::size_t>(j)])]);
-    e.weights = cg.x.head(k);
-    if (t) e.tail = cg.x.tail(t);
-    out.support[uc] = static_cast<int>(k);
-    out.sparsa_it[uc] = sol[uc].iterations;
-    out.nonzeros[uc] = sol[uc].nonzeros;
-    out.gap[uc] = sol[uc].relative_gap;
-    out.cg_it[uc] = cg.iterations;
-  }
+  std::array<RbfExpansion, 3> axes = debias(pb, x, sol, colscale, tail_coef, prm, out);
   log.lap("debias", clock);
   bm = with_axes(bm, std::move(axes));
   return out;
@@ -309,6 +319,35 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
   worker();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
+}
+
+// Features and target forces of the samples order[s0..s1) (one bin): forces minus the priors'
+// force, in the local frame when the features are; mirrored about the normal when asked.
+std::pair<Eigen::MatrixXd, Eigen::MatrixXd> bin_samples(const TrainingSet& data,
+                                                        const TrainParams& params,
+                                                        const std::vector<std::size_t>& order,
+                                                        std::size_t s0, std::size_t s1,
+                                                        const std::vector<Vec3>& base) {
+  const auto m = static_cast<Eigen::Index>(s1 - s0);
+  const bool local = params.features == FeatureSet::kLocalFrame;
+  const bool mirror = local && params.tangent_mirror;
+  Eigen::MatrixXd x(mirror ? 2 * m : m, kFeatureDim), f(mirror ? 2 * m : m, 3);
+  double row[kFeatureDim];
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
+    const SurfaceFrame fr = data.n.empty() ? SurfaceFrame{} : surface_frame(data.n[k]);
+    make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
+    for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
+    f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
+    f.row(i) -= base[k].transpose();  // 0 unless a prior is on (local frame: z = normal)
+  }
+  if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
+    x.bottomRows(m) = x.topRows(m);
+    f.bottomRows(m) = f.topRows(m);
+    for (int d : {0, 1, 6, 7}) x.col(d).tail(m) *= -1.0;
+    for (int a : {0, 1}) f.col(a).tail(m) *= -1.0;
+  }
+  return {std::move(x), std::move(f)};
 }
 
 // The training proper on the samples kept (train_force_model counts and filters first).
@@ -358,25 +397,7 @@ TrainedForceModel train_kept(const TrainingSet& data, const TrainParams& params,
   parallel_for(params.bins, threads, [&](int bi) {
     const auto b = static_cast<std::size_t>(bi);
     const std::size_t s0 = start[b], s1 = start[b + 1];
-    const auto m = static_cast<Eigen::Index>(s1 - s0);
-    const bool local = params.features == FeatureSet::kLocalFrame;
-    const bool mirror = local && params.tangent_mirror;
-    Eigen::MatrixXd x(mirror ? 2 * m : m, kFeatureDim), f(mirror ? 2 * m : m, 3);
-    double row[kFeatureDim];
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const std::size_t k = order[s0 + static_cast<std::size_t>(i)];
-      const SurfaceFrame fr = data.n.empty() ? SurfaceFrame{} : surface_frame(data.n[k]);
-      make_features(params.features, data.p[k], data.v[k], data.q[k], fr, row);
-      for (int d = 0; d < kFeatureDim; ++d) x(i, d) = row[d];
-      f.row(i) = (local ? fr.to_local(data.f[k]) : data.f[k]).transpose();
-      f.row(i) -= base[k].transpose();  // 0 unless a prior is on (local frame: z = normal)
-    }
-    if (mirror) {  // the same samples turned by 180 deg about the normal: tangential parts negated
-      x.bottomRows(m) = x.topRows(m);
-      f.bottomRows(m) = f.topRows(m);
-      for (int d : {0, 1, 6, 7}) x.col(d).tail(m) *= -1.0;
-      for (int a : {0, 1}) f.col(a).tail(m) *= -1.0;
-    }
+    auto [x, f] = bin_samples(data, params, order, s0, s1, base);
     results[b] = train_bin(std::move(x), f, params, bi, log);
     results[b].model.key_min = key[order[s0]];
     results[b].model.key_max = key[order[s1 - 1]];

@@ -209,7 +209,7 @@ void finish_recording(LoopRecorder& rec, DeviceSetup& d, const std::string& path
 }
 
 std::string loop_stats_text(const haptics::LoopStats& s, const haptics::BridgeStats& b) {
-  return fmt::format(
+  std::string t = fmt::format(
       "ticks {}  step p50/p99 {:.2f}/{:.2f} us  period jitter p50/p99/max {:.0f}/{:.0f}/"
       "{:.0f} us  overruns {}  watchdog trips {}\n"
       "bridge: accepted {}  lost {}  late (time-outs) {}  out of order {}  malformed {}  "
@@ -217,6 +217,10 @@ std::string loop_stats_text(const haptics::LoopStats& s, const haptics::BridgeSt
       s.ticks, s.step_p50_us, s.step_p99_us, s.jitter_p50_us, s.jitter_p99_us, s.jitter_max_us,
       s.overruns, s.watchdog_trips, b.accepted, b.lost, b.timeouts, b.out_of_order, b.malformed,
       b.bad_auth, b.foreign_session);
+  if (s.prefetch_p99_us > 0)  // only renderers that read ahead (the mesh renderers)
+    t += fmt::format("read-ahead p50/p99 {:.2f}/{:.2f} us (between ticks, off the force's path)\n",
+                     s.prefetch_p50_us, s.prefetch_p99_us);
+  return t;
 }
 
 std::string serve_banner(const std::string& renderer, const DeviceSetup& d,

@@ -15,6 +15,7 @@
 #include "inhap/core/web_dir.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/security.hpp"
+#include "inhap/studio/thread_stack.hpp"
 
 namespace fs = std::filesystem;
 
@@ -97,6 +98,9 @@ std::string find_studio_web_dir(const std::string& given) {
 Server::Server(int port, std::string web_dir, std::string token)
     : web_dir_(std::move(web_dir)), token_(std::move(token)) {
   if (port < 0 || port > 65535) throw Error("--port: expected 0-65535");
+  // civetweb's workers ask for 100 KB of stack; thread_stack.cpp (linked in by this call) gives
+  // them room for the static TLS on top.
+  if (stack_size_granted(102400) <= 102400) throw Error("studio: no room for civetweb's stacks");
   mg_init_library(0);
   const std::string ports = fmt::format("127.0.0.1:{}", port);
   const char* options[] = {"listening_ports",

@@ -146,6 +146,10 @@ TEST(Serve, StatsText) {
   const std::string t = loop_stats_text(s, b);
   EXPECT_NE(t.find("ticks 1234  step p50/p99 1.50/7.25 us"), std::string::npos) << t;
   EXPECT_NE(t.find("bridge: accepted 1200  lost 3"), std::string::npos) << t;
+  EXPECT_EQ(t.find("read-ahead"), std::string::npos) << t;  // a renderer that does not read ahead
+  s.prefetch_p50_us = 0.25;
+  s.prefetch_p99_us = 0.75;
+  EXPECT_NE(loop_stats_text(s, b).find("read-ahead p50/p99 0.25/0.75 us"), std::string::npos);
 }
 
 TEST(Serve, WaitForDeviceGivesUpWhenStopped) {

@@ -69,8 +69,15 @@ export class Markers {
   }
 
   // `state`: the server's state message (hip, ihip, cihip, f); `explore`: the proxies and the
-  // arrow too (the other 3-D views show the probe only).
+  // arrow too (the other 3-D views show the probe only, as a red ring: in the palpation view the
+  // probe rests on the yellow point it presses, which a filled dot would hide).
   draw(camera, state, explore) {
+    if (this.ring !== !explore) {  // outside explore the HIP is a ring: the points under it stay visible
+      this.ring = !explore;
+      Object.assign(this.hip.style, this.ring
+        ? { background: 'transparent', border: '3px solid #d02020' }
+        : { background: '#d02020', border: '1px solid rgba(0,0,0,0.55)' });
+    }
     this.dot(this.hip, camera, state && state.hip, 2.4);
     this.dot(this.ihip, camera, explore && state && state.ihip, 1.9);
     this.dot(this.cihip, camera, explore && state && state.cihip, 1.5);

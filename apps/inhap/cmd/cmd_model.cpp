@@ -71,17 +71,55 @@ void run_render(const ReplayOptions& o) {
   fmt::print("{} samples rendered -> {}\n", r.rec.size(), o.out);
 }
 
-void register_model(CLI::App& app) {
-  auto* model = app.add_subcommand(
-      "model",
-      "Data-driven force model f = g(p, pdot, q) (thesis 4.4): r^3 RBFs per ||q - p|| bin.\n"
-      "Recordings need proxy columns qx,qy,qz (mm) and a contact column (or a force threshold).");
-  model->require_subcommand(1);
+// The fit's flags (bins, centres, solver, features, priors); their defaults come from the preset.
+void add_fit_options(CLI::App& ct, eval::TrainRequest& q) {
+  ct.add_option("--bins", q.params.bins, "Bins by ||q - p|| (equal counts; default: preset)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  ct.add_option("--centers", q.params.centers, "M: k-means clusters (selected samples) per bin")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  ct.add_option("--nonzeros", q.params.nonzeros, "Wanted non-zeros per axis (0 = M)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  ct.add_option("--lambda-ratio", q.params.lambda_ratio, "lambda = ratio * ||A~^T f~||_inf")
+      ->capture_default_str();
+  ct.add_option("--seed", q.params.seed, "Seed of the k-means++ draws")->capture_default_str();
+  ct.add_option("--design", q.design,
+                "thesis: A~ is M x N_bin (rows = selected samples, sec. 4.4.2); regression: A~ is "
+                "N_bin x M (rows = every sample, columns = selected samples); default: preset")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"thesis", "regression"}));
+  ct.add_option("--features", q.features,
+                "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q); local = (q - p, q, pdot) with "
+                "q - p, pdot and the force in the surface frame at q (normals from columns "
+                "nx,ny,nz or from --mesh); default: preset")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
+  add_switch(
+      ct, "tail", q.params.linear_tail,
+      "Linear polynomial tail on every expansion (the thesis has none; default: preset, on in "
+      "best and world, off in thesis)",
+      false);
+  add_local_training_flags(ct, q.params, "default: preset; on in best, off in world and thesis");
+  ct.add_option("--feature-weights", q.params.feature_weights,
+                "Weights of the three feature groups after standardisation (default: preset; "
+                "best 1 5 0.5)");
+  ct.add_option("--bin-blend", q.params.bin_blend,
+                "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard "
+                "switch; default: preset)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  ct.add_option("--threads", q.params.threads, "Worker threads (0 = all cores)")
+      ->capture_default_str();
+}
 
+// inhap model train: the flags and the preset bookkeeping (which flags were given).
+void register_train(CLI::App& model) {
   auto tr = std::make_shared<TrainOptions>();
   eval::TrainFileOptions& f = tr->file;
   eval::TrainRequest& q = f.request;
-  auto* ct = model->add_subcommand(
+  auto* ct = model.add_subcommand(
       "train",
       "Train a model from a recording (writes model JSON). With no flags: preset 'best', the "
       "documented pipeline\n(local-frame features, tangent mirror, stiffness and shear priors, "
@@ -110,45 +148,7 @@ void register_model(CLI::App& app) {
                  "clipped)")
       ->capture_default_str()
       ->check(CLI::IsMember({"keep", "exclude"}));
-  ct->add_option("--bins", q.params.bins, "Bins by ||q - p|| (equal counts; default: preset)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100));
-  ct->add_option("--centers", q.params.centers, "M: k-means clusters (selected samples) per bin")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  ct->add_option("--nonzeros", q.params.nonzeros, "Wanted non-zeros per axis (0 = M)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  ct->add_option("--lambda-ratio", q.params.lambda_ratio, "lambda = ratio * ||A~^T f~||_inf")
-      ->capture_default_str();
-  ct->add_option("--seed", q.params.seed, "Seed of the k-means++ draws")->capture_default_str();
-  ct->add_option("--design", q.design,
-                 "thesis: A~ is M x N_bin (rows = selected samples, sec. 4.4.2); regression: A~ is "
-                 "N_bin x M (rows = every sample, columns = selected samples); default: preset")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"thesis", "regression"}));
-  ct->add_option("--features", q.features,
-                 "ue_q_v = (q - p, q, pdot); p_v_q = (p, pdot, q); local = (q - p, q, pdot) with "
-                 "q - p, pdot and the force in the surface frame at q (normals from columns "
-                 "nx,ny,nz or from --mesh); default: preset")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"ue_q_v", "p_v_q", "local"}));
-  add_switch(
-      *ct, "tail", q.params.linear_tail,
-      "Linear polynomial tail on every expansion (the thesis has none; default: preset, on in "
-      "best and world, off in thesis)",
-      false);
-  add_local_training_flags(*ct, q.params, "default: preset; on in best, off in world and thesis");
-  ct->add_option("--feature-weights", q.params.feature_weights,
-                 "Weights of the three feature groups after standardisation (default: preset; "
-                 "best 1 5 0.5)");
-  ct->add_option("--bin-blend", q.params.bin_blend,
-                 "Half-width of the blend band around bin edges, mm of ||q - p|| (0: hard "
-                 "switch; default: preset)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  ct->add_option("--threads", q.params.threads, "Worker threads (0 = all cores)")
-      ->capture_default_str();
+  add_fit_options(*ct, q);
   ct->add_option("--foaw-window", f.foaw.max_window, "FOAW window cap, samples")
       ->capture_default_str()
       ->check(CLI::Range(1, kFoawMaxWindow - 1));
@@ -172,9 +172,12 @@ void register_model(CLI::App& app) {
           tr->file.request.given.insert("--" + (name.rfind("no-", 0) == 0 ? name.substr(3) : name));
     run_train(*tr);
   });
+}
 
+// inhap model eval and inhap model render: replay a recording through a trained model.
+void register_replay(CLI::App& model) {
   auto ev = std::make_shared<ReplayOptions>();
-  auto* ce = model->add_subcommand(
+  auto* ce = model.add_subcommand(
       "eval", "Replay a recording through the servo renderer; errors (eq. 4.27-4.31)");
   ce->add_option("--model", ev->model, "Model JSON")->required();
   ce->add_option("--recording", ev->recording, "Test recording CSV with proxy columns")->required();
@@ -185,8 +188,8 @@ void register_model(CLI::App& app) {
   ce->callback([ev] { run_eval(*ev); });
 
   auto rn = std::make_shared<ReplayOptions>();
-  auto* cr = model->add_subcommand("render",
-                                   "Replay a recording at servo rate; write rendered forces (N)");
+  auto* cr =
+      model.add_subcommand("render", "Replay a recording at servo rate; write rendered forces (N)");
   cr->add_option("--model", rn->model, "Model JSON")->required();
   cr->add_option("--recording", rn->recording, "Recording CSV with proxy columns")->required();
   cr->add_option("--out", rn->out,
@@ -196,6 +199,16 @@ void register_model(CLI::App& app) {
   cr->add_option("--mesh", rn->mesh,
                  "Shape mesh for the normals of a local-frame model (default: the model's)");
   cr->callback([rn] { run_render(*rn); });
+}
+
+void register_model(CLI::App& app) {
+  auto* model = app.add_subcommand(
+      "model",
+      "Data-driven force model f = g(p, pdot, q) (thesis 4.4): r^3 RBFs per ||q - p|| bin.\n"
+      "Recordings need proxy columns qx,qy,qz (mm) and a contact column (or a force threshold).");
+  model->require_subcommand(1);
+  register_train(*model);
+  register_replay(*model);
 }
 
 }  // namespace

@@ -145,7 +145,8 @@ std::string serve_banner(const std::string& renderer, const DeviceSetup& device,
 std::string session_end_text(const haptics::ServoLoop& loop, const DeviceSetup& device,
                              const std::string& record);
 
-/// The loop's and the bridge's counters as the two lines `inhap serve` prints at the end.
+/// The loop's and the bridge's counters as `inhap serve` prints them at the end (two lines, a third
+/// with the read-ahead timings when the renderer reads ahead).
 std::string loop_stats_text(const haptics::LoopStats& loop, const haptics::BridgeStats& bridge);
 
 }  // namespace inhap::eval

@@ -5,7 +5,8 @@
 // the Session and broadcasts the Session's stream to every open page.
 // civetweb's worker threads only hand work over: HTTP requests and WebSocket upgrades run on the
 // server's HTTP thread, WebSocket messages on its command worker (both threads of our own, with
-// normal stacks; civetweb's are 100 KB, too small for AddressSanitizer's redzones).
+// normal stacks). civetweb's own workers ask for 100 KB, of which glibc takes the static TLS;
+// thread_stack.hpp gives them room for it.
 #pragma once
 
 #include <condition_variable>
