@@ -83,6 +83,7 @@ TEST(CliServe, TheVirtualLabServesInProcessAndItsSessionHasTruth) {
       dir.path("plane.ply") + " --seconds 1.5 --no-realtime --record " + rec);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("virtual lab"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("read-ahead p50/p99"), std::string::npos) << "CBA reads ahead\n" << r.out;
   const Recording rows = read_recording(rec);
   const CsvTable truth = read_csv(dir.path("lab.truth.csv"));
   EXPECT_GT(rows.size(), 1000u) << "1.5 s at 1 kHz";
