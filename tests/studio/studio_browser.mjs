@@ -245,6 +245,7 @@ try {
   check(consoleErrors.length === 0, `no console errors (${consoleErrors.length}${consoleErrors.length ? ': ' + consoleErrors.slice(0, 3).join(' | ') : ''})`);
   exitCode = failures.length ? 1 : 0;
 } catch (e) {
+  failures.push(String(e));
   log('FAIL', e.stack || e);
   if (consoleErrors.length) log('console errors:', consoleErrors.slice(0, 5).join(' | '));
 } finally {
@@ -253,5 +254,6 @@ try {
   await new Promise((r) => { server.on('exit', r); setTimeout(r, 5000); });
   fs.rmSync(workspace, { recursive: true, force: true });
 }
-log(`${failures.length} failed; server log tail:\n${stderr.split('\n').slice(-6).join('\n')}`);
+// On a failure the tail is long enough to hold a sanitizer report's first frames.
+log(`${failures.length} failed; server log tail:\n${stderr.split('\n').slice(failures.length ? -60 : -6).join('\n')}`);
 process.exit(exitCode);

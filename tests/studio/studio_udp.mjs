@@ -92,6 +92,7 @@ try {
   check(pm && pm.type === 'mesh' && pm.faces.length > 0, 'palpation view: the reconstruction is the shape to palpate');
   exitCode = failures.length ? 1 : 0;
 } catch (e) {
+  failures.push(String(e));
   log('FAIL', e.stack || e);
 } finally {
   if (ws) ws.close();
@@ -100,5 +101,6 @@ try {
   await new Promise((r) => { studio.on('exit', r); setTimeout(r, 5000); });
   fs.rmSync(workspace, { recursive: true, force: true });
 }
-log(`${failures.length} failed; server log tail:\n${stderr.split('\n').slice(-5).join('\n')}`);
+// On a failure the tail is long enough to hold a sanitizer report's first frames.
+log(`${failures.length} failed; server log tail:\n${stderr.split('\n').slice(failures.length ? -60 : -5).join('\n')}`);
 process.exit(exitCode);
