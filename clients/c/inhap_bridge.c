@@ -204,6 +204,7 @@ int inhap_bridge_open(inhap_bridge* b, const char* host, unsigned short port, co
   }
   b->session = new_session();
   b->sequence = 0;
+  b->spin_us = INHAP_BRIDGE_SPIN_US;
   return 0;
 }
 
@@ -287,6 +288,15 @@ static int read_answer(inhap_bridge* b, const unsigned char* d, long n, double f
   return 1;
 }
 
+/* Polls without sleeping for up to spin_us; 1 as soon as the socket is readable. */
+static int spin_readable(intptr_t sock, long spin_us) {
+  const double t0 = now_us();
+  do {
+    if (wait_readable(sock, 0)) return 1;
+  } while (now_us() - t0 < (double)spin_us);
+  return 0;
+}
+
 int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_mm[3],
                           const double* sensor_force_n, uint32_t buttons, double force_out[3],
                           uint32_t* status_out, long timeout_us) {
@@ -321,9 +331,16 @@ int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_
     long left = timeout_us - (long)(now_us() - t0);
     long got;
     double f[3];
-    if (left <= 0 || !wait_readable(b->sock, left)) {
+    if (left <= 0) {
       b->stats.timeouts++;
       return 0;
+    }
+    if (!spin_readable(b->sock, left < b->spin_us ? left : b->spin_us)) {
+      left = timeout_us - (long)(now_us() - t0);
+      if (left <= 0 || !wait_readable(b->sock, left)) {
+        b->stats.timeouts++;
+        return 0;
+      }
     }
     got = (long)recv((int)b->sock, (char*)d, sizeof d, 0);
     if (got < 0) return -1;

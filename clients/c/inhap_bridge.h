@@ -46,15 +46,22 @@ typedef struct inhap_bridge {
   int has_key;
   unsigned char key[64];        /* HMAC key block */
   inhap_bridge_stats stats;
+  long spin_us;                 /* busy-wait this long for the force before sleeping (default
+                                   INHAP_BRIDGE_SPIN_US; 0: always sleep) */
 } inhap_bridge;
+
+/* The answer usually comes within tens of microseconds; waiting for it without sleeping saves
+ * the wake-up of a sleeping thread (several microseconds, more in a virtual machine). */
+#define INHAP_BRIDGE_SPIN_US 200L
 
 /* Opens a UDP socket towards inhap at host (IPv4 dotted quad) and port. key: shared secret
  * (any length) for HMAC-SHA256, or NULL/"" for none (loopback). Returns 0, or -1 on error. */
 int inhap_bridge_open(inhap_bridge* b, const char* host, unsigned short port, const char* key);
 
 /* One servo tick: sends the state (time s, position mm, sensor force N or NULL, buttons) and
- * waits up to timeout_us for inhap's force (N) for this tick. Returns 1 with force_out set, 0 on
- * time-out (force_out zero), -1 on a socket error (force_out zero). status_out may be NULL. */
+ * waits up to timeout_us for inhap's force (N) for this tick, the first b->spin_us of it without
+ * sleeping. Returns 1 with force_out set, 0 on time-out (force_out zero), -1 on a socket error
+ * (force_out zero). status_out may be NULL. */
 int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_mm[3],
                           const double* sensor_force_n, uint32_t buttons, double force_out[3],
                           uint32_t* status_out, long timeout_us);

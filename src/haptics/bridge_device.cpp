@@ -186,20 +186,40 @@ bool BridgeDevice::wait_state(double timeout_s) {
       if (!accept(p)) continue;
       if (got) ++stats_.superseded;
       got = true;
-      last_arrival_s_ = monotonic_s();
+      note_arrival(monotonic_s());
       ++stats_.accepted;
       std::memcpy(peer_, &from, sizeof from);
       have_peer_ = true;
     }
     if (got) return true;
-    const double left = deadline - monotonic_s();
-    if (left <= 0.0) return false;
-    pollfd pfd{fd_, POLLIN, 0};
-    timespec ts{};
-    ts.tv_sec = static_cast<time_t>(left);
-    ts.tv_nsec = static_cast<long>((left - static_cast<double>(ts.tv_sec)) * 1e9);
-    if (ppoll(&pfd, 1, &ts, nullptr) == 0) return false;
+    const double now = monotonic_s();
+    if (now >= deadline) return false;
+    const double due = last_arrival_s_ + period_s_;
+    if (period_s_ > 0 && options_.spin_s > 0 && now >= due - options_.spin_s &&
+        now < due + options_.spin_s)
+      continue;  // inside the window: poll again without sleeping
+    // Sleep until the window opens (or the deadline); a datagram wakes it earlier.
+    const double until = period_s_ > 0 && now < due - options_.spin_s
+                             ? std::min(deadline, due - options_.spin_s)
+                             : deadline;
+    if (sleep_until_readable(until - now) == 0 && until >= deadline) return false;
   }
+}
+
+int BridgeDevice::sleep_until_readable(double seconds) const {
+  pollfd pfd{fd_, POLLIN, 0};
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(seconds);
+  ts.tv_nsec = static_cast<long>((seconds - static_cast<double>(ts.tv_sec)) * 1e9);
+  return ppoll(&pfd, 1, &ts, nullptr);  // > 0 readable, 0 time-out, < 0 interrupted
+}
+
+void BridgeDevice::note_arrival(double now) {
+  const double gap = now - last_arrival_s_;
+  // Gaps over 0.1 s (the first state, a pause) say nothing about the device's rate.
+  if (last_arrival_s_ > 0 && gap > 0 && gap < 0.1)
+    period_s_ = period_s_ > 0 ? 0.875 * period_s_ + 0.125 * gap : gap;
+  last_arrival_s_ = now;
 }
 
 }  // namespace inhap::haptics

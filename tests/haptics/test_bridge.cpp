@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -186,17 +187,28 @@ struct ClientRun {
   inhap_bridge_stats stats{};
 };
 
-ClientRun run_client(std::uint16_t port, const char* key, int ticks, int stop_after = -1) {
+// spin_us < 0: the client's default busy-wait; pace_us > 0: sleep this long between ticks (a
+// device at 1 kHz) instead of sending the next state at once; trailing: one more state at the
+// end, unanswered, so that the server's last wait ends at once instead of timing out.
+ClientRun run_client(std::uint16_t port, const char* key, int ticks, int stop_after = -1,
+                     long spin_us = -1, int pace_us = 0, bool trailing = false) {
   ClientRun r;
   inhap_bridge c;
   if (inhap_bridge_open(&c, "127.0.0.1", port, key) != 0) return r;
+  if (spin_us >= 0) c.spin_us = spin_us;
   for (int i = 0; i < ticks && i != stop_after; ++i) {
+    if (pace_us > 0) std::this_thread::sleep_for(std::chrono::microseconds(pace_us));
     const double p[3] = {0.0, 0.0, 2.0 - 0.01 * i};
     double f[3];
     std::uint32_t status = 0;
     inhap_bridge_exchange(&c, 1e-3 * i, p, nullptr, 0, f, &status, 200000);
     r.z.push_back(p[2]);
     r.fz.push_back(f[2]);
+  }
+  if (trailing) {
+    const double p[3] = {0.0, 0.0, 2.0};
+    double f[3];
+    inhap_bridge_exchange(&c, 1e-3 * ticks, p, nullptr, 0, f, nullptr, 1000);
   }
   r.stats = c.stats;
   inhap_bridge_close(&c);
@@ -208,16 +220,25 @@ Vec3 wall(const Vec3& p) {
   return {0.0, 0.0, p.z() < 0 ? -0.5 * p.z() : 0.0};
 }
 
+// With and without a key, with and without busy-waiting on either side, a client that sends
+// at once and one paced at 1 kHz (the server then sleeps until the window around the expected
+// arrival): every tick answered with its own force.
 TEST(BridgeDevice, EveryTickTheClientGetsTheForceForItsOwnPosition) {
-  for (const char* key : {"", "shared secret"}) {
+  for (int run = 0; run < 8; ++run) {
+    const char* key = run & 1 ? "shared secret" : "";
+    const bool spin = run & 2, paced = run & 4;
+    SCOPED_TRACE(testing::Message()
+                 << "key " << (run & 1) << " spin " << spin << " paced " << paced);
     BridgeOptions o;
     o.port = 0;
     o.key = key;
     o.timeout_s = 2.0;  // generous: a loaded CI machine may stall the client thread
+    o.spin_s = spin ? 50e-6 : 0.0;
     BridgeDevice dev(o);
     const int n = 400;
     ClientRun r;
-    std::thread client([&] { r = run_client(dev.port(), key, n); });
+    std::thread client(
+        [&] { r = run_client(dev.port(), key, n, -1, spin ? -1 : 0, paced ? 1000 : 0, true); });
     ASSERT_TRUE(dev.connect(5.0));
     for (int i = 0; i < n; ++i) {
       dev.command_force(wall(dev.position()));
@@ -228,8 +249,9 @@ TEST(BridgeDevice, EveryTickTheClientGetsTheForceForItsOwnPosition) {
     ASSERT_EQ(r.fz.size(), static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) EXPECT_EQ(r.fz[i], wall({0, 0, r.z[i]}).z()) << "tick " << i;
     EXPECT_EQ(r.stats.answered, static_cast<std::uint64_t>(n));
-    EXPECT_EQ(dev.stats().accepted, static_cast<std::uint64_t>(n));
+    EXPECT_EQ(dev.stats().accepted, static_cast<std::uint64_t>(n + 1));  // and the trailing one
     EXPECT_EQ(dev.stats().malformed + dev.stats().bad_auth + dev.stats().lost, 0u);
+    EXPECT_FALSE(dev.faulted());
   }
 }
 
@@ -379,8 +401,8 @@ TEST(BridgeDeviceFlag, UdpAndUdpPortParseAndNothingElseDoes) {
   EXPECT_EQ(parse_udp_device("udp"), kBridgeDefaultPort);
   EXPECT_EQ(parse_udp_device("udp:1"), 1);
   EXPECT_EQ(parse_udp_device("udp:65535"), 65535);
-  for (const char* bad : {"udp:", "udp:0", "udp:65536", "udp:12x", "udp:-5", "udp:1.5", "tcp:5",
-                          "lab:planar", ""})
+  for (const char* bad :
+       {"udp:", "udp:0", "udp:65536", "udp:12x", "udp:-5", "udp:1.5", "tcp:5", "lab:planar", ""})
     EXPECT_FALSE(parse_udp_device(bad).has_value()) << bad;
 }
 
