@@ -31,8 +31,7 @@ void add_proxy_options(CLI::App* c, eval::ProxyColumnsSpec& o) {
       ->check(CLI::NonNegativeNumber);
 }
 
-// ----------------------------------------------------------------------------------- train
-struct TrainOptions {
+struct TrainOptions {  // inhap model train
   eval::TrainFileOptions file;
   std::string out;
   bool verbose = false;
@@ -50,8 +49,7 @@ void run_train(TrainOptions o) {
   fmt::print("{}model -> {}\n", eval::train_summary(r.model, o.verbose), o.out);
 }
 
-// ------------------------------------------------------------------------------ eval/render
-struct ReplayOptions {
+struct ReplayOptions {  // inhap model eval | render
   std::string model, recording, json, out, mesh;
   eval::ProxyColumnsSpec proxy;
 };
@@ -144,8 +142,7 @@ void register_train(CLI::App& model) {
       ->check(CLI::PositiveNumber);
   ct->add_option("--above-range", q.above_range,
                  "keep = train on forces above the modeling range as measured; exclude = leave "
-                 "those samples out (either way they are counted and reported; nothing is "
-                 "clipped)")
+                 "those samples out (either way counted and reported; nothing is clipped)")
       ->capture_default_str()
       ->check(CLI::IsMember({"keep", "exclude"}));
   add_fit_options(*ct, q);
@@ -156,9 +153,8 @@ void register_train(CLI::App& model) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   ct->add_option("--force-limit", f.force_limit_n,
-                 fmt::format("Rendered force clamp, N (may lower the device's {} N, never raise "
-                             "it; the training data "
-                             "are not clipped)",
+                 fmt::format("Rendered force clamp, N (may lower the device's {} N, never "
+                             "raise it; the training data are not clipped)",
                              kDeviceForceLimitN))
       ->capture_default_str()
       ->check(CLI::Range(1e-9, kDeviceForceLimitN));
@@ -174,33 +170,6 @@ void register_train(CLI::App& model) {
   });
 }
 
-// inhap model eval and inhap model render: replay a recording through a trained model.
-void register_replay(CLI::App& model) {
-  auto ev = std::make_shared<ReplayOptions>();
-  auto* ce = model.add_subcommand(
-      "eval", "Replay a recording through the servo renderer; errors (eq. 4.27-4.31)");
-  ce->add_option("--model", ev->model, "Model JSON")->required();
-  ce->add_option("--recording", ev->recording, "Test recording CSV with proxy columns")->required();
-  ce->add_option("--json", ev->json, "Write the error report (N) as JSON here");
-  add_proxy_options(ce, ev->proxy);
-  ce->add_option("--mesh", ev->mesh,
-                 "Shape mesh for the normals of a local-frame model (default: the model's)");
-  ce->callback([ev] { run_eval(*ev); });
-
-  auto rn = std::make_shared<ReplayOptions>();
-  auto* cr =
-      model.add_subcommand("render", "Replay a recording at servo rate; write rendered forces (N)");
-  cr->add_option("--model", rn->model, "Model JSON")->required();
-  cr->add_option("--recording", rn->recording, "Recording CSV with proxy columns")->required();
-  cr->add_option("--out", rn->out,
-                 "CSV to write: t,px,py,pz,fx,fy,fz (rendered),mfx,mfy,mfz (measured),contact")
-      ->required();
-  add_proxy_options(cr, rn->proxy);
-  cr->add_option("--mesh", rn->mesh,
-                 "Shape mesh for the normals of a local-frame model (default: the model's)");
-  cr->callback([rn] { run_render(*rn); });
-}
-
 void register_model(CLI::App& app) {
   auto* model = app.add_subcommand(
       "model",
@@ -208,7 +177,29 @@ void register_model(CLI::App& app) {
       "Recordings need proxy columns qx,qy,qz (mm) and a contact column (or a force threshold).");
   model->require_subcommand(1);
   register_train(*model);
-  register_replay(*model);
+  // eval and render: a trained model replayed over a recording
+  for (const bool render : {false, true}) {
+    auto o = std::make_shared<ReplayOptions>();
+    auto* c = model->add_subcommand(
+        render ? "render" : "eval",
+        render ? "Replay a recording at servo rate; write rendered forces (N)"
+               : "Replay a recording through the servo renderer; errors (eq. 4.27-4.31)");
+    c->add_option("--model", o->model, "Model JSON")->required();
+    c->add_option(
+         "--recording", o->recording,
+         render ? "Recording CSV with proxy columns" : "Test recording CSV with proxy columns")
+        ->required();
+    if (render)
+      c->add_option("--out", o->out,
+                    "CSV to write: t,px,py,pz,fx,fy,fz (rendered),mfx,mfy,mfz (measured),contact")
+          ->required();
+    else
+      c->add_option("--json", o->json, "Write the error report (N) as JSON here");
+    add_proxy_options(c, o->proxy);
+    c->add_option("--mesh", o->mesh,
+                  "Shape mesh for the normals of a local-frame model (default: the model's)");
+    c->callback([o, render] { render ? run_render(*o) : run_eval(*o); });
+  }
 }
 
 }  // namespace
