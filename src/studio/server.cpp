@@ -289,8 +289,12 @@ void Server::work() {
       queue_.pop_front();
       h = handler_;
     }
-    const std::string reply =
-        h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    std::string reply;
+    try {  // the handler never throws; this thread must not end if it ever did
+      reply = h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    } catch (...) {
+      reply = error_reply("?", "internal error");
+    }
     if (!reply.empty()) send_to(item.first, reply);
   }
 }
