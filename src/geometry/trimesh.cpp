@@ -70,15 +70,21 @@ Box3 TriMesh::bbox() const {
 
 void TriMesh::validate(const std::string& source) const {
   const auto nv = static_cast<std::int64_t>(positions.size());
-  // Finite coordinates of at most kMaxCoordinateMm: every size, distance and squared distance
-  // computed from them is finite (two vertices at +-1e308 gave a size of inf).
-  constexpr double kMaxCoordinateMm = 1e9;
   for (std::size_t i = 0; i < positions.size(); ++i)
-    if (!positions[i].allFinite() || positions[i].cwiseAbs().maxCoeff() > kMaxCoordinateMm)
-      throw Error(fmt::format(
-          "{}: vertex {}: expected finite coordinates of magnitude at most {:g} mm, got ({}, {}, "
-          "{})",
-          source, i, kMaxCoordinateMm, positions[i].x(), positions[i].y(), positions[i].z()));
+    if (!positions[i].allFinite())
+      throw Error(fmt::format("{}: vertex {}: expected finite coordinates, got ({}, {}, {})",
+                              source, i, positions[i].x(), positions[i].y(), positions[i].z()));
+  // The size must be finite too: vertices at -1e308 and +1e308 gave a size of inf.
+  if (!positions.empty()) {
+    Vec3 lo = positions.front(), hi = lo;
+    for (const Vec3& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const Vec3 size = hi - lo;
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(size[a]))
+        throw Error(
+            fmt::format("{}: the vertices span {:g} to {:g} mm along {}: expected a finite size",
+                        source, lo[a], hi[a], "xyz"[a]));
+  }
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     const Tri& t = triangles[f];
     for (int c = 0; c < 3; ++c)

@@ -46,17 +46,6 @@ TriMesh checked(TriMesh mesh, const Params& params) {
   if (!positive(params.max_jump_mm))
     throw Error(
         fmt::format("rendering params: expected max_jump_mm > 0 mm, got {}", params.max_jump_mm));
-  // The stiffest a model may be: far above any soft object (the study's are 0.12-1 N/mm) and
-  // any device's stable range; 1e5 N/mm sent every contact straight to the force clamp.
-  constexpr double kMaxStiffnessNPerMm = 20.0;
-  if (mesh.has_property("stiffness")) {
-    const auto& k = mesh.property("stiffness");
-    for (std::size_t i = 0; i < k.size(); ++i)
-      if (!(k[i] <= kMaxStiffnessNPerMm))
-        throw Error(fmt::format(
-            "rendering model: vertex {}: expected a stiffness of at most {:g} N/mm, got {:g}", i,
-            kMaxStiffnessNPerMm, k[i]));
-  }
   if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
   if (params.spatial_order) sort_spatially(mesh);
   return mesh;
