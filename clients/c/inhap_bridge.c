@@ -2,8 +2,13 @@
 #if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
 #define _POSIX_C_SOURCE 200809L
 #endif
+#ifdef _WIN32
+#define _CRT_RAND_S /* rand_s: the system's cryptographic generator */
+#endif
 #include "inhap_bridge.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -24,6 +29,10 @@ typedef int socklen_t;
 #define STATE_BODY 76
 #define FORCE_BODY 44
 #define TAG 32
+#define NONCE 32
+#define HELLO_BODY (16 + NONCE)
+#define WELCOME_BODY (16 + 2 * NONCE)
+#define REHANDSHAKE_AFTER 100 /* time-outs in a row (with a key): the session key is stale */
 #define FLAG_SENSOR 1u
 #define FLAG_SIGNED 2u
 
@@ -163,6 +172,65 @@ static int tags_equal(const unsigned char* a, const unsigned char* b) {
   return d == 0;
 }
 
+/* n random bytes from the system's generator; 0, or -1 when there is none. */
+static int random_bytes(unsigned char* out, size_t n) {
+#ifdef _WIN32
+  size_t i;
+  for (i = 0; i < n; ++i) {
+    unsigned int r;
+    if (rand_s(&r) != 0) return -1;
+    out[i] = (unsigned char)r;
+  }
+  return 0;
+#else
+  size_t got;
+  FILE* f = fopen("/dev/urandom", "rb");
+  if (!f) return -1;
+  got = fread(out, 1, n, f);
+  fclose(f);
+  return got == n ? 0 : -1;
+#endif
+}
+
+static void put_header(unsigned char* d, unsigned kind, unsigned flags, uint32_t session,
+                       uint32_t sequence) {
+  put_u32(d, INHAP_BRIDGE_MAGIC);
+  put_u16(d + 4, INHAP_BRIDGE_VERSION);
+  d[6] = (unsigned char)kind;
+  d[7] = (unsigned char)flags;
+  put_u32(d + 8, session);
+  put_u32(d + 12, sequence);
+}
+
+/* The welcome to our hello: 1 with the session key derived, 0 to be ignored (counted). */
+static int read_welcome(inhap_bridge* b, const unsigned char* d, long n) {
+  static const char label[] = "inhap bridge session key v1";
+  unsigned char in[sizeof label - 1 + 4 + 2 * NONCE], tag[TAG];
+  if (n != WELCOME_BODY + TAG || get_u32(d) != INHAP_BRIDGE_MAGIC ||
+      d[4] != INHAP_BRIDGE_VERSION || d[5] != 0 || d[6] != 4 || !(d[7] & FLAG_SIGNED)) {
+    b->stats.malformed++;
+    return 0;
+  }
+  inhap_bridge_hmac_sha256(b->key, d, WELCOME_BODY, tag);
+  if (!tags_equal(tag, d + WELCOME_BODY)) {
+    b->stats.bad_auth++;
+    return 0;
+  }
+  if (get_u32(d + 8) != b->session || memcmp(d + 16, b->nonce, NONCE) != 0) {
+    b->stats.stale++;
+    return 0;
+  }
+  /* key = HMAC(shared, label | session | client nonce | server nonce), as inhap derives it */
+  memcpy(in, label, sizeof label - 1);
+  put_u32(in + sizeof label - 1, b->session);
+  memcpy(in + sizeof label - 1 + 4, d + 16, 2 * NONCE);
+  memset(b->session_key, 0, sizeof b->session_key);
+  inhap_bridge_hmac_sha256(b->key, in, sizeof in, b->session_key);
+  b->has_session_key = 1;
+  b->misses = 0;
+  return 1;
+}
+
 /* ---- client ----------------------------------------------------------------------------- */
 
 static uint32_t new_session(void) {
@@ -267,7 +335,7 @@ static int read_answer(inhap_bridge* b, const unsigned char* d, long n, double f
       b->stats.bad_auth++;
       return 0;
     }
-    inhap_bridge_hmac_sha256(b->key, d, FORCE_BODY, tag);
+    inhap_bridge_hmac_sha256(b->session_key, d, FORCE_BODY, tag);
     if (!tags_equal(tag, d + FORCE_BODY)) {
       b->stats.bad_auth++;
       return 0;
@@ -286,6 +354,28 @@ static int read_answer(inhap_bridge* b, const unsigned char* d, long n, double f
   }
   *status = get_u32(d + 40);
   return 1;
+}
+
+/* With a key: hello (a fresh nonce) and wait up to timeout_us for inhap's welcome. 1 with the
+ * session key, 0 on time-out, -1 on a socket error or no random source. */
+static int handshake(inhap_bridge* b, long timeout_us) {
+  unsigned char d[WELCOME_BODY + TAG + 64];
+  double t0;
+  if (random_bytes(b->nonce, NONCE) != 0) return -1;
+  put_header(d, 3, FLAG_SIGNED, b->session, 0);
+  memcpy(d + 16, b->nonce, NONCE);
+  inhap_bridge_hmac_sha256(b->key, d, HELLO_BODY, d + HELLO_BODY);
+  if (sendto((int)b->sock, (const char*)d, (int)(HELLO_BODY + TAG), 0,
+             (const struct sockaddr*)b->addr, sizeof(struct sockaddr_in)) != (long)(HELLO_BODY + TAG))
+    return -1;
+  t0 = now_us();
+  for (;;) {
+    long got, left = timeout_us - (long)(now_us() - t0);
+    if (left <= 0 || !wait_readable(b->sock, left)) return 0;
+    got = (long)recv((int)b->sock, (char*)d, sizeof d, 0);
+    if (got < 0) return -1;
+    if (read_welcome(b, d, got)) return 1;
+  }
 }
 
 /* Polls without sleeping for up to spin_us; 1 as soon as the socket is readable. */
@@ -307,19 +397,24 @@ int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_
   size_t n = STATE_BODY;
   force_out[0] = force_out[1] = force_out[2] = 0.0;
   if (status_out) *status_out = 0;
+  if (b->has_key && b->misses >= REHANDSHAKE_AFTER) b->has_session_key = 0;
+  if (b->has_key && !b->has_session_key) { /* a session starts with a handshake */
+    const int h = handshake(b, timeout_us);
+    if (h < 0) return -1;
+    if (h == 0) {
+      b->stats.timeouts++;
+      return 0;
+    }
+  }
   b->sequence++;
-  put_u32(d, INHAP_BRIDGE_MAGIC);
-  put_u16(d + 4, INHAP_BRIDGE_VERSION);
-  d[6] = 1;
-  d[7] = (unsigned char)((sensor_force_n ? FLAG_SENSOR : 0u) | (b->has_key ? FLAG_SIGNED : 0u));
-  put_u32(d + 8, b->session);
-  put_u32(d + 12, b->sequence);
+  put_header(d, 1, (sensor_force_n ? FLAG_SENSOR : 0u) | (b->has_key ? FLAG_SIGNED : 0u),
+             b->session, b->sequence);
   put_f64(d + 16, time_s);
   for (i = 0; i < 3; ++i) put_f64(d + 24 + 8 * i, position_mm[i]);
   for (i = 0; i < 3; ++i) put_f64(d + 48 + 8 * i, sensor_force_n ? sensor_force_n[i] : 0.0);
   put_u32(d + 72, buttons);
   if (b->has_key) {
-    inhap_bridge_hmac_sha256(b->key, d, STATE_BODY, d + STATE_BODY);
+    inhap_bridge_hmac_sha256(b->session_key, d, STATE_BODY, d + STATE_BODY);
     n += TAG;
   }
   if (sendto((int)b->sock, (const char*)d, (int)n, 0, (const struct sockaddr*)b->addr,
@@ -333,12 +428,14 @@ int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_
     double f[3];
     if (left <= 0) {
       b->stats.timeouts++;
+      b->misses++;
       return 0;
     }
     if (!spin_readable(b->sock, left < b->spin_us ? left : b->spin_us)) {
       left = timeout_us - (long)(now_us() - t0);
       if (left <= 0 || !wait_readable(b->sock, left)) {
         b->stats.timeouts++;
+        b->misses++;
         return 0;
       }
     }
@@ -350,6 +447,7 @@ int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_
       force_out[2] = f[2];
       if (status_out) *status_out = status;
       b->stats.answered++;
+      b->misses = 0;
       return 1;
     }
   }

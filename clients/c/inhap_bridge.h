@@ -44,7 +44,11 @@ typedef struct inhap_bridge {
   uint32_t session;
   uint32_t sequence;
   int has_key;
-  unsigned char key[64];        /* HMAC key block */
+  unsigned char key[64];        /* HMAC key block of the shared secret */
+  int has_session_key;          /* with a key: the handshake of this session is done */
+  unsigned char session_key[64]; /* HMAC key block of this session (from the handshake) */
+  unsigned char nonce[32];      /* this side's nonce of the last hello */
+  unsigned long misses;         /* time-outs in a row (with a key, 100 start a new handshake) */
   inhap_bridge_stats stats;
   long spin_us;                 /* busy-wait this long for the force before sleeping (default
                                    INHAP_BRIDGE_SPIN_US; 0: always sleep) */
@@ -60,7 +64,9 @@ int inhap_bridge_open(inhap_bridge* b, const char* host, unsigned short port, co
 
 /* One servo tick: sends the state (time s, position mm, sensor force N or NULL, buttons) and
  * waits up to timeout_us for inhap's force (N) for this tick, the first b->spin_us of it without
- * sleeping. Returns 1 with force_out set, 0 on time-out (force_out zero), -1 on a socket error
+ * sleeping. With a key, the first exchange (and one after 100 time-outs in a row) first makes
+ * the handshake that gives the session its key (hello, welcome: up to timeout_us; no state is
+ * sent when it times out). Returns 1 with force_out set, 0 on time-out (force_out zero), -1 on a socket error
  * (force_out zero). status_out may be NULL. */
 int inhap_bridge_exchange(inhap_bridge* b, double time_s, const double position_mm[3],
                           const double* sensor_force_n, uint32_t buttons, double force_out[3],

@@ -31,7 +31,11 @@ STATUS_STOPPING = 4
 
 _STATE = struct.Struct("<IHBBIId3d3dI")  # 76 bytes
 _FORCE = struct.Struct("<IHBBII3dI")  # 44 bytes
+_HEADER = struct.Struct("<IHBBII")  # 16 bytes
 _TAG = 32
+_NONCE = 32
+_LABEL = b"inhap bridge session key v1"
+REHANDSHAKE_AFTER = 100  # time-outs in a row (with a key): the session key is stale
 
 
 def _key_block(key):
@@ -48,7 +52,10 @@ class BridgeClient:
 
     def __init__(self, host="127.0.0.1", port=DEFAULT_PORT, key=None):
         self.addr = (host, port)
-        self.key = _key_block(key)
+        self.key = _key_block(key)  # the shared secret's HMAC key block
+        self.session_key = None  # with a key: this session's, from the handshake
+        self.nonce = None
+        self.misses = 0
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.session = struct.unpack("<I", os.urandom(4))[0] or 1
         self.sequence = 0
@@ -64,8 +71,44 @@ class BridgeClient:
     def close(self):
         self.sock.close()
 
-    def _sign(self, body):
-        return hmac.new(self.key, body, hashlib.sha256).digest()
+    def _sign(self, body, key=None):
+        return hmac.new(key or self.session_key, body, hashlib.sha256).digest()
+
+    def handshake(self, timeout=0.5):
+        """With a key: hello with a fresh nonce, inhap's welcome with its own; the session key is
+        HMAC(shared, label | session | both nonces). True when done within timeout s."""
+        self.nonce = os.urandom(_NONCE)
+        body = _HEADER.pack(MAGIC, VERSION, 3, FLAG_SIGNED, self.session, 0) + self.nonce
+        self.sock.sendto(body + self._sign(body, self.key), self.addr)
+        deadline = time.monotonic() + timeout
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return False
+            self.sock.settimeout(left)
+            try:
+                data = self.sock.recv(256)
+            except socket.timeout:
+                return False
+            body, tag = data[:-_TAG], data[-_TAG:]
+            if len(data) != _HEADER.size + 2 * _NONCE + _TAG:
+                self.stats["malformed"] += 1
+                continue
+            magic, ver, kind, _, session, _ = _HEADER.unpack(body[:_HEADER.size])
+            if magic != MAGIC or ver != VERSION or kind != 4:
+                self.stats["malformed"] += 1
+                continue
+            if not hmac.compare_digest(self._sign(body, self.key), tag):
+                self.stats["bad_auth"] += 1
+                continue
+            nonces = body[_HEADER.size:]
+            if session != self.session or nonces[:_NONCE] != self.nonce:
+                self.stats["stale"] += 1
+                continue
+            k = self._sign(_LABEL + struct.pack("<I", self.session) + nonces, self.key)
+            self.session_key = k.ljust(64, b"\0")
+            self.misses = 0
+            return True
 
     def state_packet(self, t, position, sensor_force=None, buttons=0):
         """The bytes of the next state packet (advances the sequence)."""
@@ -103,7 +146,13 @@ class BridgeClient:
 
     def exchange(self, t, position, sensor_force=None, buttons=0, timeout=0.002):
         """Sends one state and waits up to timeout s for its force; (force N, status) or
-        ((0, 0, 0), None) on time-out."""
+        ((0, 0, 0), None) on time-out. With a key, the first exchange (and one after
+        REHANDSHAKE_AFTER time-outs in a row) first makes the handshake (up to timeout s)."""
+        if self.key and self.misses >= REHANDSHAKE_AFTER:
+            self.session_key = None
+        if self.key and self.session_key is None and not self.handshake(timeout):
+            self.stats["timeouts"] += 1
+            return (0.0, 0.0, 0.0), None
         self.sock.sendto(self.state_packet(t, position, sensor_force, buttons), self.addr)
         self.stats["sent"] += 1
         deadline = time.monotonic() + timeout
@@ -111,16 +160,19 @@ class BridgeClient:
             left = deadline - time.monotonic()
             if left <= 0:
                 self.stats["timeouts"] += 1
+                self.misses += 1
                 return (0.0, 0.0, 0.0), None
             self.sock.settimeout(left)
             try:
                 data = self.sock.recv(256)
             except socket.timeout:
                 self.stats["timeouts"] += 1
+                self.misses += 1
                 return (0.0, 0.0, 0.0), None
             got = self._parse(data)
             if got is not None:
                 self.stats["answered"] += 1
+                self.misses = 0
                 return got
 
 

@@ -1,5 +1,7 @@
 #include "inhap/core/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <sys/random.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -29,8 +31,37 @@ int rename_file(const std::string& from, const std::string& to) {
 
 thread_local OutputTransaction* t_active = nullptr;
 
-std::string pid_suffix() {
-  return std::to_string(::getpid());
+// 16 hex digits from the kernel's random source: a name nobody can plant a link under in
+// advance (the file is also created with O_EXCL | O_NOFOLLOW).
+std::string random_suffix() {
+  unsigned char b[8] = {};
+  std::size_t got = 0;
+  while (got < sizeof b) {
+    const ssize_t n = ::getrandom(b + got, sizeof b - got, 0);
+    if (n > 0)
+      got += static_cast<std::size_t>(n);
+    else if (errno != EINTR)
+      throw Error("getrandom failed");
+  }
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned char c : b) out += hex[c >> 4], out += hex[c & 15];
+  return out;
+}
+
+// A new file, created here and now: fails (EEXIST) when anything, a symlink included, has the
+// name already.
+std::FILE* create_exclusive(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) return nullptr;
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (!f) {
+    const int err = errno;
+    ::close(fd);
+    ::unlink(path.c_str());
+    errno = err;
+  }
+  return f;
 }
 
 }  // namespace
@@ -53,12 +84,12 @@ void from_environment() {
 }  // namespace fault
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-  tmp_ = path_ + ".tmp." + pid_suffix();
+  tmp_ = path_ + ".tmp." + random_suffix();
   std::error_code dir_ec;
   if (std::filesystem::is_directory(path_, dir_ec))
     throw Error(path_ + ": expected a file to write, got a directory");
   errno = 0;
-  file_ = std::fopen(tmp_.c_str(), "wb");
+  file_ = create_exclusive(tmp_);
   if (!file_) throw IoError(path_, "cannot open for writing");
   // A buffer of its own per file (stdio allocates it): two AtomicFiles open at once must not
   // share one.
@@ -130,7 +161,7 @@ void OutputTransaction::commit() {
   if (t_active == this) t_active = nullptr;
   done_ = true;
   // A hard link keeps each old output reachable until every rename has succeeded.
-  const std::string bak_suffix = ".bak." + pid_suffix();
+  const std::string bak_suffix = ".bak." + random_suffix();
   std::vector<bool> had_old(pending_.size(), false);
   auto cleanup_backups = [&](std::size_t upto) {
     for (std::size_t i = 0; i < upto; ++i)
@@ -139,11 +170,12 @@ void OutputTransaction::commit() {
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     const std::string& path = pending_[i].path;
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) continue;
+    // symlink_status: a link at the path is kept as the link (link() does not follow it).
+    const auto st = std::filesystem::symlink_status(path, ec);
+    if (!std::filesystem::exists(st)) continue;
     const std::string bak = path + bak_suffix;
-    std::remove(bak.c_str());
     std::filesystem::create_hard_link(path, bak, ec);
-    if (ec) std::filesystem::copy_file(path, bak, ec);
+    if (ec && std::filesystem::is_regular_file(st)) std::filesystem::copy_file(path, bak, ec);
     if (ec) {
       cleanup_backups(i);
       for (const Pending& p : pending_) std::remove(p.tmp.c_str());
@@ -206,9 +238,9 @@ void check_output_path(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent, ec))
     throw Error(path + ": cannot write: the folder " + parent.string() + " does not exist");
-  const std::string probe = path + ".probe." + pid_suffix();
+  const std::string probe = path + ".probe." + random_suffix();
   errno = 0;
-  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  std::FILE* f = create_exclusive(probe);
   if (!f) throw IoError(path, "cannot write");
   std::fclose(f);
   std::remove(probe.c_str());

@@ -132,8 +132,12 @@ void LoopRecorder::finish() {
 void LoopRecorder::drain() {
   haptics::LoopSample s;
   while (ring_.pop(s)) {
-    // A tick without a new device sample (a silent bridge client) is not a measurement.
-    if (rows_ > 0 && !(s.t_s > last_t_)) continue;
+    // A tick without a new device sample (a silent bridge client) is not a measurement; a time
+    // that runs backwards (a new device session) is counted and reported, never silent.
+    if (rows_ > 0 && !(s.t_s > last_t_)) {
+      if (!(s.t_s == last_t_)) ++skipped_;
+      continue;
+    }
     last_t_ = s.t_s;
     const Vec3 f = compensate_step(config_, state_, s.p_mm, s.sensor_force_n);
     const Vec3& q = s.out.ihip_mm;
@@ -213,10 +217,10 @@ std::string loop_stats_text(const haptics::LoopStats& s, const haptics::BridgeSt
       "ticks {}  step p50/p99 {:.2f}/{:.2f} us  period jitter p50/p99/max {:.0f}/{:.0f}/"
       "{:.0f} us  overruns {}  watchdog trips {}\n"
       "bridge: accepted {}  lost {}  late (time-outs) {}  out of order {}  malformed {}  "
-      "bad auth {}  foreign {}\n",
+      "bad auth {}  foreign {}  foreign peer {}  out of range {}  bad time {}\n",
       s.ticks, s.step_p50_us, s.step_p99_us, s.jitter_p50_us, s.jitter_p99_us, s.jitter_max_us,
       s.overruns, s.watchdog_trips, b.accepted, b.lost, b.timeouts, b.out_of_order, b.malformed,
-      b.bad_auth, b.foreign_session);
+      b.bad_auth, b.foreign_session, b.foreign_peer, b.out_of_range, b.bad_time);
   if (s.prefetch_p99_us > 0)  // only renderers that read ahead (the mesh renderers)
     t += fmt::format("read-ahead p50/p99 {:.2f}/{:.2f} us (between ticks, off the force's path)\n",
                      s.prefetch_p50_us, s.prefetch_p99_us);

@@ -32,6 +32,7 @@ json border_options(const BorderOptions& o) {
 
 // Reader helpers: every failure names the file and the JSON path.
 struct Reader {
+  static constexpr double kMaxMagnitude = 1e6;
   const std::string& file;
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {
     throw ParseError(file, 0, fmt::format("{}: expected {}", where, what));
@@ -43,7 +44,10 @@ struct Reader {
   double number(const json& j, const std::string& where) const {
     if (!j.is_number()) fail(where, fmt::format("a number, got {}", j.dump().substr(0, 24)));
     const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(where, "a finite number");
+    // Every quantity of the file (N, mm, s, N/mm) is far below 1e6: a larger one is no
+    // measurement, and 1e308 would overflow the first sum it enters.
+    if (!std::isfinite(v) || std::abs(v) > kMaxMagnitude)
+      fail(where, fmt::format("a finite number of magnitude at most {:g}", kMaxMagnitude));
     return v;
   }
   double number(const json& j, const char* key, const std::string& where) const {

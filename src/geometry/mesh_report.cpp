@@ -163,7 +163,9 @@ HeightmapMesh heightmap_mesh(const HeightmapMeshOptions& o) {
     if (k) *k = downsample(*k, o.downsample);
     spacing *= o.downsample;
   }
-  return {grid_to_mesh(h, spacing, k.get()), h.width, h.height};
+  HeightmapMesh out{grid_to_mesh(h, spacing, k.get()), h.width, h.height};
+  out.mesh.validate(o.height);  // heights of +-1e308 (or scaled past it): an error naming the file
+  return out;
 }
 
 std::string heightmap_written_text(const std::string& out, const HeightmapMesh& h) {

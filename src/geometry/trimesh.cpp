@@ -74,6 +74,17 @@ void TriMesh::validate(const std::string& source) const {
     if (!positions[i].allFinite())
       throw Error(fmt::format("{}: vertex {}: expected finite coordinates, got ({}, {}, {})",
                               source, i, positions[i].x(), positions[i].y(), positions[i].z()));
+  // The size must be finite too: vertices at -1e308 and +1e308 gave a size of inf.
+  if (!positions.empty()) {
+    Vec3 lo = positions.front(), hi = lo;
+    for (const Vec3& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const Vec3 size = hi - lo;
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(size[a]))
+        throw Error(
+            fmt::format("{}: the vertices span {:g} to {:g} mm along {}: expected a finite size",
+                        source, lo[a], hi[a], "xyz"[a]));
+  }
   for (std::size_t f = 0; f < triangles.size(); ++f) {
     const Tri& t = triangles[f];
     for (int c = 0; c < 3; ++c)

@@ -17,6 +17,8 @@
 #include <string>
 #include <utility>
 
+#include <sodium.h>
+
 #include "inhap/core/error.hpp"
 
 namespace inhap::haptics {
@@ -94,7 +96,8 @@ bool BridgeDevice::connect(double timeout_s) {
 }
 
 void BridgeDevice::command_force(const Vec3& force) {
-  if (!force.allFinite()) {
+  nonfinite_ = !force.allFinite();
+  if (nonfinite_) {
     command_.setZero();
     return;
   }
@@ -108,9 +111,10 @@ void BridgeDevice::tick() {
   if (faulted_) {
     send_force(Vec3::Zero(), status_ | kStatusZeroed);
   } else {
-    send_force(command_, status_);
+    send_force(command_, status_ | (zeroed_ || nonfinite_ ? kStatusZeroed : 0u));
   }
   command_.setZero();
+  zeroed_ = nonfinite_ = false;
   // The deadline runs from the last state's arrival, not from this call: a loop that took part of
   // the period to render does not stretch the fault detection.
   const double left = faulted_
@@ -135,15 +139,31 @@ void BridgeDevice::send_force(const Vec3& f, std::uint32_t status) {
   p.sequence = state_.sequence;
   p.force_n = f;
   p.status = status;
-  const std::size_t n = encode(p, key_, buffer_);
+  // With a key, the session's own (a force tagged with the shared key alone would be replayable).
+  const std::size_t n = encode(p, key_.empty() ? key_ : session_key_, buffer_);
   const ssize_t r = sendto(fd_, buffer_, n, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(peer_),
                            sizeof(sockaddr_in));
   if (r == static_cast<ssize_t>(n)) ++stats_.sent;
 }
 
-bool BridgeDevice::accept(const StatePacket& p) {
-  if (!session_locked_ || (p.session != state_.session && faulted_)) {
-    // First contact, or the device came back with a new session after a fault.
+bool BridgeDevice::same_peer(const void* from_addr, const unsigned char* peer_bytes) const {
+  const auto& from = *static_cast<const sockaddr_in*>(from_addr);
+  const auto& peer = *reinterpret_cast<const sockaddr_in*>(peer_bytes);
+  return from.sin_addr.s_addr == peer.sin_addr.s_addr && from.sin_port == peer.sin_port;
+}
+
+bool BridgeDevice::accept(const StatePacket& p, const void* from, double now) {
+  const bool same_peer = have_peer_ && this->same_peer(from, peer_);
+  // The session belongs to its peer (address and port) until that peer has been silent for
+  // rebind_s: no other local process can take it over in a gap.
+  const bool peer_gone = now - last_arrival_s_ >= options_.rebind_s;
+  if (session_locked_ && !same_peer && !peer_gone) {
+    ++stats_.foreign_peer;
+    return false;
+  }
+  if (!session_locked_ || !same_peer || (p.session != state_.session && faulted_)) {
+    // First contact, the bound peer silent for rebind_s, or the same peer back with a new
+    // session after a fault.
     session_locked_ = true;
     state_ = p;
     return true;
@@ -154,6 +174,13 @@ bool BridgeDevice::accept(const StatePacket& p) {
   }
   if (p.sequence <= state_.sequence) {
     ++stats_.out_of_order;
+    return false;
+  }
+  // Device time never runs backwards, nor faster than the wall clock (with 1 s of slack): a
+  // time far ahead would hold a recording's later rows back as out of order.
+  if (!(p.device_time_s >= state_.device_time_s) ||
+      p.device_time_s - state_.device_time_s > 2.0 * (now - last_arrival_s_) + 1.0) {
+    ++stats_.bad_time;
     return false;
   }
   stats_.lost += p.sequence - state_.sequence - 1;
@@ -173,17 +200,32 @@ bool BridgeDevice::wait_state(double timeout_s) {
                                  reinterpret_cast<sockaddr*>(&from), &flen);
       if (n < 0) break;  // EAGAIN (or an error: treated as nothing received)
       ++stats_.received;
+      const std::span<const std::uint8_t> bytes(buffer_, static_cast<std::size_t>(n));
+      if (!key_.empty() && packet_kind(bytes) == static_cast<std::uint8_t>(PacketKind::kHello)) {
+        on_hello(bytes, &from, monotonic_s());
+        continue;
+      }
       StatePacket p;
-      const DecodeResult r = decode({buffer_, static_cast<std::size_t>(n)}, key_, p);
+      bool fresh = false;
+      const DecodeResult r = decode_state(bytes, &from, p, fresh);
       if (r == DecodeResult::kUnsigned || r == DecodeResult::kBadTag) {
         ++stats_.bad_auth;
+        continue;
+      }
+      if (r == DecodeResult::kOutOfRange) {
+        ++stats_.out_of_range;
         continue;
       }
       if (r != DecodeResult::kOk) {
         ++stats_.malformed;
         continue;
       }
-      if (!accept(p)) continue;
+      if (fresh) {  // the first state of a new handshake: a new session of that peer
+        session_key_ = pending_key_;
+        have_pending_ = false;
+        session_locked_ = false;
+      }
+      if (!accept(p, &from, monotonic_s())) continue;
       if (got) ++stats_.superseded;
       got = true;
       note_arrival(monotonic_s());
@@ -204,6 +246,55 @@ bool BridgeDevice::wait_state(double timeout_s) {
                              : deadline;
     if (sleep_until_readable(until - now) == 0 && until >= deadline) return false;
   }
+}
+
+void BridgeDevice::on_hello(std::span<const std::uint8_t> bytes, const void* from, double now) {
+  HelloPacket h;
+  const DecodeResult r = decode(bytes, key_, h);
+  if (r == DecodeResult::kUnsigned || r == DecodeResult::kBadTag) {
+    ++stats_.bad_auth;
+    return;
+  }
+  if (r != DecodeResult::kOk) {
+    ++stats_.malformed;
+    return;
+  }
+  // Another sender than the bound peer may start a session only once that one has been silent
+  // for rebind_s (as for states).
+  if (session_locked_ && !(have_peer_ && same_peer(from, peer_)) &&
+      now - last_arrival_s_ < options_.rebind_s) {
+    ++stats_.foreign_peer;
+    return;
+  }
+  WelcomePacket w;
+  w.session = h.session;
+  w.client_nonce = h.nonce;
+  randombytes_buf(w.server_nonce.data(), kNonceBytes);
+  pending_key_ = session_key(key_, h.session, h.nonce, w.server_nonce);
+  std::memcpy(pending_peer_, from, sizeof(sockaddr_in));
+  pending_session_ = h.session;
+  have_pending_ = true;
+  const std::size_t n = encode(w, key_, buffer_);
+  if (sendto(fd_, buffer_, n, MSG_DONTWAIT, static_cast<const sockaddr*>(from),
+             sizeof(sockaddr_in)) == static_cast<ssize_t>(n))
+    ++stats_.handshakes;
+}
+
+DecodeResult BridgeDevice::decode_state(std::span<const std::uint8_t> bytes, const void* from,
+                                        StatePacket& p, bool& fresh) {
+  fresh = false;
+  if (key_.empty()) return decode(bytes, key_, p);
+  DecodeResult r = DecodeResult::kBadTag;
+  // The session's key counts only from the bound peer: another sender, even with a recording
+  // of the session, starts with a handshake of its own.
+  if (session_locked_ && !session_key_.empty() && have_peer_ && same_peer(from, peer_))
+    r = decode(bytes, session_key_, p);
+  if (r == DecodeResult::kBadTag && have_pending_ && same_peer(from, pending_peer_)) {
+    r = decode(bytes, pending_key_, p);
+    if (r == DecodeResult::kOk && p.session != pending_session_) r = DecodeResult::kBadTag;
+    fresh = r == DecodeResult::kOk;
+  }
+  return r;
 }
 
 int BridgeDevice::sleep_until_readable(double seconds) const {

@@ -128,6 +128,8 @@ const char* to_string(DecodeResult r) {
       return "unsigned packet (a key is set)";
     case DecodeResult::kBadTag:
       return "HMAC tag does not verify";
+    case DecodeResult::kOutOfRange:
+      return "number out of range";
   }
   return "?";
 }
@@ -166,7 +168,66 @@ DecodeResult decode(std::span<const std::uint8_t> b, const BridgeKey& key, State
   if (!std::isfinite(p.device_time_s) || !p.position_mm.allFinite() ||
       !p.sensor_force_n.allFinite())
     return DecodeResult::kNonFinite;
+  if (std::abs(p.device_time_s) > kMaxDeviceTimeS ||
+      p.position_mm.cwiseAbs().maxCoeff() > kMaxPositionMm ||
+      p.sensor_force_n.cwiseAbs().maxCoeff() > kMaxSensorForceN)
+    return DecodeResult::kOutOfRange;
   out = p;
+  return DecodeResult::kOk;
+}
+
+std::uint8_t packet_kind(std::span<const std::uint8_t> b) {
+  if (b.size() < 8 || get_u32(b.data()) != kBridgeMagic || get_u16(b.data() + 4) != kBridgeVersion)
+    return 0;
+  return b[6];
+}
+
+BridgeKey session_key(const BridgeKey& shared, std::uint32_t session,
+                      const std::array<std::uint8_t, kNonceBytes>& client_nonce,
+                      const std::array<std::uint8_t, kNonceBytes>& server_nonce) {
+  static constexpr char kLabel[] = "inhap bridge session key v1";
+  std::uint8_t in[sizeof kLabel - 1 + 4 + 2 * kNonceBytes];
+  std::memcpy(in, kLabel, sizeof kLabel - 1);
+  std::size_t o = sizeof kLabel - 1;
+  put_u32(in + o, session);
+  std::memcpy(in + o + 4, client_nonce.data(), kNonceBytes);
+  std::memcpy(in + o + 4 + kNonceBytes, server_nonce.data(), kNonceBytes);
+  std::uint8_t k[kTagBytes];
+  shared.sign({in, sizeof in}, k);
+  return BridgeKey(std::string_view(reinterpret_cast<const char*>(k), sizeof k));
+}
+
+std::size_t encode(const HelloPacket& p, const BridgeKey& key, std::uint8_t* out) {
+  const std::size_t o = put_header(out, PacketKind::kHello, kSigned, p.session, 0);
+  std::memcpy(out + o, p.nonce.data(), kNonceBytes);
+  return finish(kHelloBodyBytes, key, out);
+}
+
+std::size_t encode(const WelcomePacket& p, const BridgeKey& key, std::uint8_t* out) {
+  const std::size_t o = put_header(out, PacketKind::kWelcome, kSigned, p.session, 0);
+  std::memcpy(out + o, p.client_nonce.data(), kNonceBytes);
+  std::memcpy(out + o + kNonceBytes, p.server_nonce.data(), kNonceBytes);
+  return finish(kWelcomeBodyBytes, key, out);
+}
+
+DecodeResult decode(std::span<const std::uint8_t> b, const BridgeKey& key, HelloPacket& out) {
+  std::uint8_t flags = 0;
+  if (key.empty()) return DecodeResult::kUnsigned;
+  const DecodeResult r = check(b, key, PacketKind::kHello, kHelloBodyBytes, flags);
+  if (r != DecodeResult::kOk) return r;
+  out.session = get_u32(b.data() + 8);
+  std::memcpy(out.nonce.data(), b.data() + 16, kNonceBytes);
+  return DecodeResult::kOk;
+}
+
+DecodeResult decode(std::span<const std::uint8_t> b, const BridgeKey& key, WelcomePacket& out) {
+  std::uint8_t flags = 0;
+  if (key.empty()) return DecodeResult::kUnsigned;
+  const DecodeResult r = check(b, key, PacketKind::kWelcome, kWelcomeBodyBytes, flags);
+  if (r != DecodeResult::kOk) return r;
+  out.session = get_u32(b.data() + 8);
+  std::memcpy(out.client_nonce.data(), b.data() + 16, kNonceBytes);
+  std::memcpy(out.server_nonce.data(), b.data() + 16 + kNonceBytes, kNonceBytes);
   return DecodeResult::kOk;
 }
 

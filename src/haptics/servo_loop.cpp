@@ -1,6 +1,8 @@
 // The real-time servo loop. See servo_loop.hpp.
 #include "inhap/haptics/servo_loop.hpp"
 
+#include "inhap/haptics/bridge_device.hpp"
+
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -86,6 +88,9 @@ ServoLoop::ServoLoop(Device& device, Renderer& renderer, LoopOptions options)
     : device_(device), renderer_(renderer), options_(options) {
   if (!(device_.info().servo_rate_hz > 0.0) || !std::isfinite(device_.info().servo_rate_hz))
     throw Error("servo loop: the device's servo rate must be a positive number of Hz");
+  if (!(options_.reset_gap_s >= 0.0) || !std::isfinite(options_.reset_gap_s))
+    throw Error("servo loop: the reset gap must be a finite number of seconds >= 0");
+  bridge_ = dynamic_cast<BridgeDevice*>(&device_);
   observers_.reserve(4);
 }
 
@@ -184,12 +189,14 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
   const double step_us = (now_s() - t0) * 1e6;
   step_.add(step_us);
 
-  // A device fault zeroes the force at once. A short one (fewer than short_fault_ticks: a late
-  // datagram) releases as soon as the device is back; a long one, or missed deadlines, holds zero
-  // for recover_ticks good ticks and resets the renderer (no kick from a stale proxy).
+  // A device fault zeroes the force at once. A short one (under reset_gap_s: late datagrams, a
+  // short pause) releases as soon as the device is back; a long one, or missed deadlines, holds
+  // zero for recover_ticks good ticks and resets the renderer (no kick from a stale proxy).
   const bool device_fault = device_.faulted();
   fault_in_row_ = device_fault ? fault_in_row_ + 1 : 0;
-  if (missed_in_row_ >= options_.watchdog_misses || fault_in_row_ >= options_.short_fault_ticks)
+  if (fault_in_row_ == 1) fault_since_s_ = t0;
+  if (missed_in_row_ >= options_.watchdog_misses ||
+      (device_fault && t0 - fault_since_s_ >= options_.reset_gap_s))
     long_fault_ = true;
   if (device_fault || missed_in_row_ >= options_.watchdog_misses) {
     if (!holding_) ++trips_;
@@ -201,7 +208,9 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
     long_fault_ = false;
   }
   if (holding_) ++watchdog_ticks_;
-  const Vec3 cmd = (holding_ || !out.force_n.allFinite()) ? Vec3::Zero() : out.force_n;
+  const bool zeroed = holding_ || !out.force_n.allFinite();
+  const Vec3 cmd = zeroed ? Vec3::Zero() : out.force_n;
+  if (bridge_) bridge_->set_zeroed(zeroed);  // status bit kStatusZeroed with this force
   device_.command_force(cmd);
 
   if (!observers_.empty()) {

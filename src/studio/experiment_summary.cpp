@@ -100,17 +100,48 @@ std::vector<rendering::TrialResult> read_answers(const fs::path& csv) {
   return out;
 }
 
+namespace {
+
+bool answers_file(const std::string& name) {
+  return name.rfind("participant-", 0) == 0 && fs::path(name).extension() == ".csv";
+}
+
+nlohmann::json score(const std::vector<rendering::TrialResult>& all,
+                     std::vector<std::string> files);
+
+}  // namespace
+
 nlohmann::json summarize_answers(const fs::path& folder) {
   std::vector<rendering::TrialResult> all;
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(folder)) {
     const std::string name = e.path().filename().string();
-    if (!e.is_regular_file() || name.rfind("participant-", 0) != 0 ||
-        e.path().extension() != ".csv")
-      continue;
+    if (!e.is_regular_file() || !answers_file(name)) continue;
     files.push_back(name);
     for (auto& r : read_answers(e.path())) all.push_back(std::move(r));
   }
+  return score(all, std::move(files));
+}
+
+nlohmann::json summarize_answers(const Workspace& workspace) {
+  // Every read through the workspace guard: a participant file that is a symlink is refused
+  // (an error naming it), not followed.
+  std::vector<rendering::TrialResult> all;
+  std::vector<std::string> files;
+  for (const std::string& name : workspace.list()) {
+    if (!answers_file(name)) continue;
+    files.push_back(name);
+    const WorkspacePath in = workspace.input(name);
+    for (auto& r : with_names({&in}, [&] { return read_answers(in.path()); }))
+      all.push_back(std::move(r));
+  }
+  return score(all, std::move(files));
+}
+
+namespace {
+
+nlohmann::json score(const std::vector<rendering::TrialResult>& all,
+                     std::vector<std::string> files) {
   std::sort(files.begin(), files.end());
   const rendering::StudySummary s = rendering::summarize(all);
   nlohmann::json conditions = nlohmann::json::array();
@@ -130,5 +161,7 @@ nlohmann::json summarize_answers(const fs::path& folder) {
   return {
       {"type", "summary"}, {"files", files}, {"trials", all.size()}, {"conditions", conditions}};
 }
+
+}  // namespace
 
 }  // namespace inhap::studio

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "inhap/core/error.hpp"
+#include "inhap/studio/protocol.hpp"
 
 namespace fs = std::filesystem;
 
@@ -76,33 +77,31 @@ bool origin_allowed(std::string_view origin, int port, bool required) {
   return loopback_authority(origin.substr(scheme.size()), port);
 }
 
-Workspace::Workspace(const fs::path& root) {
-  std::error_code ec;
-  fs::create_directories(root, ec);
-  if (!fs::is_directory(root))
-    throw Error(fmt::format("--workspace {}: not a folder and cannot be created", root.string()));
-  root_ = fs::canonical(root);
+void Workspace::check_name(std::string_view relative) const {
+  const auto refuse = [&](const char* why) {
+    throw Error(fmt::format("workspace path \"{}\": {}", quote_input(relative, 200), why));
+  };
+  if (relative.empty()) refuse("expected a file name, got nothing");
+  if (relative.find('\0') != std::string_view::npos) refuse("contains a NUL byte");
+  if (relative.find('\\') != std::string_view::npos) refuse("contains a backslash");
+  const fs::path rel(relative);
+  if (rel.is_absolute() || relative.front() == '/')
+    refuse("expected a path relative to the workspace, got an absolute path");
+  for (const auto& part : rel) {
+    if (part == "..") refuse("'..' is not allowed");
+    if (part.string().size() > 255) refuse("a name is longer than 255 bytes");
+  }
+  if (rel.filename().empty() || rel.filename() == ".") refuse("expected a file name");
 }
 
 fs::path Workspace::resolve(std::string_view relative) const {
+  check_name(relative);
   const auto refuse = [&](const char* why) -> fs::path {
-    throw Error(
-        fmt::format("workspace path \"{}\": {}", std::string(relative.substr(0, 200)), why));
+    throw Error(fmt::format("workspace path \"{}\": {}", quote_input(relative, 200), why));
   };
-  if (relative.empty()) return refuse("expected a file name, got nothing");
-  if (relative.find('\0') != std::string_view::npos) return refuse("contains a NUL byte");
-  if (relative.find('\\') != std::string_view::npos) return refuse("contains a backslash");
-  const fs::path rel(relative);
-  if (rel.is_absolute() || relative.front() == '/')
-    return refuse("expected a path relative to the workspace, got an absolute path");
-  for (const auto& part : rel) {
-    if (part == "..") return refuse("'..' is not allowed");
-    if (part.string().size() > 255) return refuse("a name is longer than 255 bytes");
-  }
-  if (rel.filename().empty() || rel.filename() == ".") return refuse("expected a file name");
   // Symlinks: resolve what exists of the path and require it to stay inside the root.
   std::error_code ec;
-  const fs::path full = fs::weakly_canonical(root_ / rel, ec);
+  const fs::path full = fs::weakly_canonical(root_ / fs::path(relative), ec);
   if (ec) return refuse("cannot be resolved");
   auto r = root_.begin();
   auto f = full.begin();

@@ -103,10 +103,20 @@ Server::Server(int port, std::string web_dir, std::string token)
   if (stack_size_granted(102400) <= 102400) throw Error("studio: no room for civetweb's stacks");
   mg_init_library(0);
   const std::string ports = fmt::format("127.0.0.1:{}", port);
+  // Every open page holds one of civetweb's workers, and so does a connection whose request
+  // has not arrived yet: 64 workers, and 2 s for a request (headers and body) and for each write
+  // to a page, so slow or silent connections (no token needed to open one) free their worker
+  // soon and a page that stops reading blocks only its own writer.
   const char* options[] = {"listening_ports",
                            ports.c_str(),
                            "num_threads",
-                           "8",
+                           "64",
+                           "connection_queue",
+                           "64",
+                           "request_timeout_ms",
+                           "2000",
+                           "max_request_size",
+                           "16384",
                            "enable_keep_alive",
                            "no",
                            "websocket_timeout_ms",
@@ -134,6 +144,7 @@ Server::Server(int port, std::string web_dir, std::string token)
 
 Server::~Server() {
   stop_handling();
+  close_clients();          // the writers end before civetweb frees the connections
   if (ctx_) mg_stop(ctx_);  // waits for civetweb's threads, which may wait for the HTTP thread
   stop_http();
   mg_exit_library();
@@ -174,6 +185,11 @@ void Server::set_handler(Handler h) {
 std::size_t Server::clients() const {
   std::lock_guard lock(mu_);
   return clients_.size();
+}
+
+std::uint64_t Server::busy_replies() const {
+  std::lock_guard lock(mu_);
+  return busy_;
 }
 
 bool Server::allowed(const mg_connection* conn, bool websocket) const {
@@ -261,7 +277,12 @@ int Server::on_ws_connect(const mg_connection* conn) {
 
 void Server::on_ws_ready(mg_connection* conn) {
   std::lock_guard lock(mu_);
-  clients_.insert(conn);
+  if (closing_all_) return;
+  auto c = std::make_unique<Client>();
+  c->conn = conn;
+  Client* raw = c.get();
+  c->writer = std::thread([this, raw] { write_loop(raw); });
+  clients_[conn] = std::move(c);
 }
 
 int Server::on_ws_data(mg_connection* conn, int bits, char* data, std::size_t len) {
@@ -270,7 +291,18 @@ int Server::on_ws_data(mg_connection* conn, int bits, char* data, std::size_t le
   if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings are answered by civetweb
   {
     std::lock_guard lock(mu_);
-    if (quit_ || queue_.size() >= 4096) return 1;  // stopping, or a page flooding the server
+    if (quit_) return 1;  // stopping
+    const auto it = clients_.find(conn);
+    if (it == clients_.end()) return 1;
+    Client& c = *it->second;
+    if (c.backlog >= kPageBacklog || queue_.size() >= kBacklog) {  // a burst: say so
+      ++busy_;
+      enqueue(c, error_reply("?", fmt::format("busy: {} messages of this page are waiting; this "
+                                              "one was not run, send it again later",
+                                              c.backlog)));
+      return 1;
+    }
+    ++c.backlog;
     queue_.emplace_back(conn, std::string(data, len));
   }
   queue_cv_.notify_one();
@@ -287,29 +319,90 @@ void Server::work() {
       if (quit_) return;
       item = std::move(queue_.front());
       queue_.pop_front();
+      if (const auto it = clients_.find(item.first); it != clients_.end() && it->second->backlog)
+        --it->second->backlog;
       h = handler_;
     }
-    const std::string reply =
-        h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    std::string reply;
+    try {  // the handler never throws; this thread must not end if it ever did
+      reply = h ? h(item.second) : error_reply("?", "the studio is starting, try again");
+    } catch (...) {
+      reply = error_reply("?", "internal error");
+    }
     if (!reply.empty()) send_to(item.first, reply);
   }
 }
 
-void Server::send_to(mg_connection* conn, const std::string& text) {
+void Server::enqueue(Client& c, const std::string& text) {
+  if (c.closing) return;
+  if (c.out.size() >= kSendQueue) {  // the oldest state goes first: the next one replaces it
+    auto victim = std::find_if(c.out.begin(), c.out.end(), [](const std::string& m) {
+      return m.rfind(R"({"type":"state")", 0) == 0;
+    });
+    c.out.erase(victim != c.out.end() ? victim : c.out.begin());
+    ++c.dropped;
+  }
+  c.out.push_back(text);
+  c.cv.notify_one();
+}
+
+void Server::write_loop(Client* c) {
+  std::unique_lock lock(mu_);
+  for (;;) {
+    c->cv.wait(lock, [c] { return c->closing || !c->out.empty(); });
+    if (c->closing) return;
+    std::string text = std::move(c->out.front());
+    c->out.pop_front();
+    std::string note;
+    if (c->dropped != c->dropped_told) {
+      note = fmt::format(R"({{"type":"dropped","count":{}}})", c->dropped);
+      c->dropped_told = c->dropped;
+    }
+    lock.unlock();  // a slow page blocks here, in its own thread only
+    if (!note.empty())
+      mg_websocket_write(c->conn, MG_WEBSOCKET_OPCODE_TEXT, note.data(), note.size());
+    mg_websocket_write(c->conn, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+    lock.lock();
+  }
+}
+
+void Server::send_to(const mg_connection* conn, const std::string& text) {
   std::lock_guard lock(mu_);
-  if (clients_.count(conn))
-    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+  if (const auto it = clients_.find(conn); it != clients_.end()) enqueue(*it->second, text);
 }
 
 void Server::on_ws_close(const mg_connection* conn) {
-  std::lock_guard lock(mu_);
-  clients_.erase(const_cast<mg_connection*>(conn));
+  std::unique_ptr<Client> c;
+  {
+    std::lock_guard lock(mu_);
+    const auto it = clients_.find(conn);
+    if (it == clients_.end()) return;
+    c = std::move(it->second);
+    clients_.erase(it);
+    c->closing = true;
+    c->cv.notify_one();
+  }
+  if (c->writer.joinable()) c->writer.join();  // a write in progress ends within its time-out
+}
+
+void Server::close_clients() {
+  std::map<const mg_connection*, std::unique_ptr<Client>> all;
+  {
+    std::lock_guard lock(mu_);
+    closing_all_ = true;
+    all.swap(clients_);
+    for (auto& [conn, c] : all) {
+      c->closing = true;
+      c->cv.notify_one();
+    }
+  }
+  for (auto& [conn, c] : all)
+    if (c->writer.joinable()) c->writer.join();
 }
 
 void Server::broadcast(const std::string& text) {
   std::lock_guard lock(mu_);
-  for (mg_connection* c : clients_)
-    mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+  for (auto& [conn, c] : clients_) enqueue(*c, text);
 }
 
 }  // namespace inhap::studio

@@ -265,6 +265,7 @@ std::string Session::state_json(const haptics::LoopSample& s) const {
 }
 
 std::string Session::handle(std::string_view text) {
+  // The boundary of every handler: nothing thrown below gets past it.
   std::string request = "?";
   try {
     const Message m = parse_message(text);
@@ -273,6 +274,8 @@ std::string Session::handle(std::string_view text) {
     return dispatch(m);
   } catch (const std::exception& e) {
     return error_reply(request, e.what());
+  } catch (...) {
+    return error_reply(request, "internal error");
   }
 }
 
@@ -301,9 +304,10 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "progress") return progress_json();
   if (m.type == "palpate") return do_palpate(m);
   if (m.type == "save_sys") return do_save_sys(m);
-  if (m.type == "summary") return summarize_answers(workspace_.root()).dump();
+  if (m.type == "summary") return dump_safe(summarize_answers(workspace_));
   if (m.type == "stats") {
-    fmt::print(stderr, "page: {}\n", m.body.dump());
+    // The raw text, quoted and capped (the body was checked for depth before parsing).
+    fmt::print(stderr, "page: {}\n", quote_input(dump_safe(m.body), 2000));
     return nlohmann::json{{"type", "ok"}, {"request", "stats"}}.dump();
   }
   throw ProtocolError("unhandled message type " + m.type);

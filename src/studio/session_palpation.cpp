@@ -137,10 +137,10 @@ void Session::fit_palpation_now(PalpationRenderer& r) {
 
 std::string Session::do_save_sys(const Message& m) {
   const std::string rel = get_string(m, "path");
-  const std::string p = workspace_.resolve(rel).string();
-  if (p.size() < 6 || p.substr(p.size() - 5) != ".json")
+  if (rel.size() < 6 || rel.substr(rel.size() - 5) != ".json")
     throw ProtocolError("save_sys: expected a path ending in .json");
-  const std::string cycles_path = p.substr(0, p.size() - 5) + ".cycles.csv";
+  const std::string cycles_rel = rel.substr(0, rel.size() - 5) + ".cycles.csv";
+  const WorkspacePath sys_out = workspace_.output(rel), cycles_out = workspace_.output(cycles_rel);
   std::optional<friction::SysModel> sys;
   std::vector<friction::CycleRecord> cycles;
   {
@@ -149,11 +149,15 @@ std::string Session::do_save_sys(const Message& m) {
     sys = sys_;
     cycles = palp_cycles_;
   }
-  OutputTransaction tx;  // both files or neither, as `sys palpate`
-  friction::write_cycles_csv(cycles_path, cycles);
-  friction::write_sys_json(p, *sys);
-  tx.commit();
-  const friction::SysModel back = friction::read_sys_json(p);  // the library's reader
+  with_names({&sys_out, &cycles_out}, [&] {
+    OutputTransaction tx;  // both files or neither, as `sys palpate`
+    friction::write_cycles_csv(cycles_out.path(), cycles);
+    friction::write_sys_json(sys_out.path(), *sys);
+    tx.commit();
+  });
+  const WorkspacePath in = workspace_.input(rel);
+  const friction::SysModel back =  // the library's reader
+      with_names({&in}, [&] { return friction::read_sys_json(in.path()); });
   return nlohmann::json{{"type", "ok"},
                         {"request", "save_sys"},
                         {"path", rel},

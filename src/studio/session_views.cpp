@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -10,12 +11,25 @@
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/geometry/mesh_io.hpp"
+#include "inhap/geometry/obj.hpp"
+#include "inhap/geometry/ply.hpp"
 #include "inhap/studio/display.hpp"
 #include "inhap/studio/session.hpp"
 #include "inhap/surface/reconstruct.hpp"
 
 namespace inhap::studio {
 namespace {
+
+// A PLY or OBJ read through the workspace guard; errors name the path as the page gave it.
+TriMesh read_workspace_mesh(const Workspace& ws, const std::string& rel) {
+  std::string ext = std::filesystem::path(rel).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".ply" && ext != ".obj")
+    throw ProtocolError(fmt::format("{}: expected a .ply or .obj file", quote_input(rel, 200)));
+  const std::string bytes = ws.read(rel);
+  return ext == ".ply" ? parse_ply(bytes, quote_input(rel, 200))
+                       : parse_obj(bytes, quote_input(rel, 200));
+}
 
 nlohmann::json vec(const Vec3& p) {
   return nlohmann::json::array({p.x(), p.y(), p.z()});
@@ -168,37 +182,40 @@ std::string Session::do_reconstruct(const Message& m) {
 }
 
 std::string Session::do_export(const Message& m) {
-  const auto points_path = workspace_.resolve(get_string(m, "points"));
-  std::optional<std::filesystem::path> mesh_path;
-  if (m.body.contains("mesh")) mesh_path = workspace_.resolve(get_string(m, "mesh"));
-  for (const std::filesystem::path* p :
-       {&points_path,
-        mesh_path ? static_cast<const std::filesystem::path*>(&*mesh_path) : nullptr}) {
+  const std::string points_rel = get_string(m, "points");
+  std::optional<std::string> mesh_rel;
+  if (m.body.contains("mesh")) mesh_rel = get_string(m, "mesh");
+  const WorkspacePath points_out = workspace_.output(points_rel);
+  std::optional<WorkspacePath> mesh_out;
+  if (mesh_rel) mesh_out.emplace(workspace_.output(*mesh_rel));
+  const WorkspacePath* mesh_ptr = mesh_out ? &*mesh_out : nullptr;
+  for (const WorkspacePath* p : {&points_out, mesh_ptr}) {
     if (!p) continue;
-    const std::string ext = p->extension().string();
+    const std::string ext = std::filesystem::path(p->path()).extension().string();
     if (ext != ".ply" && ext != ".obj")
-      throw ProtocolError(
-          fmt::format("export: {}: expected a .ply or .obj name", p->filename().string()));
+      throw ProtocolError(fmt::format("export: {}: expected a .ply or .obj name", p->name()));
   }
   TriMesh cloud;
   {
     std::lock_guard lock(data_mu_);
-    if (mesh_path && !reconstruction_) throw ProtocolError("export: no reconstruction yet");
+    if (mesh_out && !reconstruction_) throw ProtocolError("export: no reconstruction yet");
     for (const Sample& s : samples_)
       if (!s.deleted) cloud.positions.push_back(s.point), cloud.normals.push_back(s.direction);
     if (cloud.positions.empty()) throw ProtocolError("export: no samples");
   }
-  OutputTransaction tx;
-  write_mesh(points_path.string(), cloud);
-  if (mesh_path) write_mesh(mesh_path->string(), *reconstruction_);
-  tx.commit();
+  with_names({&points_out, mesh_ptr}, [&] {
+    OutputTransaction tx;  // both files or neither
+    write_mesh(points_out.path(), cloud);
+    if (mesh_out) write_mesh(mesh_out->path(), *reconstruction_);
+    tx.commit();
+  });
   nlohmann::json j{{"type", "ok"}, {"request", "export"}, {"points", cloud.num_vertices()}};
-  if (mesh_path) j["faces"] = reconstruction_->num_triangles();
+  if (mesh_out) j["faces"] = reconstruction_->num_triangles();
   return j.dump();
 }
 
 std::string Session::do_save_session(const Message& m) {
-  const auto path = workspace_.resolve(get_string(m, "path"));
+  const std::string path = get_string(m, "path");
   nlohmann::json pts = nlohmann::json::array();
   {
     std::lock_guard lock(data_mu_);
@@ -215,18 +232,18 @@ std::string Session::do_save_session(const Message& m) {
                      {"operator", lab_ ? "tap (simulated)" : "device"},
                      {"seed", options_.seed},
                      {"samples", pts}};
-  write_file_atomic(path.string(), doc.dump(1) + "\n");
+  workspace_.write(path, dump_safe(doc) + "\n");
   return nlohmann::json{{"type", "ok"}, {"request", "save_session"}, {"samples", pts.size()}}
       .dump();
 }
 
 std::string Session::do_open_session(const Message& m) {
-  const auto path = workspace_.resolve(get_string(m, "path"));
-  const nlohmann::json doc = nlohmann::json::parse(read_file(path.string()), nullptr, false);
+  const std::string path = get_string(m, "path");
+  const nlohmann::json doc = nlohmann::json::parse(workspace_.read(path), nullptr, false);
   if (doc.is_discarded() || !doc.is_object() || doc.value("format", "") != "inhap-studio-session" ||
       !doc.contains("samples") || !doc["samples"].is_array())
     throw ProtocolError(
-        fmt::format("{}: expected an inhap studio session file", path.filename().string()));
+        fmt::format("{}: expected an inhap studio session file", quote_input(path, 200)));
   std::vector<Sample> loaded;
   long next = 0;
   for (const auto& e : doc["samples"]) {
@@ -287,21 +304,21 @@ std::string Session::do_open_mesh(const Message& m) {
   if (source == "study25") {
     mesh = rendering::StudySurface(rendering::DatasetParams{}, rendering::identity_layout()).mesh();
   } else if (source == "workspace") {
-    const auto path = workspace_.resolve(get_string(m, "path"));
-    mesh = read_mesh(path.string());
-    name = path.filename().string();
+    const std::string path = get_string(m, "path");
+    mesh = read_workspace_mesh(workspace_, path);
+    name = quote_input(std::filesystem::path(path).filename().string(), 200);
     if (!mesh.has_property("stiffness"))
       throw ProtocolError(fmt::format("{}: expected a vertex property \"stiffness\" (N/mm)", name));
   } else {  // a trained force model with its sliding yield surfaces and shape (inhap serve --render
             // model)
-    const auto model = workspace_.resolve(get_string(m, "model"));
-    const auto sys = workspace_.resolve(get_string(m, "sys"));
-    const auto shape = workspace_.resolve(get_string(m, "shape"));
+    const std::string model = get_string(m, "model"), shape = get_string(m, "shape");
+    const WorkspacePath sys = workspace_.input(get_string(m, "sys"));
     const double radius = get_number_or(m, "probe_radius", 0, 50, 0);
-    mesh = read_mesh(shape.string());
-    dd = std::make_shared<DataDrivenBundle>(datadriven::load_force_model(model.string()),
-                                            friction::read_sys_json(sys.string()), mesh, radius);
-    name = model.filename().string();
+    mesh = read_workspace_mesh(workspace_, shape);
+    auto force = datadriven::force_model_from_json(workspace_.read(model), quote_input(model, 200));
+    auto yield = with_names({&sys}, [&] { return friction::read_sys_json(sys.path()); });
+    dd = std::make_shared<DataDrivenBundle>(std::move(force), std::move(yield), mesh, radius);
+    name = quote_input(std::filesystem::path(model).filename().string(), 200);
   }
   // Everything loaded: only now does the session change.
   const std::string old_mode = mode();
@@ -446,7 +463,7 @@ std::string Session::progress_json() const {
 }
 
 void Session::write_answers() const {
-  const auto path = workspace_.resolve(fmt::format("participant-{:03d}.csv", participant_));
+  const std::string path = fmt::format("participant-{:03d}.csv", participant_);
   std::string out =
       "# inhap studio answers (thesis 5.4): label = ShapeClass (0 flat, 1 bump, 2 hole) or "
       "StiffnessClass (0 same, 1 harder, 2 softer); t s (device time)\n"
@@ -456,7 +473,7 @@ void Session::write_answers() const {
                        a.spec.trial, rendering::to_string(a.spec.algorithm),
                        rendering::to_string(a.spec.task), a.spec.layout_seed, a.cell, a.model + 1,
                        a.value, a.truth, a.value == a.truth ? 1 : 0, a.t_s);
-  write_file_atomic(path.string(), out);
+  workspace_.write(path, out);
 }
 
 }  // namespace inhap::studio

@@ -112,6 +112,7 @@ TEST(ServoLoop, TheWatchdogHoldsZeroForceWhileTheDeviceFaultsAndResetsTheRendere
   Wall wall;
   LoopOptions o = quiet(800);
   o.recover_ticks = 50;
+  o.reset_gap_s = 0.005;  // 30 ticks at 2 kHz: 15 ms, a long fault here
   ServoLoop loop(dev, wall, o);
   loop.run();
   // Faulted at ticks 300-329; the 50th good tick after it (379) has force again.
@@ -139,6 +140,24 @@ TEST(ServoLoop, AShortDeviceFaultZeroesOnlyItsTicksAndKeepsTheRendererState) {
   EXPECT_EQ(wall.resets, 0);
   EXPECT_EQ(loop.stats().watchdog_trips, 1u);
   EXPECT_EQ(loop.stats().watchdog_ticks, 2u);
+}
+
+// Before, a pause of 5 ticks or more (20 ms here) held zero for recover_ticks and reset the
+// renderer: the probe inside an object got 0 N for about 300 ticks.
+TEST(ServoLoop, ADeviceGapShorterThanTheResetGapKeepsTheRenderer) {
+  ScriptDevice dev;
+  dev.commanded.reserve(2000);
+  dev.fault_from = 300;
+  dev.fault_to = 340;  // 40 ticks at 2 kHz: 20 ms
+  Wall wall;
+  LoopOptions o = quiet(600);
+  ASSERT_EQ(o.reset_gap_s, 0.05);
+  ServoLoop loop(dev, wall, o);
+  loop.run();
+  for (long i = 300; i < 340; ++i) EXPECT_EQ(dev.commanded[i], Vec3::Zero()) << "tick " << i;
+  EXPECT_EQ(dev.commanded[340], wall_force(2.0 - 0.01 * 340)) << "force back with the device";
+  EXPECT_EQ(wall.resets, 0);
+  EXPECT_EQ(loop.stats().watchdog_ticks, 40u);
 }
 
 TEST(ServoLoop, ObserversGetEveryTickInOrderAndAFullRingNeverBlocksTheLoop) {

@@ -73,6 +73,21 @@ clean_error "scene with a 1e308 centre" 1 farscene.json -- \
 sed 's/spacings: 1 2 3/spacings: nan 2 2/' "$corpus/nrrd/attached.nrrd" >nan.nrrd
 clean_error "NRRD spacings: nan 2 2" 1 nan.nrrd spacings -- \
   "$inhap" mesh from-volume nan.nrrd --out vol.ply
+sed 's/spacings: 1 2 3/spacings: 1e308 1e308 1e308/' "$corpus/nrrd/attached.nrrd" >huge.nrrd
+clean_error "NRRD spacings: 1e308" 1 huge.nrrd spacings -- \
+  "$inhap" mesh from-volume huge.nrrd --out vol.ply
+clean_error "from-volume with no isosurface names the file" 1 attached.nrrd -- \
+  "$inhap" mesh from-volume "$corpus/nrrd/attached.nrrd" --iso 100000 --out vol.ply
+printf 'v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n' >huge.obj
+clean_error "mesh info on vertices at +-1e308" 1 huge.obj "finite size" -- "$inhap" mesh info huge.obj
+clean_error "mesh convert on vertices at +-1e308" 1 huge.obj "finite size" -- \
+  "$inhap" mesh convert huge.obj huge.ply
+printf '0,0,0\n0,1e308,0\n0,-1e308,0\n' >huge-h.csv
+clean_error "mesh heightmap on heights of +-1e308" 1 huge-h.csv "finite size" -- \
+  "$inhap" mesh heightmap huge-h.csv --spacing 1 --out huge-h.ply
+sed 's/"f_limit": 0.5/"f_limit": 1e308/' "$corpus/sys/small.json" >huge-sys.json
+clean_error "sys table on f_limit 1e308" 1 huge-sys.json f_limit -- \
+  "$inhap" sys table huge-sys.json
 
 # --- Multi-file outputs are all-or-nothing -----------------------------------------------------
 echo old >r.csv

@@ -1,7 +1,9 @@
 // inhap studio access rules (include/inhap/studio/security.hpp): the token, Host and Origin checks
 // and the workspace path guard.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
@@ -97,4 +99,41 @@ TEST(StudioWorkspace, RefusesSymlinksLeadingOutside) {
   EXPECT_THROW(ws.resolve("file.txt"), inhap::Error);
   // a symlink that stays inside is fine
   EXPECT_EQ(ws.resolve("inlink/x.ply"), fs::canonical(tmp.root() / "ws/inner") / "x.ply");
+}
+
+TEST(StudioWorkspace, OpensBeneathWithoutFollowingAnySymlink) {
+  inhap::test::TempDir tmp;
+  fs::create_directories(tmp.root() / "outside");
+  std::ofstream(tmp.root() / "outside/secret.txt") << "secret";
+  const Workspace ws(tmp.root() / "ws");
+  fs::create_directories(tmp.root() / "ws/inner");
+  std::ofstream(tmp.root() / "ws/inner/ok.txt") << "fine";
+  fs::create_directory_symlink(tmp.root() / "outside", tmp.root() / "ws/link");
+  fs::create_symlink(tmp.root() / "outside/secret.txt", tmp.root() / "ws/file.txt");
+  fs::create_directory_symlink(tmp.root() / "ws/inner", tmp.root() / "ws/inlink");
+  fs::create_symlink(tmp.root() / "ws/inner/ok.txt", tmp.root() / "ws/inside.txt");
+  EXPECT_EQ(ws.read("inner/ok.txt"), "fine");
+  // Every symlink is refused, also one that stays inside, for reading and for writing.
+  for (const char* bad : {"link/secret.txt", "file.txt", "inlink/ok.txt", "inside.txt"}) {
+    EXPECT_THROW((void)ws.read(bad), inhap::Error) << bad;
+    EXPECT_THROW((void)ws.input(bad), inhap::Error) << bad;
+  }
+  EXPECT_THROW(ws.write("link/new.txt", "x"), inhap::Error);
+  EXPECT_THROW(ws.write("inlink/new.txt", "x"), inhap::Error);
+  EXPECT_FALSE(fs::exists(tmp.root() / "outside/new.txt"));
+  // The refusal names the path as given and not what the link points to.
+  try {
+    (void)ws.read("file.txt");
+  } catch (const inhap::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("file.txt"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("secret"), std::string::npos) << e.what();
+  }
+  // Writing through output(): the file lands in the workspace, errors name it as given.
+  ws.write("inner/new.txt", "n");
+  EXPECT_EQ(ws.read("inner/new.txt"), "n");
+  const WorkspacePath out = ws.output("inner/x.txt");
+  EXPECT_EQ(out.tidy(out.path() + ": failed"), "inner/x.txt: failed");
+  const auto names = ws.list();
+  EXPECT_NE(std::find(names.begin(), names.end(), "file.txt"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "inner"), names.end());
 }

@@ -43,6 +43,7 @@ ws.onmessage = (ev) => {
     case 'palpation': onPalpation(m); break;
     case 'error': S.errors.push(m); S.lastReply = m; $('status').textContent = 'error: ' + m.message; break;
     case 'ok': onOk(m); break;
+    case 'dropped': S.dropped = m.count; break;  // this page fell behind: the server dropped states
     default: S.lastReply = m;
   }
   if (!['state', 'tap', 'cycle', 'progress'].includes(m.type)) S.lastReply = m;
@@ -488,7 +489,8 @@ function frame(t) {
     // (No adaptive pixel ratio any more: the scene renders only when it changes, so a slow
     // frame is not the WebGL's, and a resize re-rendered it.)
     S.pixelRatio = renderer.getPixelRatio();
-    $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s`; }
+    $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s` +
+      (S.dropped ? ` · ${S.dropped} dropped` : ''); }
   drawState(t);
   if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
   if (['sampling', 'explore', 'palpation'].includes(S.view) && (needRender || markedState !== S.state)) {

@@ -32,16 +32,27 @@ void run_from_volume(const FromVolumeOptions& o) {
     throw Error(fmt::format("--fit-mm: expected a size >= 0 mm (0 keeps the scanner's mm), got {}",
                             o.fit_mm));
   const Volume vol = read_nrrd(o.header);
-  fmt::print("volume      {} x {} x {} samples, spacing {} x {} x {} mm\n", vol.nx, vol.ny, vol.nz,
-             vol.spacing.x(), vol.spacing.y(), vol.spacing.z());
   HeadModelOptions ho;
   ho.skin_iso = o.iso;
   ho.bone_iso = o.bone_iso;
   ho.k_min = o.k_range[0];
   ho.k_max = o.k_range[1];
   ho.far_quantile = o.far_quantile;
-  HeadModel head = head_from_volume(vol, ho);
-  const double scale = fit_head(head, o.fit_mm);
+  // Every error names the volume: an absurd spacing, or no isosurface at the level asked for.
+  const auto named = [&](auto&& fn) {
+    try {
+      return fn();
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", o.header, e.what()));
+    }
+  };
+  if (!(vol.spacing.minCoeff() > 0) || !(vol.spacing.maxCoeff() <= 1e6))
+    throw Error(fmt::format("{}: expected spacings in (0, 1e6] mm, got {} x {} x {}", o.header,
+                            vol.spacing.x(), vol.spacing.y(), vol.spacing.z()));
+  HeadModel head = named([&] { return head_from_volume(vol, ho); });
+  const double scale = named([&] { return fit_head(head, o.fit_mm); });
+  fmt::print("volume      {} x {} x {} samples, spacing {} x {} x {} mm\n", vol.nx, vol.ny, vol.nz,
+             vol.spacing.x(), vol.spacing.y(), vol.spacing.z());
   const TriMesh& m = head.mesh;
   fmt::print("{}", head_summary_text(head, ho, scale));
   MeshWriteOptions wo;

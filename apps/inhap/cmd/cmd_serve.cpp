@@ -63,6 +63,11 @@ void run_serve(const ServeArgs& a) {
     eval::finish_recording(*rec, d, a.record);
     fmt::print(stderr, "wrote {} ({} rows){}\n", a.record, rec->rows(),
                d.lab ? " and its truth sidecar" : "");
+    if (rec->skipped() > 0)
+      fmt::print(stderr,
+                 "warning: {} samples of the device were left out of {}: their time ran "
+                 "backwards (t {:g} s at the last row)\n",
+                 rec->skipped(), a.record, rec->last_t());
   }
 }
 

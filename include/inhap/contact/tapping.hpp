@@ -1,5 +1,6 @@
-// Contact points of a whole tapping recording (CSV, see core/csv.hpp): chooses the contact
-// force, then runs the detector (detector.hpp). Units: time s, positions mm, forces N.
+// Contact points of a whole tapping recording (CSV, see core/csv.hpp): drops outliers (counted),
+// chooses the contact force, then runs the detector (detector.hpp). Units: time s, positions mm,
+// forces N.
 #pragma once
 
 #include <string>
@@ -22,6 +23,9 @@ struct TappingResult {
   std::vector<std::string> notes;               ///< skipped taps, fallbacks, "no contact found"
   ForceSource source = ForceSource::kRecorded;  ///< what was used
   OfflineCompensation compensation;             ///< when source == Raw
+  /// Samples dropped as outliers before compensation (|p| > 1e4 mm or |f| > 1e3 N; a note says
+  /// how many).
+  std::size_t rejected = 0;
 };
 
 TappingResult contacts_from_recording(const Recording& rec, const ContactOptions& options,

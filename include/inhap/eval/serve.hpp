@@ -101,6 +101,8 @@ class LoopRecorder {
   void finish();
   std::size_t rows() const { return rows_; }
   double last_t() const { return last_t_; }  ///< time of the last row written, s
+  /// Samples left out because their time ran backwards (not a repeat of the last row).
+  std::size_t skipped() const { return skipped_; }
 
  private:
   void drain();
@@ -112,7 +114,7 @@ class LoopRecorder {
   CsvWriter writer_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
-  std::size_t rows_ = 0;
+  std::size_t rows_ = 0, skipped_ = 0;
   double last_t_ = 0;
 };
 

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -38,6 +39,9 @@ struct BridgeOptions {
   /// by a datagram from another core costs a wake-up (about 8 us in this virtual machine); the
   /// window costs at most twice this per period of CPU. 0: always sleep.
   double spin_s = 50e-6;
+  /// The session is bound to the address and port of its first accepted state: states from any
+  /// other sender are refused (foreign_peer) until the bound one has been silent this long, s.
+  double rebind_s = 1.0;
 };
 
 struct BridgeStats {
@@ -47,6 +51,10 @@ struct BridgeStats {
   std::uint64_t bad_auth = 0;         ///< unsigned or wrong HMAC tag while a key is set
   std::uint64_t out_of_order = 0;     ///< sequence not newer than the last accepted
   std::uint64_t foreign_session = 0;  ///< another session while the current one is live
+  std::uint64_t foreign_peer = 0;     ///< another sender (address, port) than the bound one
+  std::uint64_t out_of_range = 0;     ///< finite but implausible p, f or t (kOutOfRange)
+  std::uint64_t bad_time = 0;         ///< device time backwards or ahead of the wall clock
+  std::uint64_t handshakes = 0;       ///< welcomes sent (with a key: one per hello accepted)
   std::uint64_t lost = 0;             ///< sequence numbers skipped
   std::uint64_t superseded = 0;       ///< states replaced by a newer one in the same wait
   std::uint64_t timeouts = 0;         ///< ticks with no state within timeout_s
@@ -73,6 +81,9 @@ class BridgeDevice final : public Device {
   void command_force(const Vec3& force) override;
   /// Status bits sent with the next force (kStatusContact from the renderer).
   void set_status(std::uint32_t status) { status_ = status; }
+  /// The next force was zeroed by a guard (the servo loop's watchdog, a non-finite output):
+  /// it goes out with kStatusZeroed.
+  void set_zeroed(bool zeroed) { zeroed_ = zeroed; }
   /// Sends the force for the last state, then waits for the next state.
   void tick() override;
   /// Sends zero force with kStatusStopping (call before closing).
@@ -90,11 +101,22 @@ class BridgeDevice final : public Device {
   bool wait_state(double timeout_s);               // true if a state was accepted
   int sleep_until_readable(double seconds) const;  // ppoll's result
   void note_arrival(double now);                   // last arrival and the smoothed period
-  bool accept(const StatePacket& p);
+  bool accept(const StatePacket& p, const void* from, double now);
+  bool same_peer(const void* from, const unsigned char* peer) const;
+  void on_hello(std::span<const std::uint8_t> bytes, const void* from, double now);
+  // Decodes a state with the session's key, or with the key of a handshake that peer just made
+  // (then that handshake's key becomes the session's: `fresh`).
+  DecodeResult decode_state(std::span<const std::uint8_t> bytes, const void* from, StatePacket& p,
+                            bool& fresh);
   void send_force(const Vec3& f, std::uint32_t status);
 
   BridgeOptions options_;
-  BridgeKey key_;
+  BridgeKey key_;          ///< the shared key (empty: unsigned, loopback only)
+  BridgeKey session_key_;  ///< with a key: the current session's, from its handshake
+  BridgeKey pending_key_;  ///< with a key: of the last hello, until that peer's first state
+  alignas(8) unsigned char pending_peer_[16] = {};
+  std::uint32_t pending_session_ = 0;
+  bool have_pending_ = false;
   int fd_ = -1;
   std::uint16_t bound_port_ = 0;
   // The client's address (sockaddr_in) of the last accepted state.
@@ -107,6 +129,8 @@ class BridgeDevice final : public Device {
   double period_s_ = 0;        ///< smoothed time between accepted states, s (0: not known yet)
   Vec3 command_ = Vec3::Zero();
   std::uint32_t status_ = 0;
+  bool zeroed_ = false;     ///< set_zeroed()
+  bool nonfinite_ = false;  ///< command_force() got a non-finite force
   BridgeStats stats_;
   std::uint8_t buffer_[kMaxPacketBytes + 64] = {};
 };

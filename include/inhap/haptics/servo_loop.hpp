@@ -9,9 +9,11 @@
 // - Real time: SCHED_FIFO and mlockall when permitted (LoopOptions::realtime); rt_status() says
 //   what was granted, and why not.
 // - Watchdog: zero force while the device reports a fault (from the first faulted tick) and after
-//   `watchdog_misses` deadlines missed in a row. A short device fault (a late datagram) releases
-//   when the device is back; a long one holds zero for `recover_ticks` and resets the renderer
-//   (no kick from a stale proxy).
+//   `watchdog_misses` deadlines missed in a row. A device fault shorter than `reset_gap_s` (late
+//   or lost datagrams, a short pause) releases when the device is back, renderer state kept; a
+//   longer one holds zero for `recover_ticks` and resets the renderer (no kick from a stale
+//   proxy). A device that takes a zero flag (the bridge) is told every tick that the force was
+//   zeroed by the watchdog or a non-finite renderer output.
 // - Observers read the loop through lock-free SPSC rings (spsc_ring.hpp); the loop never
 //   blocks on them: a full ring drops the sample and counts it.
 // - Read-ahead: between ticks the loop calls Renderer::prefetch with the next position predicted
@@ -34,6 +36,8 @@
 namespace inhap::haptics {
 
 /// One tick as observers see it.
+class BridgeDevice;
+
 struct LoopSample {
   std::uint64_t tick = 0;
   double t_s = 0;                      ///< device time, s
@@ -53,9 +57,9 @@ struct LoopOptions {
   int priority = 80;         ///< SCHED_FIFO priority when granted
   int watchdog_misses = 10;  ///< deadlines missed in a row before zero force
   int recover_ticks = 100;   ///< good ticks before force comes back after a trip
-  /// A device fault shorter than this many ticks (a late datagram) releases as soon as the device
-  /// is back, without recover_ticks and without a renderer reset.
-  int short_fault_ticks = 5;
+  /// A device fault shorter than this (wall-clock time from its first faulted tick, s) releases
+  /// as soon as the device is back, without recover_ticks and without a renderer reset.
+  double reset_gap_s = 0.05;
   long max_ticks = -1;  ///< stop by itself after this many ticks (-1: until stop())
   /// Read-ahead (Renderer::prefetch, with the next position predicted at constant velocity), for
   /// renderers that read ahead (Renderer::reads_ahead()).
@@ -143,7 +147,9 @@ class ServoLoop {
   std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
   int missed_in_row_ = 0, good_in_row_ = 0, fault_in_row_ = 0;
   bool holding_ = false;
-  bool long_fault_ = false;  ///< the current hold needs recover_ticks and a renderer reset
+  bool long_fault_ = false;         ///< the current hold needs recover_ticks and a renderer reset
+  double fault_since_s_ = 0;        ///< wall-clock time of the current fault's first tick
+  BridgeDevice* bridge_ = nullptr;  ///< the device, when it is the bridge (zero flag)
   std::string rt_status_ = "not started";
 };
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "inhap/rendering/experiment.hpp"
+#include "inhap/studio/security.hpp"
 
 namespace inhap::studio {
 
@@ -23,5 +24,7 @@ std::vector<rendering::TrialResult> read_answers(const std::filesystem::path& cs
 /// the mean correct count and its SDs (fig. 5.10), the per-model correct ratio (fig. 5.11), and
 /// the models below 0.5.
 nlohmann::json summarize_answers(const std::filesystem::path& folder);
+/// The same for the workspace, every file opened through its guard (a symlink is refused).
+nlohmann::json summarize_answers(const Workspace& workspace);
 
 }  // namespace inhap::studio

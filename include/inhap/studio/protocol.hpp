@@ -29,8 +29,24 @@ struct Message {
   nlohmann::json body;  ///< the whole object
 };
 
-/// Parses one text frame (at most 1 MB). Throws ProtocolError: not JSON, not an object, no
-/// string "type", or a type not in message_types().
+/// Limits checked on the raw text before it is parsed: a frame's size in bytes and how deeply
+/// its arrays and objects nest (every message of the protocol nests at most 3 deep).
+inline constexpr std::size_t kMaxMessageBytes = 1u << 20;
+inline constexpr std::size_t kMaxMessageDepth = 32;
+
+/// Input quoted in an error text or a log line: valid UTF-8 (a byte that does not start or
+/// continue a valid sequence becomes U+FFFD), cut at a character boundary to at most max_bytes
+/// (then "..." follows).
+std::string quote_input(std::string_view s, std::size_t max_bytes = 64);
+/// How deeply the arrays and objects of a JSON text nest (brackets outside strings), counted
+/// without parsing; the count stops once it exceeds `limit`.
+std::size_t json_depth(std::string_view text, std::size_t limit);
+/// j.dump() that replaces invalid UTF-8 instead of throwing.
+std::string dump_safe(const nlohmann::json& j);
+
+/// Parses one text frame (at most kMaxMessageBytes, nested at most kMaxMessageDepth). Throws
+/// ProtocolError: too large or deep, not JSON, not an object, no string "type", or a type not in
+/// message_types().
 Message parse_message(std::string_view text);
 
 /// Checked getters: throw ProtocolError naming the field and what was expected.
@@ -45,7 +61,8 @@ std::string get_choice(const Message& m, const char* key, const std::vector<std:
 std::vector<long> get_integer_list(const Message& m, const char* key, long lo, long hi,
                                    std::size_t max_items);
 
-/// {"type":"error","request":request,"message":message}
+/// {"type":"error","request":request,"message":message}, both quoted with quote_input (64 and
+/// 1024 bytes). Never throws.
 std::string error_reply(std::string_view request, std::string_view message);
 
 }  // namespace inhap::studio

@@ -5,13 +5,19 @@
 //  - The Host header must name the loopback address and port the server listens on (no DNS
 //    rebinding), and an Origin header, when present (always on a WebSocket upgrade), must be
 //    http://127.0.0.1:PORT or http://localhost:PORT.
-//  - Files are read and written only inside the workspace folder: relative paths only, no `..`,
-//    no symlink that leads outside (Workspace::resolve).
+//  - Files are read and written only inside the workspace folder: relative paths only, no `..`;
+//    every file is opened beneath the workspace's folder without following any symlink
+//    (openat2 RESOLVE_BENEATH | RESOLVE_NO_SYMLINKS, or O_NOFOLLOW per component where the
+//    kernel lacks openat2), and written through an exclusively created temporary.
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "inhap/core/error.hpp"
 
 namespace inhap::studio {
 
@@ -39,19 +45,80 @@ bool origin_allowed(std::string_view origin, int port, bool required);
 
 inline constexpr const char* kCookieName = "inhap_studio";
 
+/// A file (input) or the folder of a file to write (output) opened beneath the workspace, with a
+/// path through that open handle (/proc/self/fd/N[/NAME]) for the library's path-based readers
+/// and writers: the path cannot be redirected by a link planted after the open.
+class WorkspacePath {
+ public:
+  /// `from` in messages stands for `to` (the handle's path for the page's path).
+  WorkspacePath(int fd, std::string path, std::string name, std::string from, std::string to);
+  ~WorkspacePath();
+  WorkspacePath(WorkspacePath&& o) noexcept;
+  WorkspacePath(const WorkspacePath&) = delete;
+  WorkspacePath& operator=(const WorkspacePath&) = delete;
+  WorkspacePath& operator=(WorkspacePath&&) = delete;
+  /// For readers (input) and writers (output: the file name is its last component).
+  const std::string& path() const { return path_; }
+  /// The path as the page gave it (quoted), for messages.
+  const std::string& name() const { return name_; }
+  int fd() const { return fd_; }
+  /// `message` with the handle's path replaced by the page's.
+  std::string tidy(std::string message) const;
+
+ private:
+  int fd_ = -1;
+  std::string path_, name_, from_, to_;
+};
+
 /// The folder the studio reads and writes in.
 class Workspace {
  public:
-  /// Creates the folder when missing; throws Error when it cannot be used.
+  /// Creates the folder when missing and keeps it open; throws Error when it cannot be used.
   explicit Workspace(const std::filesystem::path& root);
+  ~Workspace();
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
   const std::filesystem::path& root() const { return root_; }
   /// The absolute path of `relative` inside the workspace. Throws Error (naming the path and the
   /// rule) for an empty or absolute path, a `..` component, a NUL or backslash, a name over 255
-  /// bytes, or a path that, following symlinks, leaves the workspace.
+  /// bytes, or a path that, following symlinks, leaves the workspace. A first check of the
+  /// name only: files are opened with input() / output() / read().
   std::filesystem::path resolve(std::string_view relative) const;
 
+  /// Opens `relative` beneath the workspace, following no symlink on the way (the checks of
+  /// resolve() first). Returns the descriptor; throws IoError naming the path.
+  int open(std::string_view relative, int flags, unsigned mode = 0) const;
+  /// A regular file to read.
+  WorkspacePath input(std::string_view relative) const;
+  /// The folder of a file to write; path() = that folder's handle + "/" + the file name, for
+  /// AtomicFile (an exclusive temporary with a random name, renamed onto the name).
+  WorkspacePath output(std::string_view relative) const;
+  /// The whole content of a regular file (at most max_bytes).
+  std::string read(std::string_view relative, std::size_t max_bytes = std::size_t(1) << 28) const;
+  /// Writes a whole file atomically (a random exclusive temporary, renamed onto the name).
+  void write(std::string_view relative, std::string_view content) const;
+  /// Names of the regular files and symlinks directly in the workspace folder, sorted (input()
+  /// refuses the symlinks).
+  std::vector<std::string> list() const;
+
  private:
-  std::filesystem::path root_;  // canonical
+  void check_name(std::string_view relative) const;  ///< the rules of resolve() but symlinks
+  std::filesystem::path root_;                       // canonical
+  int root_fd_ = -1;
 };
+
+/// Runs fn(); an inhap::Error it throws is thrown again with every WorkspacePath's path()
+/// replaced by its name() (errors name the file as the page gave it).
+template <class Fn>
+auto with_names(std::initializer_list<const WorkspacePath*> files, Fn&& fn) -> decltype(fn()) {
+  try {
+    return fn();
+  } catch (const Error& e) {
+    std::string m = e.what();
+    for (const WorkspacePath* f : files)
+      if (f) m = f->tidy(std::move(m));
+    throw Error(m);
+  }
+}
 
 }  // namespace inhap::studio

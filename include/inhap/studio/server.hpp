@@ -10,11 +10,12 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <string>
 #include <thread>
 #include <utility>
@@ -42,8 +43,17 @@ class Server {
   std::string url() const;
   /// Where WebSocket text frames go (set before the page connects; until then they are refused).
   void set_handler(Handler h);
-  /// Sends a text frame to every open page.
+  /// Queues a text frame for every open page. Each page has its own queue and writer thread: a
+  /// page that stops reading never holds up the others. A full queue (kSendQueue) drops its
+  /// oldest state message (else its oldest message) and counts it; the page is told the count
+  /// ({"type":"dropped","count":N}) with its next message.
   void broadcast(const std::string& text);
+  static constexpr std::size_t kSendQueue = 256;  ///< messages waiting for one page
+  /// Messages of one page (and of all pages) waiting for the command worker; past it, a message
+  /// is answered with a "busy" error and not run.
+  static constexpr std::size_t kPageBacklog = 1024, kBacklog = 4096;
+  /// Messages refused as busy so far (all pages).
+  std::uint64_t busy_replies() const;
   std::size_t clients() const;
   /// Stops running messages (waits for the one running); later messages are dropped. Call before
   /// the handler's target goes away.
@@ -63,12 +73,27 @@ class Server {
   void http_work();
   void stop_http();
   void work();
-  void send_to(mg_connection* conn, const std::string& text);
+  void send_to(const mg_connection* conn, const std::string& text);
+  // One open page: its send queue and writer thread (all fields under mu_).
+  struct Client {
+    mg_connection* conn = nullptr;
+    std::deque<std::string> out;
+    std::uint64_t dropped = 0, dropped_told = 0;
+    std::size_t backlog = 0;  ///< its messages waiting for the command worker
+    bool closing = false;
+    std::condition_variable cv;
+    std::thread writer;
+  };
+  void enqueue(Client& c, const std::string& text);  // under mu_
+  void write_loop(Client* c);
+  void close_clients();  // before mg_stop: ends every writer
   std::string web_dir_, token_;
   int port_ = 0;
   mg_context* ctx_ = nullptr;
   mutable std::mutex mu_;
-  std::set<mg_connection*> clients_;
+  std::map<const mg_connection*, std::unique_ptr<Client>> clients_;
+  bool closing_all_ = false;
+  std::uint64_t busy_ = 0;
   Handler handler_;
   // Messages run on one worker thread of our own (civetweb's threads have small stacks, too
   // small for the reconstruction), in arrival order; the reply goes to the sender if it is
