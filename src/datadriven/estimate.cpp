@@ -54,10 +54,10 @@ bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const Estima
   }
   const double dn = static_cast<double>(n), den = dn * sxx - sx * sx;
   if (!(den > 1e-12)) return false;
-  double slope = (dn * sxy - sx * sy) / den;  // ds/dx = -b
-  slope = std::min(slope, 0.0);
-  out.b = -slope;
-  out.h = (sy - slope * sx) / dn;
+  double ds_dx = (dn * sxy - sx * sy) / den;  // ds/dx = -b
+  ds_dx = std::min(ds_dx, 0.0);
+  out.b = -ds_dx;
+  out.h = (sy - ds_dx * sx) / dn;
   out.sse = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = block[i]->s - (out.h - out.b * std::pow(block[i]->fn, gamma));
@@ -107,25 +107,37 @@ void fill_and_smooth(Grid& h, std::vector<char> known, int passes) {
   }
 }
 
-// The push axis and the plane frame of the contact samples.
-void plane_frame(const Recording& rec, const std::vector<std::size_t>& idx, SurfaceEstimate& s) {
-  Vec3 a = Vec3::Zero();
-  for (std::size_t i : idx) a += rec.f[i];
-  s.axis = a.norm() > 1e-12 ? Vec3(a.normalized()) : Vec3::UnitZ();
+// The plane frame around `axis`.
+void plane_frame(const Vec3& axis, SurfaceEstimate& s) {
+  s.axis = axis;
   const SurfaceFrame fr = surface_frame(s.axis);
   s.e1 = fr.t0;
   s.e2 = fr.t1;
+}
+
+// The normal of the least-squares plane through the fitted heights (u, v, h) in world axes.
+Vec3 plane_normal(const SurfaceEstimate& s, const std::vector<Vec3>& uvh) {
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Vec3 b = Vec3::Zero();
+  for (const Vec3& x : uvh) {
+    const Vec3 r(x.x(), x.y(), 1.0);
+    a += r * r.transpose();
+    b += r * x.z();
+  }
+  const Vec3 c = a.ldlt().solve(b);
+  const Vec3 n = -c.x() * s.e1 - c.y() * s.e2 + s.axis;
+  return c.allFinite() && n.norm() > 1e-9 ? Vec3(n.normalized()) : s.axis;
 }
 
 }  // namespace
 
 void EstimateParams::validate() const {
   if (!(cell_mm > 0) || !std::isfinite(cell_mm) || !(margin_mm >= 0) || min_cell_samples < 3 ||
-      !(contact_threshold_n >= 0) || smooth_passes < 0 || slopes.empty())
+      !(contact_threshold_n >= 0) || smooth_passes < 0 || radii.empty())
     throw Error("surface estimate: cell and margin must be positive mm, at least 3 samples a cell");
-  for (double s : slopes)
+  for (double s : radii)
     if (!(s > 0) || !std::isfinite(s))
-      throw Error(fmt::format("friction estimate: slopes must be positive, got {}", s));
+      throw Error(fmt::format("friction estimate: radii must be positive, got {}", s));
 }
 
 double SurfaceEstimate::height_at(double u, double v) const {
@@ -146,6 +158,11 @@ double SurfaceEstimate::depth_for_force(double f_n) const {
   return b_median * std::pow(std::max(f_n, 0.0), gamma);
 }
 
+double SurfaceEstimate::force_at_depth(double d) const {
+  if (!(d > 0) || !(b_median > 0)) return 0.0;
+  return std::pow(d / b_median, 1.0 / gamma);
+}
+
 TriMesh SurfaceEstimate::mesh() const {
   TriMesh m;
   const int W = height.width, H = height.height;
@@ -164,20 +181,16 @@ TriMesh SurfaceEstimate::mesh() const {
   return m;
 }
 
-SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm,
-                                 const std::string& path) {
-  prm.validate();
-  std::vector<std::size_t> idx;
-  for (std::size_t i = 0; i < rec.size(); ++i)
-    if (rec.f[i].norm() > prm.contact_threshold_n) idx.push_back(i);
-  if (idx.size() < static_cast<std::size_t>(4 * prm.min_cell_samples))
-    throw ParseError(path, 1,
-                     fmt::format("surface estimate: expected at least {} samples with |f| above "
-                                 "{} N, got {}",
-                                 4 * prm.min_cell_samples, prm.contact_threshold_n, idx.size()));
+namespace {
+
+// The height field around `axis` (see the file comment); `uvh` gets the fitted cells' centres
+// and heights.
+SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_t>& idx,
+                              const EstimateParams& prm, const Vec3& axis, const std::string& path,
+                              std::vector<Vec3>& uvh) {
   SurfaceEstimate s;
   s.cell_mm = prm.cell_mm;
-  plane_frame(rec, idx, s);
+  plane_frame(axis, s);
   double umin = 1e300, vmin = 1e300, umax = -1e300, vmax = -1e300;
   std::vector<PlaneSample> ps;
   ps.reserve(idx.size());
@@ -232,6 +245,7 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm
       CellFit f;
       if (!fit_cell(b, s.gamma, prm, f)) continue;
       s.height.at(x, y) = f.h;
+      uvh.emplace_back((x + 0.5) * prm.cell_mm, (y + 0.5) * prm.cell_mm, f.h);
       known[std::size_t(y) * W + x] = 1;
       bs.push_back(f.b);
       ++s.cells_fitted;
@@ -247,7 +261,36 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm
   return s;
 }
 
-friction::SysModel cone_sys(const SurfaceEstimate& s, double slope, double mu) {
+}  // namespace
+
+SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm,
+                                 const std::string& path) {
+  prm.validate();
+  std::vector<std::size_t> idx;
+  Vec3 mean_force = Vec3::Zero();
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    if (rec.f[i].norm() > prm.contact_threshold_n) idx.push_back(i), mean_force += rec.f[i];
+  if (idx.size() < static_cast<std::size_t>(4 * prm.min_cell_samples))
+    throw ParseError(path, 1,
+                     fmt::format("surface estimate: expected at least {} samples with |f| above "
+                                 "{} N, got {}",
+                                 4 * prm.min_cell_samples, prm.contact_threshold_n, idx.size()));
+  // First about the mean force (friction tilts it), then about the normal of the plane through
+  // that surface, twice.
+  Vec3 axis = mean_force.norm() > 1e-12 ? Vec3(mean_force.normalized()) : Vec3::UnitZ();
+  std::vector<Vec3> uvh;
+  SurfaceEstimate s = surface_about(rec, idx, prm, axis, path, uvh);
+  for (int pass = 0; pass < 2; ++pass) {
+    const Vec3 n = plane_normal(s, uvh);
+    if (n.dot(axis) > std::cos(0.2 * std::numbers::pi / 180)) break;
+    axis = n;
+    uvh.clear();
+    s = surface_about(rec, idx, prm, axis, path, uvh);
+  }
+  return s;
+}
+
+friction::SysModel cone_sys(const SurfaceEstimate& s, double radius_per_n, double mu) {
   friction::SysModel m;
   m.f_normal_levels.assign(std::begin(kLevelsN), std::end(kLevelsN));
   for (int k = 0; k < 8; ++k) m.angles.push_back(k * std::numbers::pi / 4);
@@ -271,7 +314,7 @@ friction::SysModel cone_sys(const SurfaceEstimate& s, double slope, double mu) {
         b.direction = k;
         b.result.f_limit = mu * fn;
         b.result.depth = std::max(s.depth_for_force(fn), 1e-3);
-        b.result.radius = slope * b.result.depth;
+        b.result.radius = radius_per_n * fn;
         friction::BorderStep st;
         st.f_tangential = b.result.f_limit;
         st.depth = b.result.depth;
@@ -289,11 +332,12 @@ friction::SysModel cone_sys(const SurfaceEstimate& s, double slope, double mu) {
 
 namespace {
 
-// Tangential force residual of the cone `slope`: f_t ~ mu f_n u_t / r over the samples in
+// Tangential force residual of the cone `radius_per_n`: f_t ~ mu f_n u_t / r over the samples in
 // contact (measured and geometric).
-FrictionEstimate fit_slope(const Recording& rec, const SurfaceEstimate& s,
-                           const friction::ShapeQuery& shape, double slope, double threshold) {
-  const friction::SysModel sys = cone_sys(s, slope, 1.0);
+FrictionEstimate fit_radius(const Recording& rec, const SurfaceEstimate& s,
+                            const friction::ShapeQuery& shape, double radius_per_n,
+                            double threshold) {
+  const friction::SysModel sys = cone_sys(s, radius_per_n, 1.0);
   const friction::ProxyColumns pc = friction::proxy_track({.sys = &sys, .shape = &shape}, rec);
   double sgg = 0, sfg = 0, sff = 0;
   std::size_t n = 0;
@@ -304,12 +348,12 @@ FrictionEstimate fit_slope(const Recording& rec, const SurfaceEstimate& s,
     const Vec3 ft = rec.f[i] - fn * nn;
     const Vec3 d = pc.q[i] - rec.p[i];
     const Vec3 ut = d - d.dot(nn) * nn;
-    const double r = slope * std::max(d.dot(nn), 1e-3);
+    const double r = radius_per_n * std::max(s.force_at_depth(d.dot(nn)), 1e-3);
     const Vec3 g = std::max(fn, 0.0) * ut / r;
     sgg += g.squaredNorm(), sfg += ft.dot(g), sff += ft.squaredNorm(), ++n;
   }
   FrictionEstimate e;
-  e.slope = slope;
+  e.radius_per_n = radius_per_n;
   e.samples = n;
   if (n == 0) return e;
   e.mu = sgg > 0 ? std::max(sfg / sgg, 0.0) : 0.0;
@@ -328,17 +372,33 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
   e.mesh = e.surface.mesh();
   const friction::MeshSurface shape(e.mesh, 0.0);
   bool first = true;
-  for (double slope : prm.slopes) {
-    const FrictionEstimate f = fit_slope(rec, e.surface, shape, slope, prm.contact_threshold_n);
-    if (f.samples == 0) continue;
+  const auto consider = [&](double radius_per_n) {
+    const FrictionEstimate f =
+        fit_radius(rec, e.surface, shape, radius_per_n, prm.contact_threshold_n);
+    if (f.samples == 0) return;
     if (first || f.rmse_t_n < e.friction.rmse_t_n) e.friction = f;
     first = false;
+  };
+  std::vector<double> grid = prm.radii;
+  std::sort(grid.begin(), grid.end());
+  for (double radius_per_n : grid) consider(radius_per_n);
+  // Then the geometric midpoints next to the best, twice.
+  for (int pass = 0; pass < 2 && !first; ++pass) {
+    const double best = e.friction.radius_per_n;
+    const auto it = std::lower_bound(grid.begin(), grid.end(), best);
+    const double lo = it == grid.begin() ? best / 1.5 : *std::prev(it);
+    const double hi = std::next(it) == grid.end() || it == grid.end() ? best * 1.5 : *std::next(it);
+    const double a = std::sqrt(lo * best), b = std::sqrt(best * hi);
+    consider(a);
+    consider(b);
+    grid.insert(std::upper_bound(grid.begin(), grid.end(), a), a);
+    grid.insert(std::upper_bound(grid.begin(), grid.end(), b), b);
   }
   if (first)
     throw ParseError(path, 1,
                      "friction estimate: expected samples in contact with the estimated surface, "
                      "found none");
-  e.sys = cone_sys(e.surface, e.friction.slope, e.friction.mu);
+  e.sys = cone_sys(e.surface, e.friction.radius_per_n, e.friction.mu);
   return e;
 }
 
@@ -348,9 +408,9 @@ std::string estimate_note(const RecordingEstimate& e) {
       "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
       "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
       "it, "
-      "friction mu = {:.3f} with g_s radius {:.2f} x depth (tangential RMS {:.3f} -> {:.3f} N)",
+      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n (tangential RMS {:.3f} -> {:.3f} N)",
       s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
-      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.slope, e.friction.rmse_t0_n,
+      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.rmse_t0_n,
       e.friction.rmse_t_n);
 }
 

@@ -343,11 +343,10 @@ ForceEnvelope read_envelope(const Reader& r, const json& ev) {
 }
 
 json envelope_json(const ForceEnvelope& e) {
-  // Rounded up to 1 mN: still an upper bound.
-  const auto up = [](float v) { return std::ceil(static_cast<double>(v) * 1000.0) / 1000.0; };
+  // Floats written as doubles come back bit-identical (forces after save and load too).
   std::vector<double> g, f;
-  for (float v : e.global) g.push_back(up(v));
-  for (float v : e.f_max) f.push_back(std::isnan(v) ? -1.0 : up(v));
+  for (float v : e.global) g.push_back(static_cast<double>(v));
+  for (float v : e.f_max) f.push_back(std::isnan(v) ? -1.0 : static_cast<double>(v));
   return {{"about",
            "|f| <= (1 + margin_rel) max |f| of the training samples within one cell of q and "
            "one depth step of ||q - p|| deeper + margin_n, growing as ((b + 1) / (D + 1))^1.5 "

@@ -5,8 +5,9 @@
 //
 // Units: positions mm, forces N, time s, stiffness N/mm.
 //
-// Surface. The push axis a is the direction of the mean contact force (the outward normal of
-// the region pressed, on average). Around a the samples are binned on a regular grid of the
+// Surface. The push axis a is first the direction of the mean contact force (the outward normal
+// of the region pressed, on average, tilted by friction), then the normal of the plane fitted to
+// the surface found about it (twice). Around a the samples are binned on a regular grid of the
 // plane perpendicular to it (cell_mm); in each cell (with its 8 neighbours) the position along a
 // is fitted against the normal force as s = h - b f_n^gamma (a depth-force law d = b f_n^gamma,
 // gamma from {0.5, 2/3, 1}, chosen once for the whole recording by the smallest residual) using
@@ -16,10 +17,12 @@
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
 //
 // Friction. With the surface, a sliding-yield-surface model with an isotropic Coulomb cone at
-// every reference point: g_s radius = slope x depth (pre-sliding displacement grows with the
-// depth), f_s radius = mu f_N. The slope is chosen from `slopes` by the smallest residual of the
-// tangential force against mu f_n (u_t / r) over the recording, u_t the tangential part of
-// q - p of the proxy that slope gives and r the g_s radius; mu is the least-squares fit.
+// every reference point: f_s radius = mu f_N and g_s radius = c f_N (a tangential spring of
+// stiffness mu / c N/mm: the pre-sliding displacement grows with the load), at the depth the
+// depth-force law gives for f_N. c (mm/N) is chosen from `radii` (then twice the geometric
+// midpoints beside the best) by the smallest residual of the tangential force against
+// mu f_n (u_t / r) over the recording, u_t the tangential part of q - p of the proxy that c gives
+// and r the g_s radius there; mu is the least-squares fit.
 #pragma once
 
 #include <string>
@@ -40,8 +43,8 @@ struct EstimateParams {
   int min_cell_samples = 8;           ///< samples (3 x 3 cells) needed to fit a cell
   double min_force_spread_n = 0.15;   ///< force range needed to fit a cell, N
   int smooth_passes = 2;              ///< 3 x 3 mean passes over the heights
-  /// g_s radius / depth candidates of the friction fit (dimensionless).
-  std::vector<double> slopes{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.8};
+  /// Candidates of the g_s radius per newton of normal load, mm/N.
+  std::vector<double> radii{0.05, 0.08, 0.13, 0.2, 0.33, 0.5, 0.8, 1.3, 2.0, 3.2, 5.0, 8.0};
   void validate() const;  ///< throws inhap::Error on out-of-range values
 };
 
@@ -61,16 +64,18 @@ struct SurfaceEstimate {
   double depth(const Vec3& p) const;
   /// Depth d (mm) at which the recording's depth-force law gives normal force f_n (N).
   double depth_for_force(double f_n) const;
+  /// Normal force (N) the depth-force law gives at depth d (mm); 0 for d <= 0.
+  double force_at_depth(double d) const;
   /// The surface as a mesh in world coordinates (vertices at cell centres, normals towards +axis).
   TriMesh mesh() const;
 };
 
 struct FrictionEstimate {
-  double mu = 0;            ///< Coulomb coefficient |f_t| / f_n when sliding
-  double slope = 0.1;       ///< g_s radius / depth
-  double rmse_t_n = 0;      ///< residual of the tangential force, N
-  double rmse_t0_n = 0;     ///< the tangential force's RMS without friction (mu = 0), N
-  std::size_t samples = 0;  ///< samples of the fit
+  double mu = 0;              ///< Coulomb coefficient |f_t| / f_n when sliding
+  double radius_per_n = 1.0;  ///< g_s radius per newton of normal load, mm/N
+  double rmse_t_n = 0;        ///< residual of the tangential force, N
+  double rmse_t0_n = 0;       ///< the tangential force's RMS without friction (mu = 0), N
+  std::size_t samples = 0;    ///< samples of the fit
 };
 
 /// Everything `model train` estimates for a recording without a proxy.
@@ -86,15 +91,15 @@ struct RecordingEstimate {
 SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& params,
                                  const std::string& path);
 
-/// Yield surfaces with an isotropic Coulomb cone (g_s radius = slope x depth, f_s radius =
+/// Yield surfaces with an isotropic Coulomb cone (g_s radius = radius_per_n x f_N, f_s radius =
 /// mu f_N) at reference points spread over the surface.
-friction::SysModel cone_sys(const SurfaceEstimate& surface, double slope, double mu);
+friction::SysModel cone_sys(const SurfaceEstimate& surface, double radius_per_n, double mu);
 
 /// Surface, friction and the sys model of a recording.
 RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams& params,
                                      const std::string& path);
 
-/// One line on what was estimated: surface cells, depth law, normals' spread, mu and slope.
+/// One line on what was estimated: surface cells, depth law, normals' spread, mu and radius_per_n.
 std::string estimate_note(const RecordingEstimate& e);
 
 }  // namespace inhap::datadriven
