@@ -1,0 +1,85 @@
+"""Tapping and the `inhap eval` experiments from Python give the program's numbers for the same
+seed: contact points, reconstruction, comparison, `eval contacts` and `eval forces --quick`."""
+import numpy as np
+import pytest
+
+import inhap
+
+
+@pytest.fixture(scope="module")
+def taps(tmp_path_factory, cli):
+    d = tmp_path_factory.mktemp("taps")
+    path = d / "taps.csv"
+    cli("lab", "record", "--scene", "silicone-hemisphere", "--operator", "tap", "--probe", "tip",
+        "--seconds", 40, "--seed", 1, "--out", path)
+    return d, str(path)
+
+
+def table(path):
+    return np.genfromtxt(path, delimiter=",", names=True, comments="#")
+
+
+def test_contacts_equal_cli(taps, cli):
+    d, path = taps
+    rec = inhap.read_recording(path)
+    for method in ("estimate", "threshold"):
+        cli("shape", "contacts", path, "--method", method, "--out", d / "c.ply", "--csv",
+            d / "c.csv")
+        c = table(d / "c.csv")
+        got = inhap.contacts_from_recording(rec, method=method)
+        assert len(got) == len(c) > 10
+        np.testing.assert_array_equal(got.point, np.column_stack([c["x"], c["y"], c["z"]]))
+        np.testing.assert_array_equal(got.direction, np.column_stack([c["dx"], c["dy"], c["dz"]]))
+        np.testing.assert_array_equal(got.peak_force, c["peak_force"])
+        np.testing.assert_array_equal(got.t_contact, c["t_contact"])
+    # detect_contacts on arrays (the recorded force) equals --force recorded
+    cli("shape", "contacts", path, "--force", "recorded", "--out", d / "r.ply", "--csv",
+        d / "r.csv")
+    c = table(d / "r.csv")
+    got = inhap.detect_contacts(rec.t, np.ascontiguousarray(rec.p), rec.f)
+    np.testing.assert_array_equal(got.t_contact, c["t_contact"])
+
+
+def test_reconstruct_and_compare_equal_cli(taps, cli, cli_json):
+    d, path = taps
+    cli("shape", "contacts", path, "--out", d / "pts.ply")
+    cli("shape", "reconstruct", d / "pts.ply", "--out", d / "cli_mesh.ply")
+    pts = inhap.read_points(str(d / "pts.ply"))
+    mesh, summary = inhap.reconstruct_surface(pts.points, pts.directions)
+    assert "alpha" in summary
+    ref = inhap.read_mesh(str(d / "cli_mesh.ply"))
+    np.testing.assert_array_equal(mesh.vertices, ref.vertices)
+    np.testing.assert_array_equal(mesh.faces, ref.faces)
+    mesh.write(str(d / "py_mesh.ply"))
+    cj = cli_json("shape", "compare", d / "py_mesh.ply", d / "cli_mesh.ply")
+    pj = inhap.compare_meshes(mesh, ref, a_name=str(d / "py_mesh.ply"),
+                              b_name=str(d / "cli_mesh.ply"))
+    assert pj == cj
+    assert pj["a_to_b"]["max_mm"] == 0.0  # the same mesh
+
+
+def test_eval_contacts_equal_cli(cli_json):
+    c = cli_json("eval", "contacts", "--taps", 12, "--seed", 4)
+    p = inhap.eval_contacts(taps=12, seed=4, progress=False)
+    assert p == c
+
+
+TIMING = ("time", "_s", "_us", "seconds", "cpu", "wall")
+
+
+def strip_timing(x):
+    """The report without wall/CPU times (they differ run to run)."""
+    if isinstance(x, dict):
+        return {k: strip_timing(v) for k, v in x.items()
+                if not any(k.endswith(s) or s in k for s in TIMING)}
+    if isinstance(x, list):
+        return [strip_timing(v) for v in x]
+    return x
+
+
+def test_eval_forces_quick_equal_cli(cli_json):
+    c = cli_json("eval", "forces", "--quick", "--scenes", "planar")
+    p = inhap.eval_forces(scenes=["planar"], quick=True, progress=False)
+    assert strip_timing(p) == strip_timing(c)
+    rmse = p["objects"][0]
+    assert rmse  # the report has its objects
