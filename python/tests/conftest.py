@@ -64,3 +64,13 @@ def map_mesh(tmp_path_factory):
     path = tmp_path_factory.mktemp("mesh") / "map.ply"
     mesh.write(str(path))
     return mesh, str(path)
+
+
+def read_table(path):
+    """A CSV the program wrote ('#' comment lines, a header row, numbers) as name -> column."""
+    with open(path) as f:
+        lines = [line for line in f if not line.startswith("#") and line.strip()]
+    names = lines[0].strip().split(",")
+    data = np.array([[float(x) for x in line.split(",")] for line in lines[1:]]).reshape(
+        -1, len(names))
+    return {n: np.ascontiguousarray(data[:, i]) for i, n in enumerate(names)}

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import inhap
+from conftest import read_table
 
 
 @pytest.fixture(scope="module")
@@ -16,7 +17,7 @@ def taps(tmp_path_factory, cli):
 
 
 def table(path):
-    return np.genfromtxt(path, delimiter=",", names=True, comments="#")
+    return read_table(path)
 
 
 def test_contacts_equal_cli(taps, cli):
@@ -27,7 +28,7 @@ def test_contacts_equal_cli(taps, cli):
             d / "c.csv")
         c = table(d / "c.csv")
         got = inhap.contacts_from_recording(rec, method=method)
-        assert len(got) == len(c) > 10
+        assert len(got) == len(c["tap"]) > 10
         np.testing.assert_array_equal(got.point, np.column_stack([c["x"], c["y"], c["z"]]))
         np.testing.assert_array_equal(got.direction, np.column_stack([c["dx"], c["dy"], c["dz"]]))
         np.testing.assert_array_equal(got.peak_force, c["peak_force"])
@@ -55,7 +56,7 @@ def test_reconstruct_and_compare_equal_cli(taps, cli, cli_json):
     pj = inhap.compare_meshes(mesh, ref, a_name=str(d / "py_mesh.ply"),
                               b_name=str(d / "cli_mesh.ply"))
     assert pj == cj
-    assert pj["a_to_b"]["max_mm"] == 0.0  # the same mesh
+    assert pj["a_to_b"]["max_mm"] < 1e-9  # the same mesh
 
 
 def test_eval_contacts_equal_cli(cli_json):
@@ -64,14 +65,15 @@ def test_eval_contacts_equal_cli(cli_json):
     assert p == c
 
 
-TIMING = ("time", "_s", "_us", "seconds", "cpu", "wall")
+def is_timing(key):
+    """Wall-clock fields of the `eval forces` report (training s, palpation s, step us)."""
+    return key.endswith("train_s") or key in ("palpation_s", "step_us")
 
 
 def strip_timing(x):
-    """The report without wall/CPU times (they differ run to run)."""
+    """The report without its wall-clock fields (they differ run to run)."""
     if isinstance(x, dict):
-        return {k: strip_timing(v) for k, v in x.items()
-                if not any(k.endswith(s) or s in k for s in TIMING)}
+        return {k: strip_timing(v) for k, v in x.items() if not is_timing(k)}
     if isinstance(x, list):
         return [strip_timing(v) for v in x]
     return x
@@ -81,5 +83,5 @@ def test_eval_forces_quick_equal_cli(cli_json):
     c = cli_json("eval", "forces", "--quick", "--scenes", "planar")
     p = inhap.eval_forces(scenes=["planar"], quick=True, progress=False)
     assert strip_timing(p) == strip_timing(c)
-    rmse = p["objects"][0]
-    assert rmse  # the report has its objects
+    planar = p["objects"][0]
+    assert planar["train_s"] > 0 and len(strip_timing(planar)) >= len(planar) - 4

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import inhap
+from conftest import read_table
 
 
 def press_path(n=3000):
@@ -71,7 +72,7 @@ def test_stroke_equals_cli(map_mesh, cli, tmp_path):
     out = tmp_path / "stroke.csv"
     cli("tca", "stroke", "--mesh", path, "--algorithm", "tca", "--from", "6,16", "--to", "26,16",
         "--force", 1.5, "--speed", 40, "--out", out)
-    c = np.genfromtxt(out, delimiter=",", names=True, comments="#")
+    c = read_table(out)
     s = inhap.simulate_stroke(inhap.MeshModel(inhap.read_mesh(path)), "tca", (6, 16), (26, 16),
                               force=1.5, speed=40)
     np.testing.assert_array_equal(s["t"], c["t"])
