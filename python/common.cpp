@@ -125,8 +125,9 @@ void ProgressBridge::call(const std::string& what, double fraction, double eta) 
       if (fn_ && tqdm_) {
         if (!bar_ || what != what_) {
           if (bar_) bar_.attr("close")();
-          bar_ = fn_(pyb::arg("total") = 1000, pyb::arg("desc") = what, pyb::arg("leave") = false,
-                     pyb::arg("unit") = "‰");
+          bar_ = fn_(
+              pyb::arg("total") = 1000, pyb::arg("desc") = what, pyb::arg("leave") = false,
+              pyb::arg("bar_format") = "{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]");
           what_ = what;
           last_ = 0;
         }

@@ -14,6 +14,7 @@ void register_io(pyb::module_& m);
 void register_model(pyb::module_& m);
 void register_render(pyb::module_& m);
 void register_lab(pyb::module_& m);
+void register_sys(pyb::module_& m);
 }  // namespace inhap::py
 
 PYBIND11_MODULE(inhap, m) {
@@ -44,4 +45,5 @@ PYBIND11_MODULE(inhap, m) {
   inhap::py::register_model(m);
   inhap::py::register_render(m);
   inhap::py::register_lab(m);
+  inhap::py::register_sys(m);
 }
