@@ -70,7 +70,7 @@ def main():
         result["out"] = r.replay(t, p)
 
     py_s = best_of(args.repeats, run)
-    fz = result["out"]["force"][:, 2].sum()
+    fz = np.add.accumulate(result["out"]["force"][:, 2])[-1]  # in order, as the C++ loop sums
     contact = result["out"]["contact"].mean()
     print(f"Python replay: {len(t)} ticks {py_s:.6f} s best of {args.repeats} "
           f"({py_s / len(t) * 1e6:.4f} us/tick), sum fz {fz:.17g}, contact {contact:.3f}")

@@ -1,5 +1,7 @@
 """Sliding yield surfaces from Python: the palpation of a lab scene, the fit from its cycles and
 the proxy columns of a recording equal `inhap sys palpate | fit | proxy` byte for byte."""
+import numpy as np
+
 import inhap
 
 
@@ -31,3 +33,31 @@ def test_palpate_fit_proxy_equal_cli(tmp_path, cli):
     assert cli_rec.columns == rec.columns
     for name in rec.columns:
         assert (cli_rec[name] == rec[name]).all(), name
+
+
+def test_data_driven_renderer(tmp_path, cli):
+    """The data-driven renderer behind the servo interface: step and replay agree tick for tick,
+    and a NaN position gives zero force (as the C++ step)."""
+    r = inhap.sys_palpate("planar", points="grid:2x2", quick=True, out=str(tmp_path / "s.json"),
+                          progress=False)
+    lab = inhap.lab_record(scene="planar", seconds=15, seed=3, progress=False)
+    rec = lab.recording
+    inhap.add_proxy_columns(rec, r["sys"], inhap.read_mesh(r["shape"]))
+    rec.write(str(tmp_path / "train.csv"))
+    inhap.train_force_model(str(tmp_path / "train.csv"), out=str(tmp_path / "m.json"),
+                            preset="world", centers=60, progress=False)
+    dd = inhap.Renderer.data_driven(str(tmp_path / "m.json"), r["sys"], r["shape"])
+    assert dd.name == "data-driven"
+    test = inhap.lab_record(scene="planar", seconds=4, seed=4, progress=False).recording
+    t, p = test.t.copy(), np.ascontiguousarray(test.p)
+    clean = dd.replay(t, p)
+    assert clean["contact"].sum() > 500
+    i = int(np.argmax(np.linalg.norm(clean["force"], axis=1)))  # deep in contact
+    assert np.linalg.norm(clean["force"][i]) > 0.5
+    p[i] = np.nan
+    out = dd.replay(t, p)
+    assert out["force"][i].tolist() == [0.0, 0.0, 0.0] and not out["contact"][i]
+    assert np.all(np.isfinite(out["force"]))
+    dd.reset()
+    forces = np.array([dd.step(t[i], p[i]).force for i in range(len(t))])
+    np.testing.assert_array_equal(forces, out["force"])
