@@ -10,6 +10,7 @@
 #include "common.hpp"
 #include "inhap/contact/contact_io.hpp"
 #include "inhap/contact/detector.hpp"
+#include "inhap/contact/knee.hpp"
 #include "inhap/contact/tapping.hpp"
 #include "inhap/eval/contacts_lab.hpp"
 #include "inhap/eval/forces_lab.hpp"
@@ -203,6 +204,26 @@ peak (outward normal), peak_force (N) and whether the knee estimate was used.)do
       "Taps in arrays t (s, (N,)), p (mm, (N, 3)), f (compensated contact force N, (N, 3)), "
       "used in place: contact when |f| > eps N; method 'estimate' fits the two-segment knee "
       "over `window` samples before detection, 'threshold' takes p(t_d).");
+  m.def(
+      "fit_knee",
+      [](const pyb::object& t, const pyb::object& f, bool refine) {
+        const pyb::array ta = checked(t, "t", 0);
+        const auto n = static_cast<std::size_t>(ta.shape(0));
+        const pyb::array fa = checked(f, "f", 0, n);
+        const KneeFit k = fit_knee({as_doubles(ta), n}, {as_doubles(fa), n}, KneeOptions{refine});
+        pyb::dict d;
+        d["valid"] = k.valid;
+        d["tc"] = k.tc;
+        d["index"] = k.index;
+        d["g"] = pyb::make_tuple(k.g0, k.gc, k.gd);
+        d["sse"] = k.sse;
+        return d;
+      },
+      pyb::arg("t"), pyb::arg("f"), pyb::arg("refine") = true,
+      "The knee (true contact instant) of a force-magnitude profile (thesis 3.2.2): two "
+      "connected segments fitted to f (N, (N,)) over t (s, (N,), increasing, N >= 4), exact over "
+      "every sample then refined between samples. Returns valid, tc (s), index, g = (g0, gc, "
+      "gd) (N) and sse (N^2).");
   m.def(
       "contacts_from_recording",
       [](const Recording& rec, const std::string& method, double eps, std::size_t window,

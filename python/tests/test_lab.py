@@ -85,3 +85,15 @@ def test_eval_forces_quick_equal_cli(cli_json):
     assert strip_timing(p) == strip_timing(c)
     planar = p["objects"][0]
     assert planar["train_s"] > 0 and len(strip_timing(planar)) >= len(planar) - 4
+
+
+def test_fit_knee_finds_the_break():
+    t = np.arange(100, dtype=np.float64) * 1e-3
+    tc = 0.0637
+    f = np.where(t < tc, 0.01, 0.01 + 40.0 * (t - tc))
+    k = inhap.fit_knee(t, f)
+    assert k["valid"] and abs(k["tc"] - tc) < 1e-6 and k["sse"] < 1e-12
+    assert t[k["index"]] <= k["tc"] < t[k["index"] + 1]
+    with pytest.raises(TypeError):
+        inhap.fit_knee(t, f.astype(np.float32))
+    assert not inhap.fit_knee(t[:3], f[:3])["valid"]
