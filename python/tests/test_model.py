@@ -112,3 +112,21 @@ def test_progress_callable_can_stop_a_call(recordings):
         inhap.lab_record(scene="planar", seconds=5, seed=1, progress=stop)
     with pytest.raises(Stop):
         inhap.train_force_model(train, preset="world", centers=30, progress=stop)
+
+
+def test_errors_carry_the_programs_message(recordings, tmp_path):
+    """inhap.Error's text is the line the program prints after 'inhap: error: '."""
+    import subprocess
+
+    from conftest import cli_path
+
+    _, _, test = recordings
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": "inhap-force-model", "version": 99}')
+    r = subprocess.run([cli_path(), "model", "eval", "--model", str(bad), "--recording", test],
+                       capture_output=True, text=True)
+    assert r.returncode == 1
+    line = [x for x in r.stderr.splitlines() if x.startswith("inhap: error: ")][0]
+    with pytest.raises(inhap.Error) as e:
+        inhap.evaluate_force_model(str(bad), test)
+    assert str(e.value) == line[len("inhap: error: "):]
