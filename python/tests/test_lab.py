@@ -97,3 +97,18 @@ def test_fit_knee_finds_the_break():
     with pytest.raises(TypeError):
         inhap.fit_knee(t, f.astype(np.float32))
     assert not inhap.fit_knee(t[:3], f[:3])["valid"]
+
+
+def test_eval_sys_and_tca_equal_cli(cli_json):
+    """`eval sys --quick` and `eval tca --quick` as dicts: the program's report but for its
+    wall-clock and CPU times (palpation times, servo-step latencies)."""
+    c = cli_json("eval", "sys", "--quick", "--scenes", "planar")
+    p = inhap.eval_sys(scenes=["planar"], quick=True, progress=False)
+    for obj in (c["objects"][0], p["objects"][0]):
+        for key in [k for k in obj if k.startswith("palpation_") and ("cpu" in k or "wall" in k)]:
+            assert obj.pop(key) > 0
+    assert p == c
+    c = cli_json("eval", "tca", "--quick", "--participants", 2, "--trials", 1)
+    p = inhap.eval_tca(quick=True, participants=2, trials=1, progress=False)
+    assert p.pop("step_us")["tca"]["p50"] > 0 and c.pop("step_us")
+    assert p == c
