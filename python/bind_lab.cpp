@@ -141,7 +141,7 @@ ContactOptions contact_options(const std::string& method, double eps, std::size_
   return eval::contact_options(q);
 }
 
-void bind_contacts(pyb::module_& m) {
+void bind_contacts_class(pyb::module_& m) {
   pyb::class_<PyContacts>(m, "Contacts", R"doc(
 Taps found in a recording (thesis 3.2): per tap the detection (t_detect s, p_detect mm), the
 estimated true contact instant t_contact (s) and point (mm, (N, 3)), the force direction at the
@@ -184,6 +184,9 @@ peak (outward normal), peak_force (N) and whether the knee estimate was used.)do
           },
           pyb::arg("path"), pyb::arg("ascii") = false,
           "The point PLY of `inhap shape contacts` (x,y,z mm, nx,ny,nz, tap, t_contact, ...)");
+}
+
+void bind_contact_functions(pyb::module_& m) {
   m.def(
       "detect_contacts",
       [](const pyb::object& t, const pyb::object& p, const pyb::object& f,
@@ -420,7 +423,8 @@ void bind_eval(pyb::module_& m) {
 
 void register_lab(pyb::module_& m) {
   bind_lab(m);
-  bind_contacts(m);
+  bind_contacts_class(m);
+  bind_contact_functions(m);
   bind_shape(m);
   bind_eval(m);
 }
