@@ -105,6 +105,14 @@ proxy q, mm), force (noise-free, N), k (N/mm), mu. Float arrays are views (no co
       "scene_file JSON) for `seconds` s at 1 kHz with the sphere (8 mm) or tip probe. The same "
       "seed gives the same bytes as the program. out=PATH also writes PATH and its truth.");
   m.def("lab_scenes", &lab::builtin_scene_names, "Names of the built-in lab scenes");
+  m.def(
+      "lab_scene",
+      [](const std::string& name, const std::string& out) {
+        lab::save_scene(out, lab::builtin_scene(name));
+      },
+      pyb::arg("name"), pyb::arg("out"),
+      "`inhap lab scene NAME --out OUT`: writes a built-in scene as an editable JSON file (use "
+      "it with lab_record(scene_file=OUT)).");
   m.def("lab_scenes_table", &eval::scenes_table,
         "The table `inhap lab scenes` prints (stiffness at 5 N, N/mm)");
 }

@@ -112,3 +112,15 @@ def test_eval_sys_and_tca_equal_cli(cli_json):
     p = inhap.eval_tca(quick=True, participants=2, trials=1, progress=False)
     assert p.pop("step_us")["tca"]["p50"] > 0 and c.pop("step_us")
     assert p == c
+
+
+def test_lab_scene_file_equals_cli(tmp_path, cli):
+    assert "planar" in inhap.lab_scenes() and "dome" in inhap.lab_scenes_table()
+    cli("lab", "scene", "dome", "--out", tmp_path / "cli.json")
+    inhap.lab_scene("dome", str(tmp_path / "py.json"))
+    assert (tmp_path / "cli.json").read_bytes() == (tmp_path / "py.json").read_bytes()
+    a = inhap.lab_record(scene_file=str(tmp_path / "py.json"), seconds=2, seed=7, progress=False)
+    b = inhap.lab_record(scene="dome", seconds=2, seed=7, progress=False)
+    np.testing.assert_array_equal(a.recording.f, b.recording.f)
+    with pytest.raises(inhap.Error):
+        inhap.lab_record(scene="no-such-scene", seconds=1, progress=False)
