@@ -12,16 +12,19 @@
 #include "inhap/contact/detector.hpp"
 #include "inhap/contact/knee.hpp"
 #include "inhap/contact/tapping.hpp"
+#include "inhap/core/error.hpp"
 #include "inhap/eval/contacts_lab.hpp"
 #include "inhap/eval/forces_lab.hpp"
 #include "inhap/eval/forces_report.hpp"
 #include "inhap/eval/lab_files.hpp"
 #include "inhap/eval/lab_objects.hpp"
 #include "inhap/eval/shape_files.hpp"
+#include "inhap/eval/shape_study.hpp"
 #include "inhap/eval/sys_files.hpp"
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/eval/tca_report.hpp"
 #include "inhap/lab/operators.hpp"
+#include "inhap/lab/physics.hpp"
 #include "inhap/lab/recorder.hpp"
 #include "inhap/lab/scene.hpp"
 #include "inhap/surface/reconstruct.hpp"
@@ -365,6 +368,59 @@ pyb::object eval_forces(const std::vector<std::string>& scenes, std::uint64_t tr
   return json_to_python(text);
 }
 
+pyb::object eval_shape(const std::vector<std::string>& objects, std::size_t taps,
+                       const eval::ShapeEvalSettings& st, const std::string& bunny,
+                       pyb::object progress) {
+  const std::string text = with_progress(std::move(progress), [&](const Progress& cb) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const eval::ShapeTarget& t : eval::shape_targets(st.top_only, objects, taps, st.quick)) {
+      if (t.name == "bunny" && bunny.empty())
+        throw Error("eval_shape: the bunny needs bunny=PATH to bun_zipper.ply");
+      const lab::Scene scene = eval::shape_target_scene(t.name, t.name == "bunny" ? bunny : "");
+      if (st.physics == lab::Physics::kMujoco && !lab::mujoco_represents(scene.object.shape()))
+        continue;  // as the program: skipped
+      eval::ShapeObjectOptions o = eval::shape_object_options(t.taps, st);
+      o.progress = [&](const std::string&, double f, double eta) {
+        if (cb) cb("eval shape " + t.name, f, eta);
+      };
+      out.push_back(eval::shape_object_json(t.name, eval::run_shape_object(scene, o)));
+    }
+    return eval::shape_run_json(out, st).dump();
+  });
+  return json_to_python(text);
+}
+
+void bind_eval_shape(pyb::module_& m) {
+  m.def(
+      "eval_shape",
+      [](const std::vector<std::string>& objects, std::size_t taps, std::uint64_t seed, bool quick,
+         bool top_only, bool icp, double region, double rim_margin, bool normal_overlap,
+         const std::string& physics, const std::string& bunny, pyb::object progress) {
+        eval::ShapeEvalSettings st;
+        st.seed = seed;
+        st.quick = quick;
+        st.top_only = top_only;
+        st.icp = icp;
+        st.region_mm = region;
+        st.rim_margin_mm = rim_margin;
+        st.no_normal_overlap = !normal_overlap;
+        st.physics = lab::physics_from_string(physics);
+        return eval_shape(objects, taps, st, bunny, std::move(progress));
+      },
+      pyb::arg("objects") =
+          std::vector<std::string>{"foam-ball", "ridged-silicone", "silicone-hemisphere"},
+      pyb::arg("taps") = 0, pyb::arg("seed") = 1, pyb::arg("quick") = false,
+      pyb::arg("top_only") = false, pyb::arg("icp") = false,
+      pyb::arg("region") = eval::ShapeEvalSettings{}.region_mm,
+      pyb::arg("rim_margin") = eval::ShapeEvalSettings{}.rim_margin_mm,
+      pyb::arg("normal_overlap") = true, pyb::arg("physics") = "builtin", pyb::arg("bunny") = "",
+      pyb::arg("progress") = true,
+      "`inhap eval shape` (thesis Table 3.1): tap whole lab objects (taps 0: the thesis' "
+      "counts), reconstruct from estimated and thresholded contact points, Hausdorff and mean "
+      "distance (mm) to the reference, coverage; 'bunny' in objects needs bunny=PATH to "
+      "bun_zipper.ply. The --json report as a dict.");
+}
+
 void bind_eval(pyb::module_& m) {
   m.def("eval_contacts", &eval_contacts, pyb::arg("taps") = 100, pyb::arg("seed") = 1,
         pyb::arg("eps") = 0.2, pyb::arg("window") = 100, pyb::arg("physics") = "builtin",
@@ -435,6 +491,7 @@ void register_lab(pyb::module_& m) {
   bind_contact_functions(m);
   bind_shape(m);
   bind_eval(m);
+  bind_eval_shape(m);
 }
 
 }  // namespace inhap::py

@@ -124,3 +124,11 @@ def test_lab_scene_file_equals_cli(tmp_path, cli):
     np.testing.assert_array_equal(a.recording.f, b.recording.f)
     with pytest.raises(inhap.Error):
         inhap.lab_record(scene="no-such-scene", seconds=1, progress=False)
+
+
+def test_eval_shape_equal_cli(cli_json):
+    c = cli_json("eval", "shape", "--quick", "--objects", "foam-ball", "--taps", 60)
+    p = inhap.eval_shape(objects=["foam-ball"], taps=60, quick=True, progress=False)
+    assert p == c
+    with pytest.raises(inhap.Error, match="bunny"):
+        inhap.eval_shape(objects=["bunny"], progress=False)
