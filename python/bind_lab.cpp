@@ -54,7 +54,8 @@ lab::LabRecording record(const std::string& scene, const std::string& scene_file
   const lab::Scene s = eval::pick_scene(scene_file.empty() ? scene : "", scene_file);
   const lab::RecordSpec spec = eval::lab_record_spec(req);
   return with_progress(std::move(progress), [&](const Progress& cb) {
-    lab::LabRecording r = lab::record_scene(s, spec, cb);
+    lab::LabRecording r =
+        eval::downsample_recording(lab::record_scene(s, spec, cb), req.rate_hz, req.seed);
     if (!out.empty()) {
       eval::require_finite_recording(r.rec, out);
       lab::write_lab_recording(out, r);
@@ -84,9 +85,10 @@ proxy q, mm), force (noise-free, N), k (N/mm), mu. Float arrays are views (no co
       "lab_record",
       [](const std::string& scene, const std::string& op, double seconds, std::uint64_t seed,
          const std::string& probe, const std::string& physics, bool noise, bool gravity,
-         bool inertia, bool whole_object, bool coverage, const std::string& scene_file,
+         bool inertia, bool whole_object, bool coverage, double rate, const std::string& scene_file,
          const std::string& out, pyb::object progress) {
         eval::LabRecordRequest q;
+        q.rate_hz = rate;
         q.op = op;
         q.seconds = seconds;
         q.seed = seed;
@@ -102,11 +104,13 @@ proxy q, mm), force (noise-free, N), k (N/mm), mu. Float arrays are views (no co
       pyb::arg("scene") = "planar", pyb::arg("operator") = "explore", pyb::arg("seconds") = 60.0,
       pyb::arg("seed") = 1, pyb::arg("probe") = "sphere", pyb::arg("physics") = "builtin",
       pyb::arg("noise") = true, pyb::arg("gravity") = true, pyb::arg("inertia") = true,
-      pyb::arg("whole_object") = false, pyb::arg("coverage") = false, pyb::arg("scene_file") = "",
-      pyb::arg("out") = "", pyb::arg("progress") = true,
+      pyb::arg("whole_object") = false, pyb::arg("coverage") = false, pyb::arg("rate") = 1000.0,
+      pyb::arg("scene_file") = "", pyb::arg("out") = "", pyb::arg("progress") = true,
       "`inhap lab record`: simulates an operator (tap | explore | air) on a built-in scene (or "
       "scene_file JSON) for `seconds` s at 1 kHz with the sphere (8 mm) or tip probe. The same "
-      "seed gives the same bytes as the program. out=PATH also writes PATH and its truth.");
+      "seed gives the same bytes as the program; rate < 1000 Hz keeps the tick nearest each "
+      "jittered "
+      "instant of a logger at that rate. out=PATH also writes PATH and its truth.");
   m.def("lab_scenes", &lab::builtin_scene_names, "Names of the built-in lab scenes");
   m.def(
       "lab_scene",
@@ -344,8 +348,9 @@ pyb::object eval_contacts(std::size_t taps, std::uint64_t seed, double eps, std:
 pyb::object eval_forces(const std::vector<std::string>& scenes, std::uint64_t train_seed,
                         std::uint64_t test_seed, bool quick, bool baselines,
                         const std::string& proxy, const std::string& physics,
-                        const std::string& keep, int threads, pyb::object progress) {
+                        const std::string& keep, int threads, double rate, pyb::object progress) {
   eval::ForceLabOptions fo;
+  fo.rate_hz = rate;
   fo.train_seed = train_seed;
   fo.test_seed = test_seed;
   fo.quick = quick;
@@ -431,7 +436,7 @@ void bind_eval(pyb::module_& m) {
         pyb::arg("scenes") = std::vector<std::string>{"planar", "dome"}, pyb::arg("train_seed") = 1,
         pyb::arg("test_seed") = 2, pyb::arg("quick") = false, pyb::arg("baselines") = true,
         pyb::arg("proxy") = "estimated", pyb::arg("physics") = "builtin", pyb::arg("keep") = "",
-        pyb::arg("threads") = 0, pyb::arg("progress") = true,
+        pyb::arg("threads") = 0, pyb::arg("rate") = 1000.0, pyb::arg("progress") = true,
         "`inhap eval forces` (thesis 4.5) with the program's defaults (preset 'best'): "
         "palpate, record training and held-out test runs, train, replay, score (N); the --json "
         "report as a dict. quick: recordings 2x shorter.");

@@ -11,6 +11,7 @@
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/eval/model_files.hpp"
+#include "inhap/eval/recordings.hpp"
 
 namespace inhap::py {
 
@@ -63,7 +64,10 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
                                        "force_limit",
                                        "proxy_prefix",
                                        "contact_column",
-                                       "contact_threshold"};
+                                       "contact_threshold",
+                                       "velocity_window",
+                                       "time_unit",
+                                       "length_unit"};
   for (auto [k, v] : kw) {
     const std::string name = pyb::str(k);
     if (std::find(std::begin(kKnown), std::end(kKnown), name) == std::end(kKnown))
@@ -106,6 +110,9 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
   take(kw, "proxy_prefix", "--proxy-prefix", o.proxy.prefix, q);
   take(kw, "contact_column", "--contact-column", o.proxy.contact_column, q);
   take(kw, "contact_threshold", "--contact-threshold", o.proxy.contact_threshold_n, q);
+  take(kw, "velocity_window", "--velocity-window", o.velocity_window_s, q);
+  take(kw, "time_unit", "--time-unit", o.units.time, q);
+  take(kw, "length_unit", "--length-unit", o.units.length, q);
   return o;
 }
 
@@ -126,6 +133,10 @@ PyForceModel train(const std::string& recording, const std::string& out, pyb::ob
   r.notes = res.notes;
   r.notes.push_back(eval::range_note(res.model.provenance, res.set, o.force_limit_n));
   if (!out.empty()) {
+    if (res.estimate)  // no proxy columns: the estimated surface and yield surfaces beside it
+      for (const std::string& f :
+           eval::write_estimate_files(out, *res.estimate, res.model.provenance))
+        r.notes.push_back("wrote " + f);
     datadriven::save_force_model(out, res.model);
     for (std::string& line :
          eval::write_training_coverage(res.set, datadriven::coverage_path_for(out)))
@@ -166,15 +177,23 @@ eval::ProxyColumnsSpec proxy_spec(const std::string& prefix, const std::string& 
   return s;
 }
 
+eval::RecordingUnits units_of(const std::string& time_unit, const std::string& length_unit) {
+  eval::RecordingUnits u;
+  u.time = time_unit;
+  u.length = length_unit;
+  return u;
+}
+
 pyb::dict render(const std::string& model, const std::string& recording, const std::string& out,
                  const std::string& prefix, const std::string& contact_column,
-                 double contact_threshold, const std::string& mesh) {
+                 double contact_threshold, const std::string& mesh, const std::string& time_unit,
+                 const std::string& length_unit) {
   const auto spec = proxy_spec(prefix, contact_column, contact_threshold);
   eval::ReplayedFile r;
   {
     pyb::gil_scoped_release release;
     const TrainedForceModel m = datadriven::load_trained_force_model(model);
-    r = eval::replay_file(model, m, recording, spec, mesh);
+    r = eval::replay_file(model, m, recording, spec, mesh, units_of(time_unit, length_unit));
     if (!out.empty()) eval::write_rendered_csv(out, r, recording, model);
   }
   std::vector<double> contact(r.track.contact.begin(), r.track.contact.end());
@@ -191,16 +210,20 @@ pyb::dict render(const std::string& model, const std::string& recording, const s
 
 pyb::object evaluate(const std::string& model, const std::string& recording,
                      const std::string& prefix, const std::string& contact_column,
-                     double contact_threshold, const std::string& mesh) {
+                     double contact_threshold, const std::string& mesh,
+                     const std::string& time_unit, const std::string& length_unit,
+                     const std::string& train) {
   eval::ModelEvalResult r;
   {
     pyb::gil_scoped_release release;
     r = eval::evaluate_model_file(model, recording,
-                                  proxy_spec(prefix, contact_column, contact_threshold), mesh);
+                                  proxy_spec(prefix, contact_column, contact_threshold), mesh,
+                                  units_of(time_unit, length_unit), train);
   }
   pyb::object d = json_to_python(r.json.dump());
   d["text"] = eval::model_eval_text(r);
   d["support_note"] = eval::support_note(r.support);
+  d["baselines_note"] = r.baselines_note;
   return d;
 }
 
@@ -253,18 +276,23 @@ overrides the preset like the flag of the same name (bins, centers, nonzeros, la
 seed, design, features, tail, tangent_mirror, stiffness_prior, shear_prior, friction_cone,
 fallback, fallback_near mm, fallback_far mm, solver 'cd'|'sparsa', feature_weights (3),
 bin_blend mm, threads, modeling_range N, above_range 'keep'|'exclude', foaw_window samples,
-foaw_noise mm, force_limit N, proxy_prefix, contact_column, contact_threshold N, mesh, sys).
+foaw_noise mm, velocity_window s, force_limit N, proxy_prefix, contact_column, contact_threshold
+N, time_unit 's'|'ms', length_unit 'mm'|'m', mesh, sys). Without proxy columns the surface,
+normals, proxy and friction are estimated from the recording (written beside out).
 With out=PATH the model and its coverage file are written there. progress: True (a tqdm bar
 when installed), False, or a callable(what, fraction, eta_s).)doc");
   m.def("evaluate_force_model", &evaluate, pyb::arg("model"), pyb::arg("recording"),
         pyb::arg("proxy_prefix") = "q", pyb::arg("contact_column") = "contact",
-        pyb::arg("contact_threshold") = 0.05, pyb::arg("mesh") = "",
+        pyb::arg("contact_threshold") = 0.05, pyb::arg("mesh") = "", pyb::arg("time_unit") = "s",
+        pyb::arg("length_unit") = "mm", pyb::arg("train") = "",
         "`inhap model eval`: replays a test recording through the servo renderer; returns the "
-        "--json report as a dict (errors in N, eq. 4.27-4.31) plus 'text' (what it prints).");
+        "--json report as a dict (errors in N, eq. 4.27-4.31, the mean and k-NN baselines fitted "
+        "on `train` or the model's training recording) plus 'text' (what it prints). time_unit "
+        "s|ms and length_unit mm|m: the recording's t and p columns.");
   m.def("render_force_model", &render, pyb::arg("model"), pyb::arg("recording"),
         pyb::arg("out") = "", pyb::arg("proxy_prefix") = "q",
         pyb::arg("contact_column") = "contact", pyb::arg("contact_threshold") = 0.05,
-        pyb::arg("mesh") = "",
+        pyb::arg("mesh") = "", pyb::arg("time_unit") = "s", pyb::arg("length_unit") = "mm",
         "`inhap model render`: rendered forces of a recording at servo rate. Returns t (s), p "
         "(mm), force (rendered, N), measured (N), q (mm), contact; out=PATH also writes the CSV.");
 }

@@ -39,6 +39,10 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
       {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},
+      {"envelope", &datadriven::TrainParams::envelope,
+       "Any features: cap every rendered |f| at the training data's largest |f| near the state "
+       "(within an 8 mm cell of q and 0.5 mm of ||q - p|| deeper) x 1.25 + 0.25 N (on in every "
+       "preset; "},
   };
   for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
   cmd.add_option_function<std::string>(

@@ -132,3 +132,14 @@ def test_eval_shape_equal_cli(cli_json):
     assert p == c
     with pytest.raises(inhap.Error, match="bunny"):
         inhap.eval_shape(objects=["bunny"], progress=False)
+
+
+def test_lab_record_rate_equals_cli(tmp_path, cli):
+    """A logger slower than the 1 kHz servo (lab record --rate): the same rows and truth."""
+    cli("lab", "record", "--scene", "planar", "--seconds", 3, "--seed", 2, "--rate", 66, "--out",
+        tmp_path / "cli.csv")
+    lab = inhap.lab_record(scene="planar", seconds=3, seed=2, rate=66, out=str(tmp_path / "py.csv"),
+                           progress=False)
+    assert 150 < len(lab.recording) < 250
+    for suffix in (".csv", ".truth.csv"):
+        assert (tmp_path / ("cli" + suffix)).read_bytes() == (tmp_path / ("py" + suffix)).read_bytes()

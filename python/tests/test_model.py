@@ -66,7 +66,8 @@ def test_train_eval_render_equal_cli(recordings, cli, cli_json):
     # model eval: the same report
     ce = cli_json("model", "eval", "--model", d / "cli_model.json", "--recording", test)
     pe = inhap.evaluate_force_model(str(d / "py_model.json"), test)
-    assert pe.pop("text") and pe.pop("support_note")
+    assert pe.pop("text") and pe.pop("support_note") and pe.pop("baselines_note")
+    assert "baselines" in ce  # mean force and k-NN, fitted on the training recording
     ce["model"] = pe["model"]  # the model file's name
     ce["coverage"]["file"] = pe["coverage"]["file"]
     assert pe == ce

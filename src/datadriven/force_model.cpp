@@ -387,6 +387,7 @@ TrainedForceModel train_kept(const TrainingSet& data, const TrainParams& params,
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
     if (params.fallback) model.fallback = fit_fallback(data, params, model.prior);
   }
+  if (params.envelope) model.envelope = make_force_envelope(data.q, data.p, data.f);
   log.lap("priors", clock);
 
   std::vector<BinResult> results(nb);

@@ -161,8 +161,10 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     if (len > lim) f = fn * fr.n + ft * (lim / len);
   }
   if (!f.allFinite()) return Vec3::Zero();
-  // The device profile's limit caps the model's: a model struct built in code cannot raise it.
-  const double limit = effective_force_limit(model.force_limit_n);
+  // The device profile's limit caps the model's: a model struct built in code cannot raise it;
+  // the training data's envelope near this state caps it further.
+  const double limit =
+      std::min(effective_force_limit(model.force_limit_n), model.envelope.limit(q, key));
   const double mag = f.norm();
   if (mag > limit) f *= limit / mag;
   return f;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "inhap/core/atomic_file.hpp"
@@ -204,6 +205,7 @@ json train_json(const ForceModelProvenance& pv) {
           {"shear_prior", p.shear_prior},
           {"friction_cone", p.friction_cone},
           {"fallback", p.fallback},
+          {"envelope", p.envelope},
           {"fallback_near_mm", p.fallback_near_mm},
           {"fallback_far_mm", p.fallback_far_mm},
           {"samples", st.samples},
@@ -259,6 +261,7 @@ void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
     if (t.contains("shear_prior")) pv.params.shear_prior = t["shear_prior"].get<bool>();
     if (t.contains("friction_cone")) pv.params.friction_cone = t["friction_cone"].get<bool>();
     if (t.contains("fallback")) pv.params.fallback = t["fallback"].get<bool>();
+    if (t.contains("envelope")) pv.params.envelope = t["envelope"].get<bool>();
     get("fallback_near_mm", pv.params.fallback_near_mm);
     get("fallback_far_mm", pv.params.fallback_far_mm);
     get("samples", pv.stats.samples);
@@ -305,6 +308,64 @@ Fallback read_fallback(const Reader& r, const json& fb) {
   return f;
 }
 
+// The "envelope" object; -1 in f_max_n marks a block without samples.
+ForceEnvelope read_envelope(const Reader& r, const json& ev) {
+  ForceEnvelope e;
+  const auto num = [&](const char* key) {
+    return r.num(r.need(ev, key, "envelope"), fmt::format("envelope/{}", key));
+  };
+  e.cell_mm = num("cell_mm");
+  e.depth_step_mm = num("depth_step_mm");
+  e.margin_rel = num("margin_rel");
+  e.margin_n = num("margin_n");
+  const auto o = r.nums(r.need(ev, "origin_mm", "envelope"), "envelope/origin_mm", 3);
+  e.origin = Vec3(o[0], o[1], o[2]);
+  const auto d = r.nums(r.need(ev, "dims", "envelope"), "envelope/dims", 3);
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!(d[a] >= 1 && d[a] <= 200) || d[a] != std::floor(d[a]))
+      r.fail("envelope/dims", "expected three integers in 1..200");
+    e.dims[a] = static_cast<int>(d[a]);
+  }
+  e.depth_bins = static_cast<int>(
+      r.integer(r.need(ev, "depth_bins", "envelope"), "envelope/depth_bins", 1, 100));
+  for (double v : r.nums(r.need(ev, "global_n", "envelope"), "envelope/global_n"))
+    e.global.push_back(static_cast<float>(v));
+  for (double v : r.nums(r.need(ev, "f_max_n", "envelope"), "envelope/f_max_n"))
+    e.f_max.push_back(v < 0 ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(v));
+  for (double v : r.nums(r.need(ev, "deepest_bin", "envelope"), "envelope/deepest_bin")) {
+    if (!(v >= -1 && v <= 100) || v != std::floor(v))
+      r.fail("envelope/deepest_bin", "expected integers in -1..100");
+    e.deepest.push_back(static_cast<std::int16_t>(v));
+  }
+  e.global_deepest = static_cast<int>(r.integer(r.need(ev, "global_deepest_bin", "envelope"),
+                                                "envelope/global_deepest_bin", -1, 100));
+  return e;
+}
+
+json envelope_json(const ForceEnvelope& e) {
+  // Rounded up to 1 mN: still an upper bound.
+  const auto up = [](float v) { return std::ceil(static_cast<double>(v) * 1000.0) / 1000.0; };
+  std::vector<double> g, f;
+  for (float v : e.global) g.push_back(up(v));
+  for (float v : e.f_max) f.push_back(std::isnan(v) ? -1.0 : up(v));
+  return {{"about",
+           "|f| <= (1 + margin_rel) max |f| of the training samples within one cell of q and "
+           "one depth step of ||q - p|| deeper + margin_n, growing as ((b + 1) / (D + 1))^1.5 "
+           "beyond the deepest bin D with data; f_max_n per cell and depth bin (depth fastest, "
+           "then x, y, z), -1: none there (global_n of the depth bin)"},
+          {"cell_mm", e.cell_mm},
+          {"depth_step_mm", e.depth_step_mm},
+          {"margin_rel", e.margin_rel},
+          {"margin_n", e.margin_n},
+          {"origin_mm", {e.origin.x(), e.origin.y(), e.origin.z()}},
+          {"dims", {e.dims[0], e.dims[1], e.dims[2]}},
+          {"depth_bins", e.depth_bins},
+          {"global_n", std::move(g)},
+          {"f_max_n", std::move(f)},
+          {"deepest_bin", e.deepest},
+          {"global_deepest_bin", e.global_deepest}};
+}
+
 }  // namespace
 
 std::string file_digest(const std::string& path) {
@@ -336,8 +397,14 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
       pv.sys_path.empty() ? json(nullptr) : json{{"path", pv.sys_path}, {"fnv1a64", pv.sys_digest}};
   refs["mesh"] = pv.mesh_path.empty() ? json(nullptr)
                                       : json{{"path", pv.mesh_path}, {"fnv1a64", pv.mesh_digest}};
+  refs["recording"] = pv.recording_path.empty() ? json(nullptr)
+                                                : json{{"path", pv.recording_path},
+                                                       {"fnv1a64", pv.recording_digest},
+                                                       {"time_unit", pv.time_unit},
+                                                       {"length_unit", pv.length_unit}};
   j["references"] = refs;
   j["proxy_source"] = pv.proxy_source;
+  if (!pv.estimated.empty()) j["estimated"] = pv.estimated;
   j["train"] = train_json(pv);
   j["edges_mm"] = m.edges;
   json bins = json::array();
@@ -376,6 +443,7 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
           {"slope_n_per_mm", fb.law.slope_n_per_mm}}},
         {"support", {{"cell_mm", fb.support.cell_mm}, {"points_mm", std::move(pts)}}}};
   }
+  if (!m.envelope.empty()) j["envelope"] = envelope_json(m.envelope);
   require_finite_json(j, "force model JSON");
   return j.dump(1) + "\n";
 }
@@ -430,7 +498,21 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
   const json& refs = r.need(j, "references", "(root)");
   read_reference(r, refs, "sys", pv.sys_path, pv.sys_digest);
   read_reference(r, refs, "mesh", pv.mesh_path, pv.mesh_digest);
+  read_reference(r, refs, "recording", pv.recording_path, pv.recording_digest);
+  if (!pv.recording_path.empty()) {
+    const json& rr = refs["recording"];
+    if (rr.contains("time_unit"))
+      pv.time_unit = r.str(rr["time_unit"], "references/recording/time_unit");
+    if (rr.contains("length_unit"))
+      pv.length_unit = r.str(rr["length_unit"], "references/recording/length_unit");
+  }
   if (j.contains("proxy_source")) pv.proxy_source = r.str(j["proxy_source"], "proxy_source");
+  if (j.contains("estimated")) {
+    const json& es = j["estimated"];
+    if (!es.is_array()) r.fail("estimated", "expected an array of names");
+    for (std::size_t k = 0; k < es.size(); ++k)
+      pv.estimated.push_back(r.str(es[k], fmt::format("estimated/{}", k)));
+  }
   if (j.contains("train") && j["train"].is_object()) {  // provenance; tolerated when partial
     read_train(r, j["train"], pv);
     pv.params.features = m.features;
@@ -441,6 +523,8 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
     m.shear = read_map(r, j["shear_prior"], "shear_prior");
   if (j.contains("fallback") && !j["fallback"].is_null())
     m.fallback = read_fallback(r, j["fallback"]);
+  if (j.contains("envelope") && !j["envelope"].is_null())
+    m.envelope = read_envelope(r, j["envelope"]);
   m.edges = r.nums(r.need(j, "edges_mm", "(root)"), "edges_mm");
   const json& bins = r.need(j, "bins", "(root)");
   if (!bins.is_array()) r.fail("bins", "expected an array");
@@ -497,6 +581,11 @@ void validate_model(const ForceModel& m, const std::string& where) {
     } catch (const Error& e) {
       fail(e.what());
     }
+  }
+  try {
+    validate_envelope(m.envelope, "envelope");
+  } catch (const Error& e) {
+    fail(e.what());
   }
   if (m.edges.size() + 1 != m.bins.size())
     fail(fmt::format("edges_mm: expected {} edges for {} bins, got {}", m.bins.size() - 1,

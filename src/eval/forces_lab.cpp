@@ -27,6 +27,8 @@
 #include "inhap/core/stats.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/datadriven/servo.hpp"
+#include "inhap/eval/lab_files.hpp"
+#include "inhap/eval/recordings.hpp"
 #include "inhap/eval/sys_lab.hpp"
 #include "inhap/friction/proxy_track.hpp"
 #include "inhap/lab/operators.hpp"
@@ -300,6 +302,7 @@ ForceVariant run_variant(const ForceLabResult& d, const std::vector<char>& score
                          const char* what, const std::string& label, const Progress& progress) {
   FoawParams foaw;
   foaw.dt_s = median_dt(d.train.rec);
+  foaw.max_window = foaw_window_samples(0.016, foaw.dt_s);  // 16 samples at 1 kHz
   const TrainingSet set = make_training_set(d.train.rec, tr, foaw);
   ForceVariant v;
   TrainedForceModel trained =
@@ -327,6 +330,11 @@ ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLa
     d.train_track = truth_track(scene, d.train);
     d.test_track = test_truth;
     d.proxy_rms_mm = d.contact_agreement = std::numeric_limits<double>::quiet_NaN();
+  } else if (o.proxy == "recording") {
+    d.estimate = estimate_recording(d.train.rec, {}, name + " training recording");
+    d.train_track = eval::estimated_track(d.train.rec, d.estimate->sys, d.estimate->mesh);
+    d.test_track = eval::estimated_track(d.test.rec, d.estimate->sys, d.estimate->mesh);
+    compare_with_truth(d, test_truth);
   } else {
     ScenePalpationOptions po;
     po.scene = name;
@@ -351,9 +359,9 @@ ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLa
 ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
   const std::string& name = o.scene;
   const std::string label = o.progress_label.empty() ? name : o.progress_label;
-  if (o.proxy != "estimated" && o.proxy != "truth")
-    throw Error(
-        fmt::format("eval forces: --proxy: expected estimated or truth, got '{}'", o.proxy));
+  if (o.proxy != "estimated" && o.proxy != "truth" && o.proxy != "recording")
+    throw Error(fmt::format(
+        "eval forces: --proxy: expected estimated, recording or truth, got '{}'", o.proxy));
   if (o.train_operator != "coverage" && o.train_operator != "random")
     throw Error(fmt::format("eval forces: --train-operator: expected coverage or random, got '{}'",
                             o.train_operator));
@@ -372,6 +380,8 @@ ForceLabResult evaluate_forces_on_lab(const ForceLabOptions& o) {
           ? record_coverage(scene, dur.train_s, o.train_seed, o, prog("train recording"))
           : record_random(scene, dur.train_s, o.train_seed, prog("train recording"), o.physics);
   d.test = record_random(scene, dur.test_s, o.test_seed, prog("test recording"), o.physics);
+  d.train = downsample_recording(d.train, o.rate_hz, o.train_seed);
+  d.test = downsample_recording(d.test, o.rate_hz, o.test_seed);
   if (!o.keep.empty()) {
     std::filesystem::create_directories(o.keep);
     lab::write_lab_recording(o.keep + "/" + name + "-train.csv", d.train);

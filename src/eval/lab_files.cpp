@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "inhap/core/error.hpp"
+#include "inhap/core/random.hpp"
 
 namespace inhap::eval {
 
@@ -65,6 +66,47 @@ std::string long_recording_note(double seconds) {
       "note: {:g} s at 1 kHz is {:.0f} rows, about {:.1f} GB of CSV (recording and "
       "truth)\n",
       seconds, seconds * 1000.0, seconds * 1000.0 * kBytesPerTick / 1e9);
+}
+
+lab::LabRecording downsample_recording(const lab::LabRecording& in, double rate_hz,
+                                       std::uint64_t seed) {
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz))
+    throw Error(fmt::format("--rate: expected a positive rate in Hz, got {}", rate_hz));
+  const std::size_t n = in.rec.size();
+  if (rate_hz >= 1000.0 || n < 2) return in;
+  Rng rng(seed ^ 0x5eedull);
+  std::vector<std::size_t> keep;
+  const double t0 = in.rec.t.front(), period = 1.0 / rate_hz;
+  std::size_t i = 0;
+  for (long k = 0;; ++k) {
+    const double want = t0 + (static_cast<double>(k) + 0.2 * (2.0 * rng.uniform() - 1.0)) * period;
+    while (i + 1 < n && std::abs(in.rec.t[i + 1] - want) <= std::abs(in.rec.t[i] - want)) ++i;
+    if (keep.empty() || i > keep.back()) keep.push_back(i);
+    if (i + 1 >= n || want > in.rec.t.back()) break;
+  }
+  lab::LabRecording out;
+  out.comments = in.comments;
+  out.comments.push_back(
+      fmt::format("logged at {:g} Hz (the tick nearest each jittered instant of "
+                  "a {:g} Hz logger; servo and physics at 1 kHz)",
+                  rate_hz, rate_hz));
+  out.rec.extra_names = in.rec.extra_names;
+  out.rec.extra.resize(in.rec.extra.size());
+  const lab::TruthTable& a = in.truth;
+  lab::TruthTable& b = out.truth;
+  for (std::size_t j : keep) {
+    out.rec.t.push_back(in.rec.t[j]);
+    out.rec.p.push_back(in.rec.p[j]);
+    out.rec.f.push_back(in.rec.f[j]);
+    for (std::size_t c = 0; c < in.rec.extra.size(); ++c)
+      out.rec.extra[c].push_back(in.rec.extra[c][j]);
+    if (j < a.size()) {
+      b.t.push_back(a.t[j]), b.contact.push_back(a.contact[j]), b.tap.push_back(a.tap[j]);
+      b.tc.push_back(a.tc[j]), b.c.push_back(a.c[j]), b.anchor.push_back(a.anchor[j]);
+      b.force.push_back(a.force[j]), b.k.push_back(a.k[j]), b.mu.push_back(a.mu[j]);
+    }
+  }
+  return out;
 }
 
 }  // namespace inhap::eval

@@ -12,6 +12,7 @@
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/sys_model.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 
 namespace inhap::eval {
@@ -51,6 +52,41 @@ void add_normals(ProxyTrack& t, const Recording& rec, const std::string& path,
 
 namespace {
 
+// --proxy-prefix p: the probe as its own proxy (q = p); contact from the contact column, else
+// from the force.
+ProxyTrack probe_track(const Recording& rec, const ProxyColumnsSpec& o) {
+  std::vector<char> c;
+  std::string source;
+  if (const std::vector<double>* cc = rec.find_extra(o.contact_column)) {
+    for (double x : *cc) c.push_back(x != 0.0);
+    source = "column:" + o.contact_column;
+  } else {
+    c = force_contact(rec, o.contact_threshold_n);
+    source = fmt::format("force>{}N", o.contact_threshold_n);
+  }
+  ProxyTrack t = position_only_track(rec, c, source);
+  t.proxy_source = "probe (--proxy-prefix p)";
+  return t;
+}
+
+// The training recording's proxy track: its proxy columns; the probe itself for --proxy-prefix p
+// (q = p, no elastic displacement); else estimated from the recording (r.estimate).
+ProxyTrack train_track(const Recording& rec, const TrainFileOptions& o, TrainFileResult& r) {
+  const std::string& prefix = o.proxy.prefix;
+  if (prefix == "p") return probe_track(rec, o.proxy);
+  if (has_proxy_columns(rec, prefix)) return track_of(rec, o.recording, o.proxy);
+  if (o.request.given.count("--proxy-prefix"))
+    throw ParseError(o.recording, 1,
+                     fmt::format("--proxy-prefix {0}: expected proxy columns {0}x,{0}y,{0}z (mm), "
+                                 "got none; leave the flag out to estimate the proxy from the "
+                                 "recording, or give --proxy-prefix p to use the probe itself",
+                                 prefix));
+  EstimateParams ep = o.estimate;
+  ep.contact_threshold_n = o.proxy.contact_threshold_n;
+  r.estimate = estimate_recording(rec, ep, o.recording);
+  return estimated_track(rec, r.estimate->sys, r.estimate->mesh);
+}
+
 // The options given explicitly override the preset's.
 void override_given(TrainParams& p, const TrainRequest& r) {
   const TrainParams& g = r.params;
@@ -65,6 +101,7 @@ void override_given(TrainParams& p, const TrainRequest& r) {
   if (given("--shear-prior")) p.shear_prior = g.shear_prior;
   if (given("--friction-cone")) p.friction_cone = g.friction_cone;
   if (given("--fallback")) p.fallback = g.fallback;
+  if (given("--envelope")) p.envelope = g.envelope;
   if (given("--fallback-near")) p.fallback_near_mm = g.fallback_near_mm;
   if (given("--fallback-far")) p.fallback_far_mm = g.fallback_far_mm;
   if (given("--solver")) p.solver = g.solver;
@@ -156,15 +193,25 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
     if (o.on_note) o.on_note(line);
     r.notes.push_back(std::move(line));
   };
-  const Recording rec = read_recording(o.recording);
-  ProxyTrack track = track_of(rec, o.recording, o.proxy);
-  const bool have_normals = has_normal_columns(rec) || !o.mesh.empty();
+  const Recording rec = read_recording_in(o.recording, o.units);
+  ProxyTrack track = train_track(rec, o, r);
+  if (r.estimate) say(estimate_note(*r.estimate));
+  const bool have_normals = has_normal_columns(rec) || !o.mesh.empty() || r.estimate;
   std::string note;
   TrainParams params = resolve_train_params(o.request, have_normals, &note);
   if (!note.empty()) say(note);
-  if (params.features == FeatureSet::kLocalFrame) add_normals(track, rec, o.recording, o.mesh);
+  if (r.estimate && params.tangent_mirror && !o.request.given.count("--tangent-mirror")) {
+    // A real material need not answer alike in every tangential direction (measured on
+    // recordings of a silicone phantom: docs/real-recordings.md).
+    params.tangent_mirror = false;
+    say("tangent mirror off for an estimated proxy (--tangent-mirror turns it on)");
+  }
+  if (params.features == FeatureSet::kLocalFrame && !r.estimate)
+    add_normals(track, rec, o.recording, o.mesh);
   FoawParams foaw = o.foaw;
   foaw.dt_s = median_dt(rec);
+  if (!o.request.given.count("--foaw-window"))
+    foaw.max_window = foaw_window_samples(o.velocity_window_s, foaw.dt_s);
   r.set = make_training_set(rec, track, foaw);
   say(fmt::format("{} samples, {} in contact ({}), proxy from {}", rec.size(), r.set.size(),
                   track.contact_source, track.proxy_source));
@@ -186,6 +233,11 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
   r.model.model.force_limit_n = o.force_limit_n;
   ForceModelProvenance& m = r.model.provenance;
   m.proxy_source = track.proxy_source;
+  m.recording_path = o.recording;
+  m.recording_digest = file_digest(o.recording);
+  m.time_unit = o.units.time;
+  m.length_unit = o.units.length;
+  if (r.estimate) m.estimated = {"surface", "normals", "proxy", "friction"};
   if (!o.sys.empty()) {
     m.sys_path = o.sys;
     m.sys_digest = file_digest(o.sys);
@@ -221,39 +273,82 @@ std::string train_summary(const TrainedForceModel& tm, bool verbose) {
   return s;
 }
 
+namespace {
+
+// A file the model names (references.<key>.path): as written, else beside the model file.
+std::string resolve_reference(const std::string& model_path, const std::string& path,
+                              const char* key) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return path;
+  const fs::path beside = fs::path(model_path).parent_path() / path;
+  if (fs::path(path).is_relative() && fs::is_regular_file(beside, ec)) return beside.string();
+  throw Error(fmt::format(
+      "{}: the {} '{}' named by the model (references.{}.path) is found neither from the "
+      "current folder nor from the model's folder",
+      model_path, key, path, key));
+}
+
+}  // namespace
+
 std::string model_mesh(const std::string& model_path, const std::string& mesh_flag,
                        const ForceModelProvenance& m) {
   if (!mesh_flag.empty()) return mesh_flag;
-  namespace fs = std::filesystem;
-  std::error_code ec;
   if (m.mesh_path.empty())
     throw Error(
         fmt::format("{}: the model uses local-frame features but names no mesh; pass "
                     "--mesh FILE",
                     model_path));
-  if (fs::is_regular_file(m.mesh_path, ec)) return m.mesh_path;
-  const fs::path beside = fs::path(model_path).parent_path() / m.mesh_path;
-  if (fs::path(m.mesh_path).is_relative() && fs::is_regular_file(beside, ec))
-    return beside.string();
-  throw Error(fmt::format(
-      "{}: the mesh '{}' named by the model (references.mesh.path) is found neither from the "
-      "current folder nor from the model's folder; pass --mesh FILE to give it",
-      model_path, m.mesh_path));
+  try {
+    return resolve_reference(model_path, m.mesh_path, "mesh");
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}; pass --mesh FILE to give it", e.what()));
+  }
+}
+
+std::vector<std::string> write_estimate_files(const std::string& model_path,
+                                              const RecordingEstimate& e, ForceModelProvenance& m) {
+  namespace fs = std::filesystem;
+  std::string stem = model_path;
+  if (fs::path(stem).extension() == ".json") stem.resize(stem.size() - 5);
+  const std::string mesh = stem + ".surface.ply", sys = stem + ".sys.json";
+  write_mesh(mesh, e.mesh);
+  friction::write_sys_json(sys, e.sys);
+  m.mesh_path = fs::path(mesh).filename().string();
+  m.mesh_digest = file_digest(mesh);
+  m.sys_path = fs::path(sys).filename().string();
+  m.sys_digest = file_digest(sys);
+  return {mesh, sys};
+}
+
+ProxyTrack replay_track(const std::string& model_path, const TrainedForceModel& tm,
+                        const Recording& rec, const std::string& recording,
+                        const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
+  const ForceModelProvenance& pv = tm.provenance;
+  if (proxy.prefix == "p") return probe_track(rec, proxy);
+  if (pv.proxy_source != "estimated") {
+    ProxyTrack t = track_of(rec, recording, proxy);
+    if (tm.model.features == FeatureSet::kLocalFrame)  // normal columns first, else the mesh
+      add_normals(t, rec, recording,
+                  has_normal_columns(rec) ? std::string() : model_mesh(model_path, mesh_flag, pv));
+    return t;
+  }
+  if (pv.sys_path.empty())
+    throw Error(
+        fmt::format("{}: the model's proxy was estimated but it names no yield surfaces "
+                    "(references.sys)",
+                    model_path));
+  const friction::SysModel sys =
+      friction::read_sys_json(resolve_reference(model_path, pv.sys_path, "sys"));
+  return estimated_track(rec, sys, read_mesh(model_mesh(model_path, mesh_flag, pv)));
 }
 
 ReplayedFile replay_file(const std::string& model_path, const TrainedForceModel& tm,
                          const std::string& recording, const ProxyColumnsSpec& proxy,
-                         const std::string& mesh_flag) {
-  ReplayedFile r{read_recording(recording), {}, {}};
-  r.track = track_of(r.rec, recording, proxy);
-  const ForceModel& m = tm.model;
-  if (m.features == FeatureSet::kLocalFrame) {
-    // Normal columns in the recording come first; the mesh is only looked for without them.
-    const bool has_normals = has_normal_columns(r.rec);
-    add_normals(r.track, r.rec, recording,
-                has_normals ? std::string() : model_mesh(model_path, mesh_flag, tm.provenance));
-  }
-  r.forces = replay(m, r.rec, r.track);
+                         const std::string& mesh_flag, const RecordingUnits& units) {
+  ReplayedFile r{read_recording_in(recording, units), {}, {}};
+  r.track = replay_track(model_path, tm, r.rec, recording, proxy, mesh_flag);
+  r.forces = replay(tm.model, r.rec, r.track);
   return r;
 }
 
@@ -283,14 +378,53 @@ std::string support_note(const SupportShare& c) {
       100 * c.outside_share, 100 * c.outside_position_share);
 }
 
+std::vector<char> scored_samples(const Recording& rec, const ProxyTrack& t,
+                                 const ProxyColumnsSpec& proxy) {
+  return t.proxy_source == "estimated" ? force_contact(rec, proxy.contact_threshold_n) : t.contact;
+}
+
+namespace {
+
+// The baselines fitted on the model's training recording (or `train`), scored on the samples
+// of `r`; nullopt with the reason in `note` when the training recording is not found.
+std::optional<BaselineReport> model_baselines(const std::string& model_path,
+                                              const TrainedForceModel& tm, const ReplayedFile& r,
+                                              const std::vector<char>& mask,
+                                              const ProxyColumnsSpec& proxy,
+                                              const std::string& mesh_flag, std::string train,
+                                              std::string& note) {
+  const ForceModelProvenance& pv = tm.provenance;
+  if (train.empty()) {
+    if (pv.recording_path.empty()) {
+      note = "no baselines: the model names no training recording; give --train FILE";
+      return std::nullopt;
+    }
+    try {
+      train = resolve_reference(model_path, pv.recording_path, "recording");
+    } catch (const Error& e) {
+      note = fmt::format("no baselines: {}; give --train FILE", e.what());
+      return std::nullopt;
+    }
+  }
+  const Recording rec = read_recording_in(train, {pv.time_unit, pv.length_unit});
+  const ProxyTrack t = replay_track(model_path, tm, rec, train, proxy, mesh_flag);
+  const TrainingSet set = make_training_set(rec, t, tm.model.foaw);
+  note = fmt::format("baselines fitted on {}", train);
+  return score_with_baselines(r.forces, set, r.rec, foaw_velocities(r.rec.p, tm.model.foaw), mask);
+}
+
+}  // namespace
+
 ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
-                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
+                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag,
+                                    const RecordingUnits& units, const std::string& train) {
   const TrainedForceModel tm = load_trained_force_model(model_path);
   const ForceModel& m = tm.model;
-  const ReplayedFile r = replay_file(model_path, tm, recording, proxy, mesh_flag);
+  const ReplayedFile r = replay_file(model_path, tm, recording, proxy, mesh_flag, units);
+  const std::vector<char> mask = scored_samples(r.rec, r.track, proxy);
   std::vector<Vec3> rendered, measured;
   for (std::size_t i = 0; i < r.rec.size(); ++i)
-    if (r.track.contact[i]) {
+    if (mask[i]) {
       rendered.push_back(r.forces[i]);
       measured.push_back(r.rec.f[i]);
     }
@@ -320,6 +454,11 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
                      {"outside_share", e.support.outside_share},
                      {"outside_position_share", e.support.outside_position_share}};
   j["errors"] = nlohmann::ordered_json::parse(force_errors_json(e.errors));
+  e.baselines = model_baselines(model_path, tm, r, mask, proxy, mesh_flag, train, e.baselines_note);
+  if (e.baselines) {
+    j["baselines"] = baselines_json(*e.baselines);
+    j["verdict"] = e.baselines->verdict;
+  }
   return e;
 }
 
@@ -331,6 +470,7 @@ std::string model_eval_text(const ModelEvalResult& r) {
       "RE mean {:.3f} median {:.3f}\n",
       e.n, e.rmse[0], e.rmse[1], e.rmse[2], e.ae_axis_median[0], e.ae_axis_median[1],
       e.ae_axis_median[2], e.re_mean, e.re_median);
+  if (r.baselines) s += baseline_text(*r.baselines);
   if (r.above_force_limit > 0)
     s += fmt::format(
         "{} contact samples measured above the {:.2f} N render clamp (device limit): the "

@@ -65,10 +65,17 @@ void run_eval_forces(const EvalForcesOptions& o) {
 // The lab runs behind the evaluation: proxy source, physics and the coverage training operator.
 void add_lab_run_flags(CLI::App& cmd, EvalForcesOptions& o) {
   cmd.add_option("--proxy", o.lab.proxy,
-                 "estimated (palpate the scene, run the proxy estimator) or truth (the lab's true "
-                 "proxy and contact)")
+                 "estimated (palpate the scene, run the proxy estimator), recording (surface, "
+                 "normals, friction\nand proxy estimated from the training recording alone, as "
+                 "model train does without proxy\ncolumns) or truth (the lab's true proxy and "
+                 "contact)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"estimated", "truth"}));
+      ->check(CLI::IsMember({"estimated", "recording", "truth"}));
+  cmd.add_option("--rate", o.lab.rate_hz,
+                 "Logging rate of both recordings, Hz (servo and physics stay at 1 kHz; e.g. 66 "
+                 "for a rig that logs\nlike the dVRK)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
   cli::add_physics_option(cmd, o.physics,
                           "Lab contact physics: builtin | mujoco (docs/lab-mujoco.md)");
   cmd.add_option("--train-operator", o.lab.train_operator,

@@ -39,10 +39,15 @@ void run_record(const RecordArgs& a) {
   fmt::print(stderr, "{}", eval::long_recording_note(a.req.seconds));
   const auto t0 = std::chrono::steady_clock::now();
   const std::string what = fmt::format("lab record {}", scene.name);
-  const LabRecording lab = record_scene(scene, spec, [&](const std::string&, double f, double) {
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    cli::progress(what, f, f > 0 ? el * (1 - f) / f : 0);
-  });
+  const LabRecording lab = eval::downsample_recording(
+      record_scene(
+          scene, spec,
+          [&](const std::string&, double f, double) {
+            const double el =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cli::progress(what, f, f > 0 ? el * (1 - f) / f : 0);
+          }),
+      a.req.rate_hz, a.req.seed);
   eval::require_finite_recording(lab.rec, a.out);
   OutputTransaction tx;
   write_lab_recording(a.out, lab);
@@ -71,10 +76,10 @@ void register_lab(CLI::App& app) {
   });
 
   auto a = std::make_shared<RecordArgs>();
-  auto* rec = lab->add_subcommand(
-      "record",
-      "Simulate an operator on a scene and write a 1 kHz recording (t s, p mm, f N, raw rf N)\n"
-      "plus its ground truth beside it (OUT.truth.csv).");
+  auto* rec = lab->add_subcommand("record",
+                                  "Simulate an operator on a scene and write a recording (1 kHz, "
+                                  "or --rate) (t s, p mm, f N, raw rf N)\n"
+                                  "plus its ground truth beside it (OUT.truth.csv).");
   rec->add_option("--scene", a->scene, "built-in scene (see `inhap lab scenes`)");
   rec->add_option("--scene-file", a->scene_file, "scene JSON file");
   rec->add_option("--operator", a->req.op, "tap | explore | air")
@@ -97,6 +102,12 @@ void register_lab(CLI::App& app) {
       "contact physics: builtin (inhap's Hunt-Crossley / anchor / Coulomb law) | "
       "mujoco (MuJoCo 2.2 soft contact, elliptic friction cone; planar, dome, "
       "hemisphere, sphere and box shapes; docs/lab-mujoco.md)");
+  rec->add_option("--rate", a->req.rate_hz,
+                  "logging rate, Hz (servo and physics stay at 1 kHz; below 1000 the file keeps "
+                  "the tick\nnearest each instant of a logger at this rate, jittered by +-20 % of "
+                  "its period, truth alike)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
   rec->add_flag("--no-noise", a->req.no_noise, "no force-sensor noise in the raw reading");
   rec->add_flag("--whole-object", a->req.whole_object,
                 "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"

@@ -20,7 +20,9 @@ using namespace inhap::datadriven;
 void add_proxy_options(CLI::App* c, eval::ProxyColumnsSpec& o) {
   c->add_option("--proxy-prefix", o.prefix,
                 "Proxy columns <prefix>x,<prefix>y,<prefix>z of the recording, mm (written by the "
-                "proxy estimator)")
+                "proxy estimator); 'p' = the probe itself (q = p). Without proxy columns (and "
+                "without this flag) the surface, normals, proxy and friction are estimated from "
+                "the recording")
       ->capture_default_str();
   c->add_option("--contact-column", o.contact_column,
                 "Contact flag column (non-zero = contact); when absent, contact = |f| above "
@@ -29,6 +31,16 @@ void add_proxy_options(CLI::App* c, eval::ProxyColumnsSpec& o) {
   c->add_option("--contact-threshold", o.contact_threshold_n, "Force magnitude for contact, N")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+}
+
+void add_unit_options(CLI::App* c, eval::RecordingUnits& u) {
+  c->add_option("--time-unit", u.time, "Unit of the recording's t column: s or ms")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"s", "ms"}));
+  c->add_option("--length-unit", u.length,
+                "Unit of the recording's px,py,pz (and qx,qy,qz) columns: mm or m")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mm", "m"}));
 }
 
 struct TrainOptions {  // inhap model train
@@ -40,7 +52,10 @@ struct TrainOptions {  // inhap model train
 void run_train(TrainOptions o) {
   o.file.progress = progress;
   o.file.on_note = [](const std::string& note) { fmt::print(stderr, "inhap: {}\n", note); };
-  const eval::TrainFileResult r = eval::train_from_file(o.file);
+  eval::TrainFileResult r = eval::train_from_file(o.file);
+  if (r.estimate)
+    for (const std::string& f : eval::write_estimate_files(o.out, *r.estimate, r.model.provenance))
+      fmt::print(stderr, "inhap: wrote {}\n", f);
   save_force_model(o.out, r.model);
   fmt::print(stderr, "inhap: {}\n",
              eval::range_note(r.model.provenance, r.set, o.file.force_limit_n));
@@ -50,20 +65,23 @@ void run_train(TrainOptions o) {
 }
 
 struct ReplayOptions {  // inhap model eval | render
-  std::string model, recording, json, out, mesh;
+  std::string model, recording, json, out, mesh, train;
   eval::ProxyColumnsSpec proxy;
+  eval::RecordingUnits units;
 };
 
 void run_eval(const ReplayOptions& o) {
-  const eval::ModelEvalResult r = eval::evaluate_model_file(o.model, o.recording, o.proxy, o.mesh);
+  const eval::ModelEvalResult r =
+      eval::evaluate_model_file(o.model, o.recording, o.proxy, o.mesh, o.units, o.train);
   fmt::print(stderr, "inhap: {}\n", eval::support_note(r.support));
+  if (!r.baselines_note.empty()) fmt::print(stderr, "inhap: {}\n", r.baselines_note);
   if (!o.json.empty()) write_file_atomic(o.json, r.json.dump(1) + "\n");
   fmt::print("{}", eval::model_eval_text(r));
 }
 
 void run_render(const ReplayOptions& o) {
   const TrainedForceModel m = load_trained_force_model(o.model);
-  const eval::ReplayedFile r = eval::replay_file(o.model, m, o.recording, o.proxy, o.mesh);
+  const eval::ReplayedFile r = eval::replay_file(o.model, m, o.recording, o.proxy, o.mesh, o.units);
   fmt::print(stderr, "inhap: {}\n", eval::support_note(eval::support_share(o.model, r)));
   eval::write_rendered_csv(o.out, r, o.recording, o.model);
   fmt::print("{} samples rendered -> {}\n", r.rec.size(), o.out);
@@ -124,8 +142,16 @@ void register_train(CLI::App& model) {
       "friction cone, feature weights 1 5 0.5,\nbin blend 1 mm; needs normals nx,ny,nz or "
       "--mesh, else preset 'world' with a note). Options given\nexplicitly override the "
       "preset. Forces above --modeling-range are counted and reported, never clipped.");
-  ct->add_option("--recording", f.recording, "Recording CSV (t s, p mm, f N, qx,qy,qz mm)")
+  ct->add_option("--recording", f.recording,
+                 "Recording CSV: t,px,py,pz,fx,fy,fz (s, mm, N; see --time-unit, --length-unit), "
+                 "any rate, extra columns ignored; optional proxy qx,qy,qz (mm), contact, "
+                 "nx,ny,nz")
       ->required();
+  add_unit_options(ct, f.units);
+  ct->add_option("--velocity-window", f.velocity_window_s,
+                 "FOAW velocity window cap, s (samples = window x rate; --foaw-window overrides)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   ct->add_option("--sys", f.sys, "Sliding-yield-surface file to reference in the model");
   ct->add_option("--mesh", f.mesh, "Shape mesh to reference in the model");
   ct->add_option("--out", tr->out, "Model file to write (.json)")->required();
@@ -193,9 +219,14 @@ void register_model(CLI::App& app) {
       c->add_option("--out", o->out,
                     "CSV to write: t,px,py,pz,fx,fy,fz (rendered),mfx,mfy,mfz (measured),contact")
           ->required();
-    else
+    else {
       c->add_option("--json", o->json, "Write the error report (N) as JSON here");
+      c->add_option("--train", o->train,
+                    "Training recording to fit the baselines on (mean force, k-nearest "
+                    "neighbours on p and on (p, 0.1 s x pdot)); default: the one the model names");
+    }
     add_proxy_options(c, o->proxy);
+    add_unit_options(c, o->units);
     c->add_option("--mesh", o->mesh,
                   "Shape mesh for the normals of a local-frame model (default: the model's)");
     c->callback([o, render] { render ? run_render(*o) : run_eval(*o); });

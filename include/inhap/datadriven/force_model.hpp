@@ -29,6 +29,7 @@
 
 #include "inhap/core/progress.hpp"
 #include "inhap/core/types.hpp"
+#include "inhap/datadriven/envelope.hpp"
 #include "inhap/datadriven/fallback.hpp"
 #include "inhap/datadriven/foaw.hpp"
 #include "inhap/datadriven/lasso.hpp"
@@ -172,6 +173,10 @@ struct TrainParams {
   bool fallback = false;
   double fallback_near_mm = 6.0;
   double fallback_far_mm = 12.0;
+  /// Bound every rendered force by the training data's force envelope near the state
+  /// (envelope.hpp): |f| <= (1 + 0.25) max |f| seen within one 8 mm cell of q and one 0.5 mm step
+  /// of ||q - p|| deeper, + 0.25 N. No force the data never showed.
+  bool envelope = true;
   /// Modeling range, N: samples with |f| above it are counted (TrainStats::above_range) and kept
   /// or excluded as `above_range` says. Training never clips a target.
   double modeling_range_n = 5.0;
@@ -246,6 +251,7 @@ struct ForceModel {
   StiffnessPrior shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
   Fallback fallback;         ///< outside the training support (empty: none)
+  ForceEnvelope envelope;    ///< cap on |f| from the training data (empty: none)
 
   /// Bin index for a displacement magnitude (mm).
   int bin_of(double key) const;
@@ -258,6 +264,11 @@ struct ForceModelProvenance {
   std::string sys_path, mesh_path;       ///< references (may be empty)
   std::string sys_digest, mesh_digest;   ///< FNV-1a 64 of the referenced files (hex)
   std::string proxy_source = "columns";  ///< where q came from when training
+  /// The training recording (model eval fits the baselines on it) and the units its t and p
+  /// columns were in ("s" | "ms", "mm" | "m").
+  std::string recording_path, recording_digest, time_unit = "s", length_unit = "mm";
+  /// What was estimated from the recording itself ("surface", "normals", "proxy", "friction").
+  std::vector<std::string> estimated;
 };
 
 /// A model with its provenance: what training returns and a model file holds.

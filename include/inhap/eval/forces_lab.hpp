@@ -9,11 +9,13 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/dataset.hpp"
+#include "inhap/datadriven/estimate.hpp"
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/eval/progress.hpp"
@@ -40,8 +42,13 @@ struct ForceLabOptions {
   Progress progress;           ///< empty: silent
   /// Where q and contact come from: "estimated" (the friction module's proxy estimator with the
   /// sliding yield surfaces of a palpation of the scene, geometric contact with the palpated
-  /// shape mesh) or "truth" (the lab's true proxy and contact flag).
+  /// shape mesh), "recording" (surface, normals, friction and proxy estimated from the training
+  /// recording alone, datadriven/estimate.hpp: no palpation cycles, no mesh) or "truth" (the
+  /// lab's true proxy and contact flag).
   std::string proxy = "estimated";
+  /// Logging rate of both recordings, Hz (servo and physics at 1 kHz; lab_files.hpp
+  /// downsample_recording); the FOAW window is kept at 16 ms.
+  double rate_hz = 1000;
   /// Training run: "coverage" (the explore operator's coverage-driven training mode) or
   /// "random" (the ordinary random exploration, as the test run).
   std::string train_operator = "coverage";
@@ -105,6 +112,8 @@ struct ForceLabResult {
   /// Estimated vs true proxy on the test run, where both are in contact: RMS of q_est - q_true
   /// (mm) and contact-flag agreement (fraction of samples); NaN with the true proxy.
   double proxy_rms_mm = 0, contact_agreement = 0;
+  /// Proxy "recording": what was estimated from the training recording.
+  std::optional<datadriven::RecordingEstimate> estimate;
 };
 
 /// Runs the whole evaluation of one scene. Throws inhap::Error (unknown scene, no contact).

@@ -30,7 +30,16 @@ struct LabRecordRequest {
   std::uint64_t seed = 1;
   bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false,
        coverage = false;
+  /// Logging rate, Hz: the servo and physics run at 1 kHz, the file keeps the tick nearest each
+  /// jittered logging instant (as a real rig's logger at a lower rate does). 1000 = every tick.
+  double rate_hz = 1000;
 };
+
+/// The ticks a logger at `rate_hz` keeps: the one nearest each instant k / rate_hz +- 20 % of
+/// its period (uniform jitter, seeded), every tick at >= 1000 Hz. Rows of the recording and of
+/// its truth alike; a comment line says so.
+lab::LabRecording downsample_recording(const lab::LabRecording& lab, double rate_hz,
+                                       std::uint64_t seed);
 /// The lab's RecordSpec for them. Error naming the flag for an unknown probe, or --coverage with
 /// an operator other than explore.
 lab::RecordSpec lab_record_spec(const LabRecordRequest& r);

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "inhap/datadriven/force_model.hpp"
 #include "inhap/datadriven/metrics.hpp"
 #include "inhap/eval/progress.hpp"
+#include "inhap/eval/recordings.hpp"
 
 namespace inhap::eval {
 
@@ -64,8 +66,14 @@ std::vector<std::string> write_training_coverage(const datadriven::TrainingSet& 
 
 struct TrainFileOptions {
   std::string recording, sys, mesh;  ///< files; sys and mesh optional (referenced in the model)
+  RecordingUnits units;              ///< of the recording's t and p columns
   TrainRequest request;
-  datadriven::FoawParams foaw;
+  datadriven::FoawParams foaw;  ///< max_window is set from velocity_window_s unless given
+  /// FOAW window cap in seconds (samples = window / median dt): the same filter at any rate.
+  double velocity_window_s = 0.016;
+  /// Used when the recording has no proxy columns: the surface, proxy and friction are
+  /// estimated from it (estimate.hpp).
+  datadriven::EstimateParams estimate;
   double force_limit_n = kDeviceForceLimitN;
   ProxyColumnsSpec proxy;
   Progress progress;  ///< "train", fraction, eta s
@@ -77,7 +85,17 @@ struct TrainFileResult {
   datadriven::TrainedForceModel model;  ///< with its provenance (references, proxy source)
   datadriven::TrainingSet set;
   std::vector<std::string> notes;  ///< what the program says on stderr, in order
+  /// What was estimated when the recording had no proxy (the caller writes its surface mesh and
+  /// yield surfaces beside the model and references them).
+  std::optional<datadriven::RecordingEstimate> estimate;
 };
+
+/// Writes the estimate's surface mesh (<model stem>.surface.ply) and yield surfaces
+/// (<model stem>.sys.json) beside the model file `model_path` and makes the model reference them
+/// (by file name, found beside the model). Returns the two paths.
+std::vector<std::string> write_estimate_files(const std::string& model_path,
+                                              const datadriven::RecordingEstimate& e,
+                                              datadriven::ForceModelProvenance& m);
 
 /// Reads the recording, builds the training set and trains (the model is not written).
 TrainFileResult train_from_file(const TrainFileOptions& o);
@@ -98,11 +116,24 @@ struct ReplayedFile {
   std::vector<Vec3> forces;  ///< rendered, N
 };
 
+/// The proxy track a model is replayed with: the probe itself for prefix "p"; the estimated proxy
+/// (the model's surface mesh and yield surfaces) when the model was trained on one; else the
+/// recording's proxy columns (normals from its columns or the model's mesh for local features).
+datadriven::ProxyTrack replay_track(const std::string& model_path,
+                                    const datadriven::TrainedForceModel& m, const Recording& rec,
+                                    const std::string& recording, const ProxyColumnsSpec& proxy,
+                                    const std::string& mesh_flag);
+
+/// The samples a replay is scored on: measured contact (|f| above the threshold) for an
+/// estimated proxy, else the track's contact.
+std::vector<char> scored_samples(const Recording& rec, const datadriven::ProxyTrack& t,
+                                 const ProxyColumnsSpec& proxy);
+
 /// Replays a recording file through the servo renderer (normals from its columns, else from the
 /// model's mesh or `mesh_flag`).
 ReplayedFile replay_file(const std::string& model_path, const datadriven::TrainedForceModel& m,
                          const std::string& recording, const ProxyColumnsSpec& proxy,
-                         const std::string& mesh_flag);
+                         const std::string& mesh_flag, const RecordingUnits& units = {});
 
 /// Shares of the in-contact samples outside the training support of the coverage file beside the
 /// model (unknown when there is none).
@@ -121,10 +152,16 @@ struct ModelEvalResult {
   std::size_t contact_samples = 0, above_force_limit = 0;
   double force_limit_n = 0;  ///< the model's render clamp
   SupportShare support;
+  std::optional<BaselineReport> baselines;  ///< when the training recording was found
+  std::string baselines_note;               ///< why there are none
   nlohmann::ordered_json json;
 };
+/// With `train` (a recording file; default: the training recording the model names, when it is
+/// found) the baselines fitted on it are scored on the same samples.
 ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
-                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag);
+                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag,
+                                    const RecordingUnits& units = {},
+                                    const std::string& train = {});
 /// The lines `model eval` prints: RMSE, median AE and RE of the contact samples, and how many
 /// were measured above the render clamp.
 std::string model_eval_text(const ModelEvalResult& r);

@@ -1,0 +1,100 @@
+// What the thesis' force model needs, estimated from a recording that carries only t, p and f:
+// the undeformed (probe-centre) surface, its normals, a proxy on it and the friction the sliding
+// phases show. For recordings of a real rig (no palpation cycles, no shape mesh, no proxy
+// columns) and for the virtual lab at any rate.
+//
+// Units: positions mm, forces N, time s, stiffness N/mm.
+//
+// Surface. The push axis a is the direction of the mean contact force (the outward normal of
+// the region pressed, on average). Around a the samples are binned on a regular grid of the
+// plane perpendicular to it (cell_mm); in each cell (with its 8 neighbours) the position along a
+// is fitted against the normal force as s = h - b f_n^gamma (a depth-force law d = b f_n^gamma,
+// gamma from {0.5, 2/3, 1}, chosen once for the whole recording by the smallest residual) using
+// the samples of the lighter half of the cell's forces; h, the position at zero force, is the
+// undeformed surface there. Cells without enough samples or force spread are filled from their
+// neighbours (harmonic fill), then the heights are smoothed (3 x 3 mean, `smooth_passes`). The
+// surface is a height field over that plane: a triangle mesh whose normals face +a.
+//
+// Friction. With the surface, a sliding-yield-surface model with an isotropic Coulomb cone at
+// every reference point: g_s radius = slope x depth (pre-sliding displacement grows with the
+// depth), f_s radius = mu f_N. The slope is chosen from `slopes` by the smallest residual of the
+// tangential force against mu f_n (u_t / r) over the recording, u_t the tangential part of
+// q - p of the proxy that slope gives and r the g_s radius; mu is the least-squares fit.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "inhap/core/csv.hpp"
+#include "inhap/core/types.hpp"
+#include "inhap/friction/sys_model.hpp"
+#include "inhap/geometry/heightmap.hpp"
+#include "inhap/geometry/trimesh.hpp"
+
+namespace inhap::datadriven {
+
+struct EstimateParams {
+  double contact_threshold_n = 0.05;  ///< |f| above it = in contact (samples used), N
+  double cell_mm = 2.0;               ///< height-field cell, mm
+  double margin_mm = 6.0;             ///< the surface extends this far beyond the data, mm
+  int min_cell_samples = 8;           ///< samples (3 x 3 cells) needed to fit a cell
+  double min_force_spread_n = 0.15;   ///< force range needed to fit a cell, N
+  int smooth_passes = 2;              ///< 3 x 3 mean passes over the heights
+  /// g_s radius / depth candidates of the friction fit (dimensionless).
+  std::vector<double> slopes{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.8};
+  void validate() const;  ///< throws inhap::Error on out-of-range values
+};
+
+/// The undeformed probe-centre surface as a height field over the plane perpendicular to `axis`.
+struct SurfaceEstimate {
+  Vec3 axis = Vec3::UnitZ();                                           ///< outward push axis (unit)
+  Vec3 origin = Vec3::Zero(), e1 = Vec3::UnitX(), e2 = Vec3::UnitY();  ///< plane frame
+  double cell_mm = 2.0;
+  Grid height;         ///< position along `axis` at cell centres (origin + (i + 0.5) cell e1 + ...)
+  double gamma = 1.0;  ///< exponent of the depth-force law d = b f_n^gamma
+  double b_median = 0;  ///< median b over the fitted cells (mm / N^gamma)
+  std::size_t cells_fitted = 0, cells_filled = 0;
+
+  /// Height (along axis) at plane coordinates (u, v), bilinear, clamped to the grid, mm.
+  double height_at(double u, double v) const;
+  /// Depth of p below the surface along `axis` (> 0 inside), mm.
+  double depth(const Vec3& p) const;
+  /// Depth d (mm) at which the recording's depth-force law gives normal force f_n (N).
+  double depth_for_force(double f_n) const;
+  /// The surface as a mesh in world coordinates (vertices at cell centres, normals towards +axis).
+  TriMesh mesh() const;
+};
+
+struct FrictionEstimate {
+  double mu = 0;            ///< Coulomb coefficient |f_t| / f_n when sliding
+  double slope = 0.1;       ///< g_s radius / depth
+  double rmse_t_n = 0;      ///< residual of the tangential force, N
+  double rmse_t0_n = 0;     ///< the tangential force's RMS without friction (mu = 0), N
+  std::size_t samples = 0;  ///< samples of the fit
+};
+
+/// Everything `model train` estimates for a recording without a proxy.
+struct RecordingEstimate {
+  SurfaceEstimate surface;
+  FrictionEstimate friction;
+  friction::SysModel sys;  ///< the Coulomb-cone yield surfaces of `friction`
+  TriMesh mesh;            ///< surface.mesh()
+};
+
+/// The surface (see file comment). Throws inhap::Error naming `path` when the recording has too
+/// few contact samples to fit a surface.
+SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& params,
+                                 const std::string& path);
+
+/// Yield surfaces with an isotropic Coulomb cone (g_s radius = slope x depth, f_s radius =
+/// mu f_N) at reference points spread over the surface.
+friction::SysModel cone_sys(const SurfaceEstimate& surface, double slope, double mu);
+
+/// Surface, friction and the sys model of a recording.
+RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams& params,
+                                     const std::string& path);
+
+/// One line on what was estimated: surface cells, depth law, normals' spread, mu and slope.
+std::string estimate_note(const RecordingEstimate& e);
+
+}  // namespace inhap::datadriven

@@ -1,0 +1,34 @@
+// `inhap eval recordings`: train on one recording, render another, score the model beside the
+// baselines (mean force, k-nearest neighbours on p and on (p, pdot)). Units: mm, N, s.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "inhap/eval/model_files.hpp"
+
+namespace inhap::eval {
+
+struct RecordingsEval {
+  TrainFileResult train;
+  Recording test;
+  std::vector<Vec3> rendered;  ///< per test sample, N
+  std::vector<char> scored;    ///< samples scored
+  BaselineReport report;
+  double rate_hz = 0;  ///< of the training recording (1 / median dt)
+};
+
+/// Trains with `o` (as `model train` does, nothing written), replays `test` (same units) and
+/// scores. Throws inhap::Error / ParseError naming the file on bad input.
+RecordingsEval evaluate_recordings(const TrainFileOptions& o, const std::string& test);
+
+/// {"train", "test", "model": {"rmse_n", "re_median", ...}, "baselines": {...}, "verdict",
+/// "rate_hz", "estimated": [...], "samples": n}.
+nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::string& test);
+
+/// Measured against rendered force per axis for the model and the best baseline (by RE median),
+/// as CSV rows: t, measured x/y/z, model x/y/z, baseline x/y/z (N), scored samples only.
+void write_recordings_csv(const std::string& path, const RecordingsEval& e);
+
+}  // namespace inhap::eval

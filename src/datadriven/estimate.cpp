@@ -1,0 +1,357 @@
+// Surface, normals, proxy and friction estimated from a recording (see estimate.hpp).
+// Units: mm, N, s.
+#include "inhap/datadriven/estimate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "inhap/core/error.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/friction/proxy_track.hpp"
+
+namespace inhap::datadriven {
+
+namespace {
+
+constexpr double kGammas[] = {0.5, 2.0 / 3.0, 1.0};
+constexpr double kLevelsN[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};  // f_N levels of the cone sys
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// A contact sample in the plane frame: plane coordinates (u, v), position s along the axis and
+// normal force f_n along it.
+struct PlaneSample {
+  double u, v, s, fn;
+};
+
+// The cells' fit of s = h - b fn^gamma (least squares in h and b, b >= 0) on the lighter half of
+// the forces of the 3 x 3 block around the cell. Returns false when the block cannot be fitted.
+struct CellFit {
+  double h = 0, b = 0, sse = 0;
+  std::size_t n = 0;
+};
+
+bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const EstimateParams& prm,
+              CellFit& out) {
+  if (block.size() < static_cast<std::size_t>(prm.min_cell_samples)) return false;
+  std::sort(block.begin(), block.end(),
+            [](const PlaneSample* a, const PlaneSample* b) { return a->fn < b->fn; });
+  const std::size_t n = std::max<std::size_t>(block.size() / 2, prm.min_cell_samples);
+  if (block[n - 1]->fn - block[0]->fn < prm.min_force_spread_n) return false;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = std::pow(block[i]->fn, gamma), y = block[i]->s;
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  const double dn = static_cast<double>(n), den = dn * sxx - sx * sx;
+  if (!(den > 1e-12)) return false;
+  double slope = (dn * sxy - sx * sy) / den;  // ds/dx = -b
+  slope = std::min(slope, 0.0);
+  out.b = -slope;
+  out.h = (sy - slope * sx) / dn;
+  out.sse = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = block[i]->s - (out.h - out.b * std::pow(block[i]->fn, gamma));
+    out.sse += r * r;
+  }
+  out.n = n;
+  return true;
+}
+
+// Fills unfitted cells (mask 0) by repeated neighbour averaging, then smooths every cell.
+void fill_and_smooth(Grid& h, std::vector<char> known, int passes) {
+  const int W = h.width, H = h.height;
+  for (int it = 0; it < 4 * (W + H); ++it) {
+    bool any = false;
+    std::vector<char> next = known;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (known[std::size_t(y) * W + x]) continue;
+        double sum = 0;
+        int cnt = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= W || yy >= H || !known[std::size_t(yy) * W + xx])
+              continue;
+            sum += h.at(xx, yy), ++cnt;
+          }
+        if (cnt) h.at(x, y) = sum / cnt, next[std::size_t(y) * W + x] = 1, any = true;
+      }
+    known.swap(next);
+    if (!any) break;
+  }
+  for (int pass = 0; pass < passes; ++pass) {
+    Grid s = h;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        double sum = 0;
+        int cnt = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = std::clamp(x + dx, 0, W - 1), yy = std::clamp(y + dy, 0, H - 1);
+            sum += h.at(xx, yy), ++cnt;
+          }
+        s.at(x, y) = sum / cnt;
+      }
+    h = std::move(s);
+  }
+}
+
+// The push axis and the plane frame of the contact samples.
+void plane_frame(const Recording& rec, const std::vector<std::size_t>& idx, SurfaceEstimate& s) {
+  Vec3 a = Vec3::Zero();
+  for (std::size_t i : idx) a += rec.f[i];
+  s.axis = a.norm() > 1e-12 ? Vec3(a.normalized()) : Vec3::UnitZ();
+  const SurfaceFrame fr = surface_frame(s.axis);
+  s.e1 = fr.t0;
+  s.e2 = fr.t1;
+}
+
+}  // namespace
+
+void EstimateParams::validate() const {
+  if (!(cell_mm > 0) || !std::isfinite(cell_mm) || !(margin_mm >= 0) || min_cell_samples < 3 ||
+      !(contact_threshold_n >= 0) || smooth_passes < 0 || slopes.empty())
+    throw Error("surface estimate: cell and margin must be positive mm, at least 3 samples a cell");
+  for (double s : slopes)
+    if (!(s > 0) || !std::isfinite(s))
+      throw Error(fmt::format("friction estimate: slopes must be positive, got {}", s));
+}
+
+double SurfaceEstimate::height_at(double u, double v) const {
+  const double x = std::clamp(u / cell_mm - 0.5, 0.0, double(height.width - 1));
+  const double y = std::clamp(v / cell_mm - 0.5, 0.0, double(height.height - 1));
+  const int x0 = std::min(int(x), height.width - 2), y0 = std::min(int(y), height.height - 2);
+  const double fx = x - x0, fy = y - y0;
+  return (1 - fy) * ((1 - fx) * height.at(x0, y0) + fx * height.at(x0 + 1, y0)) +
+         fy * ((1 - fx) * height.at(x0, y0 + 1) + fx * height.at(x0 + 1, y0 + 1));
+}
+
+double SurfaceEstimate::depth(const Vec3& p) const {
+  const Vec3 d = p - origin;
+  return height_at(d.dot(e1), d.dot(e2)) - d.dot(axis);
+}
+
+double SurfaceEstimate::depth_for_force(double f_n) const {
+  return b_median * std::pow(std::max(f_n, 0.0), gamma);
+}
+
+TriMesh SurfaceEstimate::mesh() const {
+  TriMesh m;
+  const int W = height.width, H = height.height;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      m.positions.push_back(origin + (x + 0.5) * cell_mm * e1 + (y + 0.5) * cell_mm * e2 +
+                            height.at(x, y) * axis);
+  // (e1, e2, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
+  for (int y = 0; y + 1 < H; ++y)
+    for (int x = 0; x + 1 < W; ++x) {
+      const std::int32_t a = y * W + x, b = a + 1, c = a + W, d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  m.compute_normals();
+  return m;
+}
+
+SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm,
+                                 const std::string& path) {
+  prm.validate();
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    if (rec.f[i].norm() > prm.contact_threshold_n) idx.push_back(i);
+  if (idx.size() < static_cast<std::size_t>(4 * prm.min_cell_samples))
+    throw ParseError(path, 1,
+                     fmt::format("surface estimate: expected at least {} samples with |f| above "
+                                 "{} N, got {}",
+                                 4 * prm.min_cell_samples, prm.contact_threshold_n, idx.size()));
+  SurfaceEstimate s;
+  s.cell_mm = prm.cell_mm;
+  plane_frame(rec, idx, s);
+  double umin = 1e300, vmin = 1e300, umax = -1e300, vmax = -1e300;
+  std::vector<PlaneSample> ps;
+  ps.reserve(idx.size());
+  for (std::size_t i : idx) {
+    const Vec3& p = rec.p[i];
+    ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(s.axis)});
+    umin = std::min(umin, ps.back().u), umax = std::max(umax, ps.back().u);
+    vmin = std::min(vmin, ps.back().v), vmax = std::max(vmax, ps.back().v);
+  }
+  umin -= prm.margin_mm, vmin -= prm.margin_mm, umax += prm.margin_mm, vmax += prm.margin_mm;
+  const int W = std::clamp(int(std::ceil((umax - umin) / prm.cell_mm)), 2, 2000);
+  const int H = std::clamp(int(std::ceil((vmax - vmin) / prm.cell_mm)), 2, 2000);
+  s.origin = umin * s.e1 + vmin * s.e2;
+  std::vector<std::vector<const PlaneSample*>> cells(std::size_t(W) * H);
+  for (PlaneSample& q : ps) {
+    q.u -= umin, q.v -= vmin;
+    const int x = std::clamp(int(q.u / prm.cell_mm), 0, W - 1);
+    const int y = std::clamp(int(q.v / prm.cell_mm), 0, H - 1);
+    cells[std::size_t(y) * W + x].push_back(&q);
+  }
+  const auto block_of = [&](int x, int y) {
+    std::vector<const PlaneSample*> b;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+        const auto& c = cells[std::size_t(yy) * W + xx];
+        b.insert(b.end(), c.begin(), c.end());
+      }
+    return b;
+  };
+  // gamma: the smallest summed residual over the cells that every exponent can fit.
+  double best_sse = 1e300;
+  for (double g : kGammas) {
+    double sse = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (cells[std::size_t(y) * W + x].empty()) continue;
+        std::vector<const PlaneSample*> b = block_of(x, y);
+        CellFit f;
+        if (fit_cell(b, g, prm, f)) sse += f.sse;
+      }
+    if (sse < best_sse) best_sse = sse, s.gamma = g;
+  }
+  s.height = Grid(W, H, 0.0);
+  std::vector<char> known(std::size_t(W) * H, 0);
+  std::vector<double> bs;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (cells[std::size_t(y) * W + x].empty()) continue;
+      std::vector<const PlaneSample*> b = block_of(x, y);
+      CellFit f;
+      if (!fit_cell(b, s.gamma, prm, f)) continue;
+      s.height.at(x, y) = f.h;
+      known[std::size_t(y) * W + x] = 1;
+      bs.push_back(f.b);
+      ++s.cells_fitted;
+    }
+  if (s.cells_fitted == 0)
+    throw ParseError(path, 1,
+                     fmt::format("surface estimate: expected places pressed with a force range of "
+                                 "at least {} N, found none (cells of {} mm)",
+                                 prm.min_force_spread_n, prm.cell_mm));
+  s.cells_filled = std::size_t(W) * H - s.cells_fitted;
+  s.b_median = median(bs);
+  fill_and_smooth(s.height, std::move(known), prm.smooth_passes);
+  return s;
+}
+
+friction::SysModel cone_sys(const SurfaceEstimate& s, double slope, double mu) {
+  friction::SysModel m;
+  m.f_normal_levels.assign(std::begin(kLevelsN), std::end(kLevelsN));
+  for (int k = 0; k < 8; ++k) m.angles.push_back(k * std::numbers::pi / 4);
+  m.plateaus = {0.1, 0.6};
+  m.tangent_reference = s.e1;
+  const double U = s.height.width * s.cell_mm, V = s.height.height * s.cell_mm;
+  int id = 0;
+  // The corners and the centre of the surface's region (four triangles, none degenerate).
+  const std::array<std::pair<double, double>, 5> at{
+      {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}, {0.5, 0.5}}};
+  for (const auto& [fx, fy] : at) {
+    friction::SysPoint p;
+    p.id = id++;
+    const double u = fx * U, v = fy * V;
+    p.position = s.origin + u * s.e1 + v * s.e2 + s.height_at(u, v) * s.axis;
+    p.normal = s.axis;
+    for (double fn : m.f_normal_levels)
+      for (int k = 0; k < 8; ++k) {
+        friction::SysBorder b;
+        b.f_normal = fn;
+        b.direction = k;
+        b.result.f_limit = mu * fn;
+        b.result.depth = std::max(s.depth_for_force(fn), 1e-3);
+        b.result.radius = slope * b.result.depth;
+        friction::BorderStep st;
+        st.f_tangential = b.result.f_limit;
+        st.depth = b.result.depth;
+        st.radius = b.result.radius;
+        b.steps.push_back(st);
+        b.result.labels.push_back(0);
+        b.result.split = 1;
+        p.borders.push_back(std::move(b));
+      }
+    m.points.push_back(std::move(p));
+  }
+  m.rebuild();
+  return m;
+}
+
+namespace {
+
+// Tangential force residual of the cone `slope`: f_t ~ mu f_n u_t / r over the samples in
+// contact (measured and geometric).
+FrictionEstimate fit_slope(const Recording& rec, const SurfaceEstimate& s,
+                           const friction::ShapeQuery& shape, double slope, double threshold) {
+  const friction::SysModel sys = cone_sys(s, slope, 1.0);
+  const friction::ProxyColumns pc = friction::proxy_track({.sys = &sys, .shape = &shape}, rec);
+  double sgg = 0, sfg = 0, sff = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    if (!pc.contact[i] || rec.f[i].norm() <= threshold) continue;
+    const Vec3& nn = pc.n[i];
+    const double fn = rec.f[i].dot(nn);
+    const Vec3 ft = rec.f[i] - fn * nn;
+    const Vec3 d = pc.q[i] - rec.p[i];
+    const Vec3 ut = d - d.dot(nn) * nn;
+    const double r = slope * std::max(d.dot(nn), 1e-3);
+    const Vec3 g = std::max(fn, 0.0) * ut / r;
+    sgg += g.squaredNorm(), sfg += ft.dot(g), sff += ft.squaredNorm(), ++n;
+  }
+  FrictionEstimate e;
+  e.slope = slope;
+  e.samples = n;
+  if (n == 0) return e;
+  e.mu = sgg > 0 ? std::max(sfg / sgg, 0.0) : 0.0;
+  const double sse = sff - 2 * e.mu * sfg + e.mu * e.mu * sgg;
+  e.rmse_t_n = std::sqrt(std::max(sse, 0.0) / double(n));
+  e.rmse_t0_n = std::sqrt(sff / double(n));
+  return e;
+}
+
+}  // namespace
+
+RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams& prm,
+                                     const std::string& path) {
+  RecordingEstimate e;
+  e.surface = estimate_surface(rec, prm, path);
+  e.mesh = e.surface.mesh();
+  const friction::MeshSurface shape(e.mesh, 0.0);
+  bool first = true;
+  for (double slope : prm.slopes) {
+    const FrictionEstimate f = fit_slope(rec, e.surface, shape, slope, prm.contact_threshold_n);
+    if (f.samples == 0) continue;
+    if (first || f.rmse_t_n < e.friction.rmse_t_n) e.friction = f;
+    first = false;
+  }
+  if (first)
+    throw ParseError(path, 1,
+                     "friction estimate: expected samples in contact with the estimated surface, "
+                     "found none");
+  e.sys = cone_sys(e.surface, e.friction.slope, e.friction.mu);
+  return e;
+}
+
+std::string estimate_note(const RecordingEstimate& e) {
+  const SurfaceEstimate& s = e.surface;
+  return fmt::format(
+      "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
+      "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
+      "it, "
+      "friction mu = {:.3f} with g_s radius {:.2f} x depth (tangential RMS {:.3f} -> {:.3f} N)",
+      s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
+      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.slope, e.friction.rmse_t0_n,
+      e.friction.rmse_t_n);
+}
+
+}  // namespace inhap::datadriven

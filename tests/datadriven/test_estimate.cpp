@@ -1,0 +1,86 @@
+// The surface, normals and friction estimated from a recording with no proxy, against the
+// known answer of a synthetic continuous-palpation rig (tests/support/palpation_rig.hpp) at the
+// rates of real rigs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "inhap/core/error.hpp"
+#include "inhap/datadriven/estimate.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "support/palpation_rig.hpp"
+
+namespace inhap::datadriven {
+namespace {
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+struct Errors {
+  double surface_mm, normal_deg, mu_rel;
+};
+
+Errors estimate_errors(const test::PalpationRig& rig, double seconds) {
+  const Recording rec = rig.record(seconds);
+  const RecordingEstimate e = estimate_recording(rec, {}, "rig.csv");
+  const friction::MeshSurface shape(e.mesh, 0.0);
+  const SurfaceFrame fr = rig.frame();
+  std::vector<double> dz, ang;
+  for (std::size_t i = 0; i < rec.size(); i += 5) {
+    // The true surface point under the probe: p moved back out along the normal by its depth.
+    const double d = (rig.point - rec.p[i]).dot(fr.n);
+    const Vec3 on = rec.p[i] + d * fr.n;
+    Vec3 c, n;
+    if (!shape.closest(on, c, n)) continue;
+    dz.push_back(std::abs((on - c).dot(n)));
+    ang.push_back(std::acos(std::clamp(n.dot(fr.n), -1.0, 1.0)) * 180 / std::numbers::pi);
+  }
+  return {median(dz), median(ang), std::abs(e.friction.mu - rig.mu) / rig.mu};
+}
+
+TEST(RecordingEstimate, SurfaceNormalsAndFrictionOfAPalpationRigAtRealRigRates) {
+  for (double rate : {66.0, 200.0, 1000.0}) {
+    test::PalpationRig rig;
+    rig.rate_hz = rate;
+    const Errors err = estimate_errors(rig, rate > 500 ? 40.0 : 120.0);
+    SCOPED_TRACE(rate);
+    EXPECT_LT(err.surface_mm, 0.2);  // depths of 0.2-2.5 mm
+    EXPECT_LT(err.normal_deg, 3.0);
+    EXPECT_LT(err.mu_rel, 0.15);
+  }
+}
+
+TEST(RecordingEstimate, AFlatRecordingWithoutContactIsRefusedNamingTheFile) {
+  Recording rec;
+  for (int i = 0; i < 100; ++i) {
+    rec.t.push_back(0.01 * i);
+    rec.p.push_back(Vec3(i * 0.1, 0, 0));
+    rec.f.push_back(Vec3::Zero());
+  }
+  try {
+    estimate_recording(rec, {}, "air.csv");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("air.csv"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RecordingEstimate, ThePushAxisAndDepthLawFollowTheData) {
+  test::PalpationRig rig;
+  const Recording rec = rig.record(60.0);
+  const SurfaceEstimate s = estimate_surface(rec, {}, "rig.csv");
+  // The mean force leans towards -t0 by the friction of the sweeps (which cancel) only: the
+  // axis is the plane's normal within a few degrees.
+  EXPECT_GT(s.axis.dot(rig.frame().n), std::cos(3.0 * std::numbers::pi / 180));
+  // d = f_n / k: gamma 1, b between 1 / k_inclusion and 1 / k.
+  EXPECT_DOUBLE_EQ(s.gamma, 1.0);
+  EXPECT_GT(s.b_median, 1.0 / rig.k_inclusion);
+  EXPECT_LT(s.b_median, 1.0 / rig.k * 1.05);
+}
+
+}  // namespace
+}  // namespace inhap::datadriven
