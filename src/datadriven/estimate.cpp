@@ -290,7 +290,8 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm
   return s;
 }
 
-friction::SysModel cone_sys(const SurfaceEstimate& s, double radius_per_n, double mu) {
+friction::SysModel cone_sys(const SurfaceEstimate& s, double radius_per_n, double mu,
+                            double tau_s) {
   friction::SysModel m;
   m.f_normal_levels.assign(std::begin(kLevelsN), std::end(kLevelsN));
   for (int k = 0; k < 8; ++k) m.angles.push_back(k * std::numbers::pi / 4);
@@ -324,6 +325,9 @@ friction::SysModel cone_sys(const SurfaceEstimate& s, double radius_per_n, doubl
         b.result.split = 1;
         p.borders.push_back(std::move(b));
       }
+    // A tangential spring mu / c N/mm; the excess beyond g_s relaxes in tau (Duvaut-Lions).
+    p.tangential_stiffness = mu / radius_per_n;
+    p.creep_viscosity = tau_s * p.tangential_stiffness;
     m.points.push_back(std::move(p));
   }
   m.rebuild();
@@ -335,9 +339,9 @@ namespace {
 // Tangential force residual of the cone `radius_per_n`: f_t ~ mu f_n u_t / r over the samples in
 // contact (measured and geometric).
 FrictionEstimate fit_radius(const Recording& rec, const SurfaceEstimate& s,
-                            const friction::ShapeQuery& shape, double radius_per_n,
+                            const friction::ShapeQuery& shape, double radius_per_n, double tau_s,
                             double threshold) {
-  const friction::SysModel sys = cone_sys(s, radius_per_n, 1.0);
+  const friction::SysModel sys = cone_sys(s, radius_per_n, 1.0, tau_s);
   const friction::ProxyColumns pc = friction::proxy_track({.sys = &sys, .shape = &shape}, rec);
   double sgg = 0, sfg = 0, sff = 0;
   std::size_t n = 0;
@@ -354,6 +358,7 @@ FrictionEstimate fit_radius(const Recording& rec, const SurfaceEstimate& s,
   }
   FrictionEstimate e;
   e.radius_per_n = radius_per_n;
+  e.tau_s = tau_s;
   e.samples = n;
   if (n == 0) return e;
   e.mu = sgg > 0 ? std::max(sfg / sgg, 0.0) : 0.0;
@@ -372,16 +377,20 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
   e.mesh = e.surface.mesh();
   const friction::MeshSurface shape(e.mesh, 0.0);
   bool first = true;
-  const auto consider = [&](double radius_per_n) {
+  const auto consider = [&](double radius_per_n, double tau_s) {
     const FrictionEstimate f =
-        fit_radius(rec, e.surface, shape, radius_per_n, prm.contact_threshold_n);
+        fit_radius(rec, e.surface, shape, radius_per_n, tau_s, prm.contact_threshold_n);
     if (f.samples == 0) return;
     if (first || f.rmse_t_n < e.friction.rmse_t_n) e.friction = f;
     first = false;
   };
   std::vector<double> grid = prm.radii;
   std::sort(grid.begin(), grid.end());
-  for (double radius_per_n : grid) consider(radius_per_n);
+  for (double radius_per_n : grid) consider(radius_per_n, 0.0);
+  // The relaxation time at the best radius, then the radius refined at that time.
+  if (!first)
+    for (double tau : prm.relaxation_s) consider(e.friction.radius_per_n, tau);
+  const double tau = e.friction.tau_s;
   // Then the geometric midpoints next to the best, twice.
   for (int pass = 0; pass < 2 && !first; ++pass) {
     const double best = e.friction.radius_per_n;
@@ -389,8 +398,8 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
     const double lo = it == grid.begin() ? best / 1.5 : *std::prev(it);
     const double hi = std::next(it) == grid.end() || it == grid.end() ? best * 1.5 : *std::next(it);
     const double a = std::sqrt(lo * best), b = std::sqrt(best * hi);
-    consider(a);
-    consider(b);
+    consider(a, tau);
+    consider(b, tau);
     grid.insert(std::upper_bound(grid.begin(), grid.end(), a), a);
     grid.insert(std::upper_bound(grid.begin(), grid.end(), b), b);
   }
@@ -398,7 +407,7 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
     throw ParseError(path, 1,
                      "friction estimate: expected samples in contact with the estimated surface, "
                      "found none");
-  e.sys = cone_sys(e.surface, e.friction.radius_per_n, e.friction.mu);
+  e.sys = cone_sys(e.surface, e.friction.radius_per_n, e.friction.mu, e.friction.tau_s);
   return e;
 }
 
@@ -408,10 +417,11 @@ std::string estimate_note(const RecordingEstimate& e) {
       "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
       "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
       "it, "
-      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n (tangential RMS {:.3f} -> {:.3f} N)",
+      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:g} s (tangential "
+      "RMS {:.3f} -> {:.3f} N)",
       s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
-      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.rmse_t0_n,
-      e.friction.rmse_t_n);
+      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.tau_s,
+      e.friction.rmse_t0_n, e.friction.rmse_t_n);
 }
 
 }  // namespace inhap::datadriven

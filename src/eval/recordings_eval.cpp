@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/csv.hpp"
 #include "inhap/core/error.hpp"
 
@@ -52,31 +53,88 @@ nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::strin
   return j;
 }
 
-void write_recordings_csv(const std::string& path, const RecordingsEval& e) {
+namespace {
+
+// The scored samples with the best baseline's prediction beside them.
+struct Curves {
+  std::string baseline;
+  std::vector<std::size_t> idx;  // test sample of each row
+  std::vector<Vec3> base;        // best baseline's force per row, N
+};
+
+Curves curves_of(const RecordingsEval& e) {
   const auto names = baseline_names();
   std::size_t best = 1;
   for (std::size_t k = 2; k < e.report.rows.size(); ++k)
     if (e.report.rows[k].errors.re_median < e.report.rows[best].errors.re_median) best = k;
   const Baselines b = fit_baselines(e.train.set.p, e.train.set.v, e.train.set.f);
-  std::vector<Vec3> p, v;
   const std::vector<Vec3> all_v = foaw_velocities(e.test.p, e.train.model.model.foaw);
-  std::vector<std::size_t> idx;
+  Curves c;
+  c.baseline = names[best - 1];
+  std::vector<Vec3> p, v;
   for (std::size_t i = 0; i < e.test.size(); ++i)
-    if (e.scored[i]) p.push_back(e.test.p[i]), v.push_back(all_v[i]), idx.push_back(i);
-  const auto pred = predict_baselines(b, p, v);
-  const std::vector<Vec3>& base = pred[best - 1];
-  const std::string bn = names[best - 1];
+    if (e.scored[i]) p.push_back(e.test.p[i]), v.push_back(all_v[i]), c.idx.push_back(i);
+  c.base = predict_baselines(b, p, v)[best - 1];
+  return c;
+}
+
+}  // namespace
+
+void write_recordings_csv(const std::string& path, const RecordingsEval& e) {
+  const Curves c = curves_of(e);
+  const std::string& bn = c.baseline;
   const std::vector<std::string> comments{"units: t s, forces N; mf measured, f the model, " + bn +
                                           " the best baseline (by RE median)"};
   CsvWriter w(path,
               {"t", "mfx", "mfy", "mfz", "fx", "fy", "fz", bn + "_fx", bn + "_fy", bn + "_fz"},
               comments);
-  for (std::size_t k = 0; k < idx.size(); ++k) {
-    const std::size_t i = idx[k];
-    const Vec3 &m = e.test.f[i], &f = e.rendered[i], &g = base[k];
+  for (std::size_t k = 0; k < c.idx.size(); ++k) {
+    const std::size_t i = c.idx[k];
+    const Vec3 &m = e.test.f[i], &f = e.rendered[i], &g = c.base[k];
     w.row({e.test.t[i], m.x(), m.y(), m.z(), f.x(), f.y(), f.z(), g.x(), g.y(), g.z()});
   }
   w.commit();
+}
+
+void write_recordings_svg(const std::string& path, const RecordingsEval& e, double seconds) {
+  const Curves c = curves_of(e);
+  std::vector<std::size_t> rows;
+  const double t0 = c.idx.empty() ? 0.0 : e.test.t[c.idx.front()];
+  for (std::size_t k = 0; k < c.idx.size(); ++k)
+    if (e.test.t[c.idx[k]] <= t0 + seconds) rows.push_back(k);
+  constexpr double W = 900, H = 220, L = 60, R = 20, T = 30, B = 30;
+  std::string svg = fmt::format(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
+      "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n",
+      W, 3 * H);
+  const char* colour[3] = {"black", "#1f77b4", "#ff7f0e"};
+  const std::string label[3] = {"measured", "model", c.baseline};
+  for (int a = 0; a < 3; ++a) {
+    double lo = 1e300, hi = -1e300;
+    const auto value = [&](std::size_t k, int s) {
+      const std::size_t i = c.idx[k];
+      return s == 0 ? e.test.f[i][a] : s == 1 ? e.rendered[i][a] : c.base[k][a];
+    };
+    for (std::size_t k : rows)
+      for (int s = 0; s < 3; ++s) lo = std::min(lo, value(k, s)), hi = std::max(hi, value(k, s));
+    if (!(hi > lo)) lo -= 1, hi += 1;
+    const double y0 = a * H;
+    const auto X = [&](double t) { return L + (t - t0) / seconds * (W - L - R); };
+    const auto Y = [&](double f) { return y0 + H - B - (f - lo) / (hi - lo) * (H - T - B); };
+    svg += fmt::format("<text x='{}' y='{}'>f{} (N), {:.2f}..{:.2f}; t (s) from {:.1f}</text>\n", L,
+                       y0 + 18, "xyz"[a], lo, hi, t0);
+    for (int s = 0; s < 3; ++s) {
+      std::string pts;
+      for (std::size_t k : rows)
+        pts += fmt::format("{:.1f},{:.1f} ", X(e.test.t[c.idx[k]]), Y(value(k, s)));
+      svg += fmt::format("<polyline fill='none' stroke='{}' stroke-width='1' points='{}'/>\n",
+                         colour[s], pts);
+      svg += fmt::format("<text x='{}' y='{}' fill='{}'>{}</text>\n", W - 260 + 90 * s, y0 + 18,
+                         colour[s], label[s]);
+    }
+  }
+  svg += "</svg>\n";
+  write_file_atomic(path, svg);
 }
 
 }  // namespace inhap::eval

@@ -11,7 +11,7 @@ namespace {
 
 struct EvalRecordingsOptions {
   eval::TrainFileOptions file;
-  std::string test, json, csv;
+  std::string test, json, csv, svg;
 };
 
 void run_eval_recordings(EvalRecordingsOptions& o) {
@@ -23,6 +23,7 @@ void run_eval_recordings(EvalRecordingsOptions& o) {
   fmt::print("{}", eval::baseline_text(e.report));
   if (!o.json.empty()) write_file_atomic(o.json, eval::recordings_json(e, o.test).dump(1) + "\n");
   if (!o.csv.empty()) eval::write_recordings_csv(o.csv, e);
+  if (!o.svg.empty()) eval::write_recordings_svg(o.svg, e);
 }
 
 void register_eval_recordings(CLI::App& app) {
@@ -41,6 +42,9 @@ void register_eval_recordings(CLI::App& app) {
                 "Write {model, baselines, verdict, rate_hz, estimated, ...} as JSON here");
   c->add_option("--csv", o->csv,
                 "Write measured vs rendered force per axis (model and the best baseline) here");
+  c->add_option("--plot", o->svg,
+                "Draw measured vs rendered force per axis (model and the best baseline) over the "
+                "first 20 s of the test recording: SVG file");
   c->add_option("--preset", o->file.request.preset, "Training preset (see model train)")
       ->capture_default_str();
   c->add_option("--time-unit", o->file.units.time, "s or ms")->capture_default_str();

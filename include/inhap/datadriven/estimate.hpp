@@ -22,7 +22,10 @@
 // depth-force law gives for f_N. c (mm/N) is chosen from `radii` (then twice the geometric
 // midpoints beside the best) by the smallest residual of the tangential force against
 // mu f_n (u_t / r) over the recording, u_t the tangential part of q - p of the proxy that c gives
-// and r the g_s radius there; mu is the least-squares fit.
+// and r the g_s radius there; mu is the least-squares fit. Then a slip relaxation time tau
+// (viscous creep: the excess beyond g_s relaxes in tau, so a probe sliding at speed v leads the
+// proxy by the static range plus v tau) from `relaxation_s` at that c, by the same residual, and
+// c refined at that tau.
 #pragma once
 
 #include <string>
@@ -39,12 +42,14 @@ namespace inhap::datadriven {
 struct EstimateParams {
   double contact_threshold_n = 0.05;  ///< |f| above it = in contact (samples used), N
   double cell_mm = 2.0;               ///< height-field cell, mm
-  double margin_mm = 6.0;             ///< the surface extends this far beyond the data, mm
+  double margin_mm = 20.0;            ///< the surface extends this far beyond the data, mm
   int min_cell_samples = 8;           ///< samples (3 x 3 cells) needed to fit a cell
   double min_force_spread_n = 0.15;   ///< force range needed to fit a cell, N
   int smooth_passes = 2;              ///< 3 x 3 mean passes over the heights
   /// Candidates of the g_s radius per newton of normal load, mm/N.
   std::vector<double> radii{0.05, 0.08, 0.13, 0.2, 0.33, 0.5, 0.8, 1.3, 2.0, 3.2, 5.0, 8.0};
+  /// Candidates of the slip relaxation time (viscous creep beyond g_s), s.
+  std::vector<double> relaxation_s{0.01, 0.02, 0.05, 0.1, 0.2};
   void validate() const;  ///< throws inhap::Error on out-of-range values
 };
 
@@ -73,6 +78,7 @@ struct SurfaceEstimate {
 struct FrictionEstimate {
   double mu = 0;              ///< Coulomb coefficient |f_t| / f_n when sliding
   double radius_per_n = 1.0;  ///< g_s radius per newton of normal load, mm/N
+  double tau_s = 0;           ///< slip relaxation time (creep), s; 0: rate-independent
   double rmse_t_n = 0;        ///< residual of the tangential force, N
   double rmse_t0_n = 0;       ///< the tangential force's RMS without friction (mu = 0), N
   std::size_t samples = 0;    ///< samples of the fit
@@ -93,7 +99,8 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& par
 
 /// Yield surfaces with an isotropic Coulomb cone (g_s radius = radius_per_n x f_N, f_s radius =
 /// mu f_N) at reference points spread over the surface.
-friction::SysModel cone_sys(const SurfaceEstimate& surface, double radius_per_n, double mu);
+friction::SysModel cone_sys(const SurfaceEstimate& surface, double radius_per_n, double mu,
+                            double tau_s = 0.0);
 
 /// Surface, friction and the sys model of a recording.
 RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams& params,

@@ -31,4 +31,9 @@ nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::strin
 /// as CSV rows: t, measured x/y/z, model x/y/z, baseline x/y/z (N), scored samples only.
 void write_recordings_csv(const std::string& path, const RecordingsEval& e);
 
+/// The same as a figure: three panels (x, y, z), force (N) against time (s) over the first
+/// `seconds` of the test recording, measured (black), the model (blue) and the best baseline
+/// (orange); SVG, written atomically.
+void write_recordings_svg(const std::string& path, const RecordingsEval& e, double seconds = 20.0);
+
 }  // namespace inhap::eval

@@ -1,0 +1,90 @@
+// The surface, normals and friction estimated from a lab recording logged at a rig's rate (no
+// palpation cycles, no mesh), against the lab's ground truth: the true proxy (anchor), the
+// object's normal there and its friction coefficient.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "inhap/datadriven/estimate.hpp"
+#include "inhap/eval/lab_files.hpp"
+#include "inhap/friction/mesh_surface.hpp"
+#include "inhap/lab/operators.hpp"
+#include "inhap/lab/scene.hpp"
+
+namespace inhap::eval {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+struct Scores {
+  double surface_mm, normal_deg, mu_rel;
+  std::size_t samples;
+};
+
+Scores score(const std::string& scene_name, double rate_hz, double seconds) {
+  const lab::Scene scene = lab::builtin_scene(scene_name);
+  LabRecordRequest req;
+  req.op = "explore";
+  req.coverage = true;
+  req.seconds = seconds;
+  const lab::LabRecording lr =
+      downsample_recording(lab::record_scene(scene, lab_record_spec(req)), rate_hz, 1);
+  const datadriven::RecordingEstimate e =
+      datadriven::estimate_recording(lr.rec, {}, scene_name + ".csv");
+  const friction::MeshSurface est(e.mesh, 0.0);
+  std::vector<double> dist, ang, mu;
+  for (std::size_t i = 0; i < lr.truth.size(); ++i) {
+    const Vec3& a = lr.truth.anchor[i];
+    if (!lr.truth.contact[i] || !a.allFinite()) continue;
+    Vec3 c, n;
+    if (!est.closest(a, c, n)) continue;
+    const lab::SurfaceQuery truth = scene.object.query(a);
+    if (!truth.normal.allFinite()) continue;
+    dist.push_back(std::abs((a - c).dot(n)));
+    ang.push_back(std::acos(std::clamp(n.dot(truth.normal.normalized()), -1.0, 1.0)) * 180 /
+                  std::numbers::pi);
+    mu.push_back(lr.truth.mu[i]);
+  }
+  const double mu_true = median(mu);
+  return {median(dist), median(ang), std::abs(e.friction.mu - mu_true) / mu_true, dist.size()};
+}
+
+TEST(RecordingEstimateLab, PlanarAndDomeAt66HzAgainstTheLabsTruth) {
+  for (const char* name : {"planar", "dome"}) {
+    const Scores s = score(name, 66.0, 52.0);
+    std::printf("%s at 66 Hz: surface %.3f mm, normal %.2f deg, mu %.3f relative (%zu samples)\n",
+                name, s.surface_mm, s.normal_deg, s.mu_rel, s.samples);
+    SCOPED_TRACE(name);
+    ASSERT_GT(s.samples, 1000u);
+    EXPECT_LT(s.surface_mm, 0.5);
+    EXPECT_LT(s.normal_deg, 5.0);
+    EXPECT_LT(s.mu_rel, 0.2);
+  }
+}
+
+TEST(RecordingEstimateLab, DownsamplingKeepsTheRateAndTheTruthAligned) {
+  const lab::Scene scene = lab::builtin_scene("planar");
+  LabRecordRequest req;
+  req.seconds = 3.0;
+  const lab::LabRecording full = lab::record_scene(scene, lab_record_spec(req));
+  const lab::LabRecording low = downsample_recording(full, 66.0, 1);
+  ASSERT_EQ(low.rec.size(), low.truth.size());
+  EXPECT_NEAR(static_cast<double>(low.rec.size()), 3.0 * 66.0, 3.0);
+  for (std::size_t i = 0; i < low.rec.size(); ++i) EXPECT_EQ(low.rec.t[i], low.truth.t[i]);
+  std::vector<double> dt;
+  for (std::size_t i = 1; i < low.rec.size(); ++i) dt.push_back(low.rec.t[i] - low.rec.t[i - 1]);
+  EXPECT_NEAR(median(dt), 1.0 / 66.0, 2e-3);
+  EXPECT_GT(*std::max_element(dt.begin(), dt.end()) - *std::min_element(dt.begin(), dt.end()),
+            2e-3);  // jittered
+  EXPECT_EQ(downsample_recording(full, 1000.0, 1).rec.size(), full.rec.size());
+}
+
+}  // namespace
+}  // namespace inhap::eval
