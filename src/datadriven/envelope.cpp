@@ -14,6 +14,13 @@ namespace inhap::datadriven {
 namespace {
 constexpr int kMaxCells = 200;      // per axis
 constexpr int kMaxDepthBins = 100;  // 50 mm at 0.5 mm
+
+// floor(x) clamped to [lo, hi] before the conversion (no overflow for a huge x; NaN gives lo).
+int clamped_index(double x, int lo, int hi) {
+  if (!(x >= lo)) return lo;
+  if (x >= hi) return hi;
+  return static_cast<int>(std::floor(x));
+}
 }  // namespace
 
 ForceEnvelope make_force_envelope(const std::vector<Vec3>& q, const std::vector<Vec3>& p,
@@ -32,10 +39,10 @@ ForceEnvelope make_force_envelope(const std::vector<Vec3>& q, const std::vector<
     }
   if (box.empty()) return e;
   for (int a = 0; a < 3; ++a)
-    e.dims[a] = std::clamp(int(std::floor(box.size()[a] / cell_mm)) + 1, 1, kMaxCells);
+    e.dims[a] = clamped_index(box.size()[a] / cell_mm, 0, kMaxCells - 1) + 1;
   e.origin = box.min;
   e.cell_mm = std::max(cell_mm, (box.size() / double(kMaxCells - 1)).maxCoeff());
-  e.depth_bins = std::clamp(int(std::floor(key_max / depth_step_mm)) + 1, 1, kMaxDepthBins);
+  e.depth_bins = clamped_index(key_max / depth_step_mm, 0, kMaxDepthBins - 1) + 1;
   const std::size_t nb = std::size_t(e.depth_bins);
   const auto deepest_of = [nb](const float* v) {
     int d = -1;
@@ -50,10 +57,11 @@ ForceEnvelope make_force_envelope(const std::vector<Vec3>& q, const std::vector<
     if (!q[i].allFinite() || !p[i].allFinite() || !f[i].allFinite()) continue;
     std::size_t c = 0;
     for (int a = 2; a >= 0; --a) {
-      const int k = std::clamp(int((q[i][a] - e.origin[a]) / e.cell_mm), 0, e.dims[a] - 1);
+      const int k = clamped_index((q[i][a] - e.origin[a]) / e.cell_mm, 0, e.dims[a] - 1);
       c = c * std::size_t(e.dims[a]) + std::size_t(k);
     }
-    const std::size_t b = std::min(nb - 1, std::size_t((q[i] - p[i]).norm() / depth_step_mm));
+    const auto b = static_cast<std::size_t>(
+        clamped_index((q[i] - p[i]).norm() / depth_step_mm, 0, static_cast<int>(nb) - 1));
     const float m = float(f[i].norm());
     own[c * nb + b] = std::max(own[c * nb + b], m);
     e.global[b] = std::max(e.global[b], m);
@@ -98,7 +106,8 @@ double ForceEnvelope::limit(const Vec3& q, double key) const noexcept {
   if (empty()) return std::numeric_limits<double>::infinity();
   if (!q.allFinite() || !std::isfinite(key)) return 0.0;
   const std::size_t nb = global.size();
-  const std::size_t b = key <= 0 ? 0 : std::min(nb - 1, std::size_t(key / depth_step_mm));
+  const auto b =
+      static_cast<std::size_t>(clamped_index(key / depth_step_mm, 0, static_cast<int>(nb) - 1));
   double env = global[b];
   int deep = global_deepest;
   bool inside = true;
@@ -106,7 +115,7 @@ double ForceEnvelope::limit(const Vec3& q, double key) const noexcept {
   for (int a = 2; a >= 0; --a) {
     const double u = (q[a] - origin[a]) / cell_mm;
     if (!(u >= -1.0 && u < dims[a] + 1.0)) inside = false;
-    const int k = std::clamp(int(std::floor(u)), 0, dims[a] - 1);
+    const int k = clamped_index(u, 0, dims[a] - 1);
     c = c * std::size_t(dims[a]) + std::size_t(k);
   }
   if (inside && c * nb + b < f_max.size() && !std::isnan(f_max[c * nb + b])) {

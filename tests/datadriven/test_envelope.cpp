@@ -29,6 +29,8 @@ TEST(ForceEnvelope, CapIsTheLargestForceOneDepthStepDeeperPlusTheStatedMargin) {
   EXPECT_DOUBLE_EQ(e.limit(q[0], 50.0), cap(5.0));            // beyond the deepest bin: the deepest
   EXPECT_DOUBLE_EQ(e.limit(Vec3(1e4, 0, 0), 0.2), cap(1.0));  // outside the grid: global
   EXPECT_EQ(e.limit(Vec3(NAN, 0, 0), 0.2), 0.0);
+  // Absurd but finite states index nothing out of range (global value, deepest bin).
+  EXPECT_DOUBLE_EQ(e.limit(Vec3(1e300, -1e300, 1e300), 1e300), cap(5.0));
   EXPECT_TRUE(std::isinf(ForceEnvelope{}.limit(q[0], 0.2)));
 }
 
