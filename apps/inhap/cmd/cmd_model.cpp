@@ -200,7 +200,9 @@ void register_model(CLI::App& app) {
   auto* model = app.add_subcommand(
       "model",
       "Data-driven force model f = g(p, pdot, q) (thesis 4.4): r^3 RBFs per ||q - p|| bin.\n"
-      "Recordings need proxy columns qx,qy,qz (mm) and a contact column (or a force threshold).");
+      "Recordings: t,px,py,pz,fx,fy,fz (s, mm, N) at any rate; proxy columns qx,qy,qz (mm) when\n"
+      "they have them, else the surface, normals, proxy and friction are estimated from the\n"
+      "recording (docs/real-recordings.md). Contact from a column or a force threshold.");
   model->require_subcommand(1);
   register_train(*model);
   // eval and render: a trained model replayed over a recording
