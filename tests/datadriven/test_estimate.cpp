@@ -77,9 +77,32 @@ TEST(RecordingEstimate, ThePushAxisAndDepthLawFollowTheData) {
   // axis is the plane's normal within a few degrees.
   EXPECT_GT(s.axis.dot(rig.frame().n), std::cos(3.0 * std::numbers::pi / 180));
   // d = f_n / k: gamma 1, b between 1 / k_inclusion and 1 / k.
-  EXPECT_DOUBLE_EQ(s.gamma, 1.0);
+  EXPECT_NEAR(s.gamma, 1.0, 0.051);
   EXPECT_GT(s.b_median, 1.0 / rig.k_inclusion);
   EXPECT_LT(s.b_median, 1.0 / rig.k * 1.05);
+}
+
+// A Hertzian material (f_n = k d^1.5, d = (f_n / k)^(2/3)) pressed 0.2-2.5 mm: the exponent is
+// found near 2/3 and the surface extrapolated to zero force without a bias. A depth-force law
+// fitted with gamma 1/2 would put the surface about 0.2 mm too high here (0.8 mm on the lab's
+// silicone), and one fitted on the lighter forces alone cannot tell 1/2 from 2/3.
+TEST(RecordingEstimate, AHertzianMaterialsSurfaceIsFoundWithoutABias) {
+  for (double rate : {66.0, 1000.0}) {
+    test::PalpationRig rig;
+    // The lab's silicone: k = 0.33 N/mm^1.5, Hunt-Crossley damping 0.004 s/mm, pressed 0.2-4 mm.
+    rig.exponent = 1.5;
+    rig.k = 0.33, rig.k_inclusion = 0.6;
+    rig.damping = 0.004;
+    rig.depth_max = 4.0;
+    rig.rate_hz = rate;
+    SCOPED_TRACE(rate);
+    const Recording rec = rig.record(rate > 500 ? 40.0 : 120.0);
+    const SurfaceEstimate s = estimate_surface(rec, {}, "rig.csv");
+    EXPECT_NEAR(s.gamma, 2.0 / 3.0, 0.051);
+    const Errors err = estimate_errors(rig, rate > 500 ? 40.0 : 120.0);
+    EXPECT_LT(err.surface_mm, 0.1);
+    EXPECT_LT(err.normal_deg, 3.0);
+  }
 }
 
 }  // namespace

@@ -62,10 +62,14 @@ Scores score(const std::string& scene_name, double rate_hz, double seconds) {
 TEST(RecordingEstimateLab, PlanarAndDomeAt66HzAgainstTheLabsTruth) {
   struct Case {
     const char* name;
-    double surface_mm, normal_deg, mu_rel;
+    double seconds, surface_mm, normal_deg, mu_rel;
   };
-  for (const Case& c : {Case{"planar", 0.2, 3.0, 0.2}, Case{"dome", 0.5, 8.0, 0.35}}) {
-    const Scores s = score(c.name, 66.0, 52.0);
+  // The training runs of `eval forces` (65 s planar, 52 s dome). On the 65 s planar run a
+  // depth-force law fitted on the lighter forces alone took gamma 1/2 for the silicone's 2/3 and
+  // put the surface 0.8 mm high.
+  for (const Case& c :
+       {Case{"planar", 65.0, 0.15, 3.0, 0.25}, Case{"dome", 52.0, 0.6, 8.0, 0.35}}) {
+    const Scores s = score(c.name, 66.0, c.seconds);
     std::printf("%s at 66 Hz: surface %.3f mm, normal %.2f deg, mu %.3f relative (%zu samples)\n",
                 c.name, s.surface_mm, s.normal_deg, s.mu_rel, s.samples);
     SCOPED_TRACE(c.name);

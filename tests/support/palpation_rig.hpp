@@ -1,7 +1,7 @@
 // A continuous-palpation recording with a known answer, as a robot rig logs it: the probe
 // centre slides along a raster over a tilted plane while its depth follows a sinusoid, logged
-// at `rate_hz` with jittered time stamps. Force: f_n = k(u, v) d along the plane's normal and
-// Coulomb friction mu f_n against the sliding direction. Units: mm, N, s.
+// at `rate_hz` with jittered time stamps. Force: f_n = k(u, v) d^exponent along the plane's normal
+// and Coulomb friction mu f_n against the sliding direction. Units: mm, N, s.
 #pragma once
 
 #include <cmath>
@@ -17,9 +17,12 @@ struct PalpationRig {
   Vec3 normal = Vec3(0.1, -0.3, 1.0).normalized();  ///< outward normal of the plane
   Vec3 point = Vec3(5.0, -3.0, -120.0);             ///< a point of the probe-centre plane, mm
   double mu = 0.3;
-  double k = 1.0;                                 ///< N/mm away from the inclusion
-  double k_inclusion = 2.0;                       ///< N/mm at the centre of the stiffer inclusion
-  double speed = 10.0;                            ///< sliding speed, mm/s
+  double k = 1.0;            ///< N/mm away from the inclusion
+  double k_inclusion = 2.0;  ///< N/mm at the centre of the stiffer inclusion
+  /// f_n = k d^exponent (1: a linear spring; 1.5: Hertz), k in N/mm^exponent.
+  double exponent = 1.0;
+  double damping = 0.0;  ///< Hunt-Crossley: f_n x (1 + damping x depth rate), s/mm
+  double speed = 10.0;   ///< sliding speed, mm/s
   double width = 30.0, rows = 6, row_step = 4.0;  ///< raster, mm
   double depth_min = 0.2, depth_max = 2.5, palpation_hz = 2.0;
   double rate_hz = 66.0, jitter = 0.2;  ///< logging rate, +- share of its period
@@ -59,7 +62,10 @@ struct PalpationRig {
       raster(t, u, v, dir);
       const double d = depth(t);
       const Vec3 p = point + u * fr.t0 + v * fr.t1 - d * fr.n;
-      const double fn = stiffness(u, v) * d;
+      const double rate = (depth_max - depth_min) * std::numbers::pi * palpation_hz *
+                          std::sin(2 * std::numbers::pi * palpation_hz * t);
+      const double fn =
+          stiffness(u, v) * std::pow(d, exponent) * std::max(0.0, 1.0 + damping * rate);
       const Vec3 f = fn * fr.n - mu * fn * dir * fr.t0 +
                      Vec3(rng.normal(), rng.normal(), rng.normal()) * noise_n;
       rec.t.push_back(t);

@@ -10,8 +10,8 @@
 // the surface found about it (twice). Around a the samples are binned on a regular grid of the
 // plane perpendicular to it (cell_mm); in each cell (with its 8 neighbours) the position along a
 // is fitted against the normal force as s = h - b f_n^gamma (a depth-force law d = b f_n^gamma,
-// gamma from {0.5, 2/3, 1}, chosen once for the whole recording by the smallest residual) using
-// the samples of the lighter half of the cell's forces; h, the position at zero force, is the
+// gamma from 0.4 to 1.2 in steps of 0.05, chosen once for the whole recording by the smallest
+// residual) using every sample of the block; h, the position at zero force, is the
 // undeformed surface there. Cells without enough samples or force spread are filled from their
 // neighbours (harmonic fill), then the heights are smoothed (3 x 3 mean, `smooth_passes`). The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
