@@ -45,8 +45,11 @@ struct CellFit {
   std::size_t n = 0;
 };
 
+// With `b_prior` > 0 the slope is shrunk towards it (ridge): a block whose forces span little
+// (relative spread of f_n^gamma well under `prior_spread`) takes the recording's depth law and
+// only its offset h from the data, so a few samples at one force cannot tilt the surface.
 bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const EstimateParams& prm,
-              CellFit& out) {
+              CellFit& out, double b_prior = 0.0, double prior_spread = 0.0) {
   if (block.size() < static_cast<std::size_t>(prm.min_cell_samples)) return false;
   const auto [lo, hi] =
       std::minmax_element(block.begin(), block.end(),
@@ -61,6 +64,12 @@ bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const Estima
   const double dn = static_cast<double>(n), den = dn * sxx - sx * sx;
   if (!(den > 1e-12)) return false;
   double ds_dx = (dn * sxy - sx * sy) / den;  // ds/dx = -b
+  if (b_prior > 0) {
+    // Centred sums: Sxx = sum (x - mean)^2, Sxy likewise; ridge weight kappa = n (spread mean)^2.
+    const double mx = sx / dn, cxx = sxx - dn * mx * mx, cxy = sxy - sx * sy / dn;
+    const double kappa = dn * prior_spread * prior_spread * mx * mx;
+    ds_dx = (cxy - kappa * b_prior) / (cxx + kappa);
+  }
   ds_dx = std::min(ds_dx, 0.0);
   out.b = -ds_dx;
   out.h = (sy - ds_dx * sx) / dn;
@@ -139,7 +148,8 @@ Vec3 plane_normal(const SurfaceEstimate& s, const std::vector<Vec3>& uvh) {
 
 void EstimateParams::validate() const {
   if (!(cell_mm > 0) || !std::isfinite(cell_mm) || !(margin_mm >= 0) || min_cell_samples < 3 ||
-      !(contact_threshold_n >= 0) || smooth_passes < 0 || radii.empty())
+      !(contact_threshold_n >= 0) || smooth_passes < 0 || radii.empty() ||
+      !(slope_prior_spread >= 0) || !std::isfinite(slope_prior_spread))
     throw Error("surface estimate: cell and margin must be positive mm, at least 3 samples a cell");
   for (double s : radii)
     if (!(s > 0) || !std::isfinite(s))
@@ -245,12 +255,23 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
   s.height = Grid(W, H, 0.0);
   std::vector<char> known(std::size_t(W) * H, 0);
   std::vector<double> bs;
+  // The recording's depth law first (median slope of the free fits), then every cell's fit with
+  // its slope shrunk towards it.
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       if (cells[std::size_t(y) * W + x].empty()) continue;
       std::vector<const PlaneSample*> b = block_of(x, y);
       CellFit f;
-      if (!fit_cell(b, s.gamma, prm, f)) continue;
+      if (fit_cell(b, s.gamma, prm, f)) bs.push_back(f.b);
+    }
+  const double b0 = median(bs);
+  bs.clear();
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (cells[std::size_t(y) * W + x].empty()) continue;
+      std::vector<const PlaneSample*> b = block_of(x, y);
+      CellFit f;
+      if (!fit_cell(b, s.gamma, prm, f, b0, prm.slope_prior_spread)) continue;
       s.height.at(x, y) = f.h;
       uvh.emplace_back((x + 0.5) * prm.cell_mm, (y + 0.5) * prm.cell_mm, f.h);
       known[std::size_t(y) * W + x] = 1;

@@ -11,7 +11,9 @@
 // plane perpendicular to it (cell_mm); in each cell (with its 8 neighbours) the position along a
 // is fitted against the normal force as s = h - b f_n^gamma (a depth-force law d = b f_n^gamma,
 // gamma from 0.4 to 1.2 in steps of 0.05, chosen once for the whole recording by the smallest
-// residual) using every sample of the block; h, the position at zero force, is the
+// residual) using every sample of the block, its slope b shrunk towards the recording's median b
+// (a ridge term, `slope_prior_spread`: a block pressed over a narrow force range takes the
+// recording's law and only its offset from the data); h, the position at zero force, is the
 // undeformed surface there. Cells without enough samples or force spread are filled from their
 // neighbours (harmonic fill), then the heights are smoothed (3 x 3 mean, `smooth_passes`). The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
@@ -46,6 +48,9 @@ struct EstimateParams {
   int min_cell_samples = 8;           ///< samples (3 x 3 cells) needed to fit a cell
   double min_force_spread_n = 0.15;   ///< force range needed to fit a cell, N
   int smooth_passes = 2;              ///< 3 x 3 mean passes over the heights
+  /// Weight of the recording's depth law in each cell's fit: the cell's slope b is shrunk towards
+  /// the median b as if the cell's f_n^gamma had this relative spread (0: every cell on its own).
+  double slope_prior_spread = 1.0;
   /// Candidates of the g_s radius per newton of normal load, mm/N.
   std::vector<double> radii{0.05, 0.08, 0.13, 0.2, 0.33, 0.5, 0.8, 1.3, 2.0, 3.2, 5.0, 8.0};
   /// Candidates of the slip relaxation time (viscous creep beyond g_s), s.
