@@ -154,6 +154,9 @@ void EstimateParams::validate() const {
   for (double s : radii)
     if (!(s > 0) || !std::isfinite(s))
       throw Error(fmt::format("friction estimate: radii must be positive, got {}", s));
+  for (double t : relaxation_s)
+    if (!(t >= 0) || !std::isfinite(t))
+      throw Error(fmt::format("friction estimate: relaxation times must be >= 0 s, got {}", t));
 }
 
 double SurfaceEstimate::height_at(double u, double v) const {
@@ -418,19 +421,30 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
   // The relaxation time at the best radius, then the radius refined at that time.
   if (!first)
     for (double tau : prm.relaxation_s) consider(e.friction.radius_per_n, tau);
+  // Then the geometric midpoints next to the best radius (at that time), twice, and the same for
+  // the time (at that radius).
+  const auto refine = [&](std::vector<double> values, const auto& best_of, const auto& try_at) {
+    std::sort(values.begin(), values.end());
+    for (int pass = 0; pass < 2 && !first; ++pass) {
+      const double best = best_of();
+      if (!(best > 0)) return;  // a time of 0 (rate-independent) has no geometric neighbours
+      const auto it = std::lower_bound(values.begin(), values.end(), best);
+      const double lo = it == values.begin() ? best / 1.5 : *std::prev(it);
+      const double hi =
+          it == values.end() || std::next(it) == values.end() ? best * 1.5 : *std::next(it);
+      const double a = std::sqrt(lo * best), b = std::sqrt(best * hi);
+      try_at(a);
+      try_at(b);
+      values.insert(std::upper_bound(values.begin(), values.end(), a), a);
+      values.insert(std::upper_bound(values.begin(), values.end(), b), b);
+    }
+  };
   const double tau = e.friction.tau_s;
-  // Then the geometric midpoints next to the best, twice.
-  for (int pass = 0; pass < 2 && !first; ++pass) {
-    const double best = e.friction.radius_per_n;
-    const auto it = std::lower_bound(grid.begin(), grid.end(), best);
-    const double lo = it == grid.begin() ? best / 1.5 : *std::prev(it);
-    const double hi = std::next(it) == grid.end() || it == grid.end() ? best * 1.5 : *std::next(it);
-    const double a = std::sqrt(lo * best), b = std::sqrt(best * hi);
-    consider(a, tau);
-    consider(b, tau);
-    grid.insert(std::upper_bound(grid.begin(), grid.end(), a), a);
-    grid.insert(std::upper_bound(grid.begin(), grid.end(), b), b);
-  }
+  refine(
+      grid, [&] { return e.friction.radius_per_n; }, [&](double c) { consider(c, tau); });
+  const double radius = e.friction.radius_per_n;
+  refine(
+      prm.relaxation_s, [&] { return e.friction.tau_s; }, [&](double t) { consider(radius, t); });
   if (first)
     throw ParseError(path, 1,
                      "friction estimate: expected samples in contact with the estimated surface, "
@@ -445,7 +459,7 @@ std::string estimate_note(const RecordingEstimate& e) {
       "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
       "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
       "it, "
-      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:g} s (tangential "
+      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:.3g} s (tangential "
       "RMS {:.3f} -> {:.3f} N)",
       s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
       s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.tau_s,

@@ -26,8 +26,8 @@
 // mu f_n (u_t / r) over the recording, u_t the tangential part of q - p of the proxy that c gives
 // and r the g_s radius there; mu is the least-squares fit. Then a slip relaxation time tau
 // (viscous creep: the excess beyond g_s relaxes in tau, so a probe sliding at speed v leads the
-// proxy by the static range plus v tau) from `relaxation_s` at that c, by the same residual, and
-// c refined at that tau.
+// proxy by the static range plus v tau) from `relaxation_s` at that c, by the same residual, then
+// c refined at that tau and tau refined at that c (geometric midpoints beside the best, twice).
 #pragma once
 
 #include <string>
