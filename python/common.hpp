@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -39,12 +40,25 @@ struct Interrupted : std::exception {
 pyb::array checked(const pyb::handle& obj, const char* name, std::size_t cols,
                    std::size_t rows = 0);
 
-/// N x 3 float64 C-order array as Vec3 (the library's point layout): used in place.
+// The library's points are Vec3 (Eigen::Vector3d): three packed doubles, so the rows of a
+// checked (N, 3) float64 C-order array are Vec3s in place. Said here once, checked by the
+// compiler.
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && alignof(Vec3) <= alignof(double),
+              "Vec3 must be three packed doubles for zero-copy (N, 3) arrays");
+
+/// N x 3 float64 C-order array (checked) as Vec3 (the library's point layout): used in place.
 inline const Vec3* as_vec3(const pyb::array& a) {
   return reinterpret_cast<const Vec3*>(a.data());
 }
 inline const double* as_doubles(const pyb::array& a) {
   return static_cast<const double*>(a.data());
+}
+/// The same as the spans the library takes (N rows, no copy).
+inline std::span<const Vec3> vec3_span(const pyb::array& a) {
+  return {as_vec3(a), static_cast<std::size_t>(a.shape(0))};
+}
+inline std::span<const double> double_span(const pyb::array& a) {
+  return {as_doubles(a), static_cast<std::size_t>(a.shape(0))};
 }
 
 /// A numpy view of library storage kept alive by `owner` (no copy). Writable.
