@@ -213,7 +213,7 @@ void bind_contact_functions(pyb::module_& m) {
         const ContactOptions o = contact_options(method, eps, window, post, min_contact, refine);
         PyContacts r;
         pyb::gil_scoped_release release;
-        r.c = detect_contacts({as_doubles(ta), n}, {as_vec3(pa), n}, {as_vec3(fa), n}, o, &r.notes);
+        r.c = detect_contacts(double_span(ta), vec3_span(pa), vec3_span(fa), o, &r.notes);
         return r;
       },
       pyb::arg("t"), pyb::arg("p"), pyb::arg("f"), pyb::arg("method") = "estimate",
@@ -228,7 +228,7 @@ void bind_contact_functions(pyb::module_& m) {
         const pyb::array ta = checked(t, "t", 0);
         const auto n = static_cast<std::size_t>(ta.shape(0));
         const pyb::array fa = checked(f, "f", 0, n);
-        const KneeFit k = fit_knee({as_doubles(ta), n}, {as_doubles(fa), n}, KneeOptions{refine});
+        const KneeFit k = fit_knee(double_span(ta), double_span(fa), KneeOptions{refine});
         pyb::dict d;
         d["valid"] = k.valid;
         d["tc"] = k.tc;
@@ -282,9 +282,8 @@ pyb::tuple reconstruct(const pyb::object& pts, const pyb::object& dirs, const st
   TriMesh mesh;
   {
     pyb::gil_scoped_release release;
-    mesh = reconstruct_surface(
-        {as_vec3(pa), n},
-        dirs.is_none() ? std::span<const Vec3>() : std::span<const Vec3>(as_vec3(da), n), o, &rep);
+    mesh = reconstruct_surface(vec3_span(pa),
+                               dirs.is_none() ? std::span<const Vec3>() : vec3_span(da), o, &rep);
   }
   const std::string text = eval::reconstruct_summary(rep, o, mode, !dirs.is_none());
   return pyb::make_tuple(std::move(mesh), text);

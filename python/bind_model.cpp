@@ -3,7 +3,9 @@
 // Units: positions mm, velocities mm/s, forces N, time s.
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "common.hpp"
 #include "inhap/core/error.hpp"
@@ -12,6 +14,8 @@
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/eval/model_files.hpp"
 #include "inhap/eval/recordings.hpp"
+#include "inhap/eval/recordings_eval.hpp"
+#include "inhap/geometry/trimesh.hpp"
 
 namespace inhap::py {
 
@@ -116,33 +120,88 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
   return o;
 }
 
-/// A trained model and what training said (notes, coverage lines).
+/// A trained model and what training said (notes, coverage lines); a model trained here also
+/// keeps its estimated surface and yield surfaces and its training samples (for eval, render and
+/// save); a model read from or written to a file knows its path (the references beside it).
 struct PyForceModel {
   TrainedForceModel m;
   std::vector<std::string> notes;
+  std::string path;
+  std::optional<datadriven::RecordingEstimate> estimate;
+  std::optional<datadriven::TrainingSet> set;
+
+  eval::ModelSource source(const std::string& mesh_flag, const TriMesh* mesh) const {
+    eval::ModelSource s;
+    s.model = &m;
+    s.path = path;
+    s.estimate = estimate ? &*estimate : nullptr;
+    s.set = set ? &*set : nullptr;
+    s.mesh_flag = mesh_flag;
+    s.mesh = mesh;
+    return s;
+  }
 };
 
-PyForceModel train(const std::string& recording, const std::string& out, pyb::object progress,
+constexpr const char* kInMemory = "recording (in memory)";
+
+/// What `model train --out` writes: the estimated surface and yield surfaces beside the model
+/// (referenced by it), the model, its coverage file. Returns the lines the program prints.
+std::vector<std::string> save_model(PyForceModel& s, const std::string& out) {
+  std::vector<std::string> notes;
+  if (s.estimate)  // no proxy columns: the estimated surface and yield surfaces beside it
+    for (const std::string& f : eval::write_estimate_files(out, *s.estimate, s.m.provenance))
+      notes.push_back("wrote " + f);
+  datadriven::save_force_model(out, s.m);
+  if (s.set)
+    for (std::string& line :
+         eval::write_training_coverage(*s.set, datadriven::coverage_path_for(out)))
+      notes.push_back(std::move(line));
+  s.path = out;
+  return notes;
+}
+
+/// A recording argument: a file path (read in `units`) or an inhap.Recording (copied, converted
+/// from `units`). `name` receives the path or kInMemory.
+Recording recording_arg(const pyb::object& obj, const eval::RecordingUnits& units,
+                        std::string& name, const char* what) {
+  if (pyb::isinstance<pyb::str>(obj)) {
+    name = obj.cast<std::string>();
+    return eval::read_recording_in(name, units);
+  }
+  if (!pyb::isinstance<Recording>(obj))
+    throw pyb::type_error(std::string(what) + ": expected a file path (str) or an inhap.Recording");
+  name = kInMemory;
+  Recording r = obj.cast<const Recording&>();
+  eval::convert_units(r, units);
+  return r;
+}
+
+PyForceModel train(const pyb::object& recording, const std::string& out, pyb::object progress,
                    const pyb::kwargs& kw) {
-  eval::TrainFileOptions o = train_options(recording, kw);
-  PyForceModel r;
+  const bool file = pyb::isinstance<pyb::str>(recording);
+  if (!file && !pyb::isinstance<Recording>(recording))
+    throw pyb::type_error("recording: expected a file path (str) or an inhap.Recording");
+  eval::TrainFileOptions o = train_options(file ? recording.cast<std::string>() : kInMemory, kw);
+  // A recording in memory is used in place unless its units need converting.
+  const Recording* rec = file ? nullptr : &recording.cast<const Recording&>();
+  std::optional<Recording> converted;
+  if (rec && (o.units.time != "s" || o.units.length != "mm")) {
+    converted = *rec;
+    eval::convert_units(*converted, o.units);
+    rec = &*converted;
+  }
   eval::TrainFileResult res = with_progress(std::move(progress), [&](const Progress& cb) {
     o.progress = cb;
-    return eval::train_from_file(o);
+    return file ? eval::train_from_file(o) : eval::train_from_recording(*rec, o);
   });
+  PyForceModel r;
   r.notes = res.notes;
   r.notes.push_back(eval::range_note(res.model.provenance, res.set, o.force_limit_n));
-  if (!out.empty()) {
-    if (res.estimate)  // no proxy columns: the estimated surface and yield surfaces beside it
-      for (const std::string& f :
-           eval::write_estimate_files(out, *res.estimate, res.model.provenance))
-        r.notes.push_back("wrote " + f);
-    datadriven::save_force_model(out, res.model);
-    for (std::string& line :
-         eval::write_training_coverage(res.set, datadriven::coverage_path_for(out)))
-      r.notes.push_back(std::move(line));
-  }
   r.m = std::move(res.model);
+  r.estimate = std::move(res.estimate);
+  r.set = std::move(res.set);
+  if (!out.empty())
+    for (std::string& line : save_model(r, out)) r.notes.push_back(std::move(line));
   return r;
 }
 
@@ -184,18 +243,54 @@ eval::RecordingUnits units_of(const std::string& time_unit, const std::string& l
   return u;
 }
 
-pyb::dict render(const std::string& model, const std::string& recording, const std::string& out,
+/// A model argument (a model file path or an inhap.ForceModel) and a mesh argument (a file path,
+/// an inhap.Mesh or None) as the library's model source; `loaded` keeps a model read here.
+struct ModelArg {
+  std::optional<PyForceModel> loaded;
+  const PyForceModel* model = nullptr;
+  std::string name;  ///< the model file, or "" in memory
+  eval::ModelSource source;
+};
+
+void model_arg(ModelArg& a, const pyb::object& model, const pyb::object& mesh) {
+  if (pyb::isinstance<pyb::str>(model)) {
+    a.loaded.emplace();
+    a.loaded->path = model.cast<std::string>();
+    a.loaded->m = datadriven::load_trained_force_model(a.loaded->path);
+    a.model = &*a.loaded;
+  } else if (pyb::isinstance<PyForceModel>(model)) {
+    a.model = &model.cast<const PyForceModel&>();
+  } else {
+    throw pyb::type_error("model: expected a model file path (str) or an inhap.ForceModel");
+  }
+  a.name = a.model->path;
+  std::string mesh_flag;
+  const TriMesh* shape = nullptr;
+  if (pyb::isinstance<pyb::str>(mesh))
+    mesh_flag = mesh.cast<std::string>();
+  else if (pyb::isinstance<TriMesh>(mesh))
+    shape = &mesh.cast<const TriMesh&>();
+  else if (!mesh.is_none())
+    throw pyb::type_error("mesh: expected a mesh file path (str), an inhap.Mesh or None");
+  a.source = a.model->source(mesh_flag, shape);
+}
+
+pyb::dict render(const pyb::object& model, const pyb::object& recording, const std::string& out,
                  const std::string& prefix, const std::string& contact_column,
-                 double contact_threshold, const std::string& mesh, const std::string& time_unit,
+                 double contact_threshold, const pyb::object& mesh, const std::string& time_unit,
                  const std::string& length_unit) {
   const auto spec = proxy_spec(prefix, contact_column, contact_threshold);
+  ModelArg ma;
+  model_arg(ma, model, mesh);
+  std::string name;
+  Recording rec = recording_arg(recording, units_of(time_unit, length_unit), name, "recording");
   eval::ReplayedFile r;
-  {
-    pyb::gil_scoped_release release;
-    const TrainedForceModel m = datadriven::load_trained_force_model(model);
-    r = eval::replay_file(model, m, recording, spec, mesh, units_of(time_unit, length_unit));
-    if (!out.empty()) eval::write_rendered_csv(out, r, recording, model);
-  }
+  eval::SupportShare support;
+  with_progress(pyb::none(), [&](const Progress&) {
+    r = eval::replay_recording(ma.source, std::move(rec), name, spec);
+    if (!out.empty()) eval::write_rendered_csv(out, r, name, ma.name);
+    support = eval::support_share(ma.source, r);
+  });
   std::vector<double> contact(r.track.contact.begin(), r.track.contact.end());
   pyb::dict d;
   d["t"] = to_numpy(r.rec.t);
@@ -204,26 +299,83 @@ pyb::dict render(const std::string& model, const std::string& recording, const s
   d["measured"] = to_numpy(r.rec.f);
   d["q"] = to_numpy(r.track.q);
   d["contact"] = to_numpy(contact).attr("astype")("bool");
-  d["support"] = eval::support_note(eval::support_share(model, r));
+  d["support"] = eval::support_note(support);
   return d;
 }
 
-pyb::object evaluate(const std::string& model, const std::string& recording,
+pyb::object evaluate(const pyb::object& model, const pyb::object& recording,
                      const std::string& prefix, const std::string& contact_column,
-                     double contact_threshold, const std::string& mesh,
+                     double contact_threshold, const pyb::object& mesh,
                      const std::string& time_unit, const std::string& length_unit,
-                     const std::string& train) {
-  eval::ModelEvalResult r;
-  {
-    pyb::gil_scoped_release release;
-    r = eval::evaluate_model_file(model, recording,
-                                  proxy_spec(prefix, contact_column, contact_threshold), mesh,
-                                  units_of(time_unit, length_unit), train);
+                     const pyb::object& train) {
+  const auto spec = proxy_spec(prefix, contact_column, contact_threshold);
+  const auto units = units_of(time_unit, length_unit);
+  ModelArg ma;
+  model_arg(ma, model, mesh);
+  std::string name, train_name;
+  Recording rec = recording_arg(recording, units, name, "recording");
+  std::optional<Recording> train_rec;
+  if (!train.is_none() &&
+      !(pyb::isinstance<pyb::str>(train) && train.cast<std::string>().empty())) {
+    const datadriven::ForceModelProvenance& pv = ma.model->m.provenance;
+    // A training file in the model's units (as `model eval --train`); in memory like `recording`.
+    train_rec = recording_arg(
+        train, pyb::isinstance<pyb::str>(train) ? units_of(pv.time_unit, pv.length_unit) : units,
+        train_name, "train");
   }
+  const eval::ModelEvalResult r = with_progress(pyb::none(), [&](const Progress&) {
+    const eval::ReplayedFile rf = eval::replay_recording(ma.source, std::move(rec), name, spec);
+    return eval::evaluate_model(ma.source, rf, name, spec, train_rec ? &*train_rec : nullptr,
+                                train_name);
+  });
   pyb::object d = json_to_python(r.json.dump());
   d["text"] = eval::model_eval_text(r);
   d["support_note"] = eval::support_note(r.support);
   d["baselines_note"] = r.baselines_note;
+  return d;
+}
+
+pyb::dict evaluate_recordings(const pyb::object& train, const pyb::object& test,
+                              const pyb::object& preset, const pyb::object& time_unit,
+                              const pyb::object& length_unit, const pyb::object& contact_threshold,
+                              const pyb::object& threads, pyb::object progress) {
+  eval::TrainFileOptions o;
+  eval::TrainRequest& q = o.request;
+  // As the program: every option given counts as given (the preset fills in the rest).
+  const auto given = [&](const pyb::object& v, const char* flag) {
+    if (!v.is_none()) q.given.insert(flag);
+    return !v.is_none();
+  };
+  if (given(preset, "--preset")) q.preset = preset.cast<std::string>();
+  if (given(time_unit, "--time-unit")) o.units.time = time_unit.cast<std::string>();
+  if (given(length_unit, "--length-unit")) o.units.length = length_unit.cast<std::string>();
+  if (given(contact_threshold, "--contact-threshold"))
+    o.proxy.contact_threshold_n = contact_threshold.cast<double>();
+  if (given(threads, "--threads")) q.params.threads = threads.cast<int>();
+  std::string train_name, test_name;
+  const bool files = pyb::isinstance<pyb::str>(train) && pyb::isinstance<pyb::str>(test);
+  std::optional<Recording> train_rec, test_rec;
+  if (files) {
+    o.recording = train.cast<std::string>();
+    test_name = test.cast<std::string>();
+  } else {
+    train_rec = recording_arg(train, o.units, train_name, "train");
+    test_rec = recording_arg(test, o.units, test_name, "test");
+    o.recording = train_name;
+  }
+  eval::RecordingsEval e = with_progress(std::move(progress), [&](const Progress& cb) {
+    o.progress = cb;
+    return files ? eval::evaluate_recordings(o, test_name)
+                 : eval::evaluate_recordings(*train_rec, std::move(*test_rec), o, test_name);
+  });
+  pyb::dict d(json_to_python(eval::recordings_json(e, test_name, files ? "" : train_name).dump()));
+  d["text"] = eval::baseline_text(e.report);
+  d["notes"] = e.train.notes;
+  std::vector<double> scored(e.scored.begin(), e.scored.end());
+  d["t"] = to_numpy(e.test.t);
+  d["measured"] = to_numpy(e.test.f);
+  d["rendered"] = to_numpy(e.rendered);
+  d["scored"] = to_numpy(scored).attr("astype")("bool");
   return d;
 }
 
@@ -233,13 +385,13 @@ void register_model(pyb::module_& m) {
   pyb::class_<PyForceModel>(m, "ForceModel", R"doc(
 A trained data-driven force model f = g(p, pdot, q) (thesis 4.4): r^3 RBFs per ||q - p|| bin,
 with its provenance (training parameters and statistics). Positions mm, velocities mm/s,
-forces N.)doc")
-      .def(
-          "save",
-          [](const PyForceModel& s, const std::string& path) {
-            datadriven::save_force_model(path, s.m);
-          },
-          pyb::arg("path"), "Writes the model JSON (forces bit-identical after load)")
+forces N. A model trained from Python keeps its training samples and, when its proxy was
+estimated, the estimated surface and yield surfaces: evaluate_force_model and
+render_force_model use them without files.)doc")
+      .def("save", &save_model, pyb::arg("path"),
+           "Writes the model JSON (forces bit-identical after load) and, as `model train --out`, "
+           "the estimated surface (<stem>.surface.ply) and yield surfaces (<stem>.sys.json) "
+           "beside it and its coverage file; returns the lines the program prints about them.")
       .def(
           "summary",
           [](const PyForceModel& s, bool verbose) { return eval::train_summary(s.m, verbose); },
@@ -250,6 +402,12 @@ forces N.)doc")
            "(mm) and, for local-frame models, outward normals n at q; float64 (N, 3) C-order "
            "arrays used in place. Non-finite input gives zero force.")
       .def_readonly("notes", &PyForceModel::notes, "What training said (as the CLI's stderr)")
+      .def_readonly("path", &PyForceModel::path,
+                    "The model file it was read from or saved to ('' in memory)")
+      .def_property_readonly(
+          "estimated", [](const PyForceModel& s) { return s.estimate.has_value(); },
+          "True when the proxy was estimated from the recording here (its "
+          "surface and yield surfaces are kept)")
       .def_property_readonly("bins", [](const PyForceModel& s) { return s.m.model.bins.size(); })
       .def_property_readonly(
           "features",
@@ -265,36 +423,56 @@ forces N.)doc")
       [](const std::string& path) {
         PyForceModel r;
         r.m = datadriven::load_trained_force_model(path);
+        r.path = path;
         return r;
       },
       pyb::arg("path"), "Reads and validates a model JSON (inhap.Error naming the file)");
   m.def("train_force_model", &train, pyb::arg("recording"), pyb::kw_only(), pyb::arg("out") = "",
         pyb::arg("progress") = true, R"doc(
-Trains a model from a recording CSV with proxy columns qx,qy,qz (mm) and a contact column, as
-`inhap model train` does: preset 'best' by default ('world', 'thesis'); every keyword given
-overrides the preset like the flag of the same name (bins, centers, nonzeros, lambda_ratio,
-seed, design, features, tail, tangent_mirror, stiffness_prior, shear_prior, friction_cone,
-fallback, fallback_near mm, fallback_far mm, solver 'cd'|'sparsa', feature_weights (3),
-bin_blend mm, threads, modeling_range N, above_range 'keep'|'exclude', foaw_window samples,
-foaw_noise mm, velocity_window s, force_limit N, proxy_prefix, contact_column, contact_threshold
-N, time_unit 's'|'ms', length_unit 'mm'|'m', mesh, sys). Without proxy columns the surface,
-normals, proxy and friction are estimated from the recording (written beside out).
-With out=PATH the model and its coverage file are written there. progress: True (a tqdm bar
-when installed), False, or a callable(what, fraction, eta_s).)doc");
+Trains a model as `inhap model train` does, from a recording CSV (path) or an inhap.Recording
+in memory (used in place; t s, p mm, f N unless time_unit/length_unit say otherwise): preset
+'best' by default ('world', 'thesis'); every keyword given overrides the preset like the flag
+of the same name (bins, centers, nonzeros, lambda_ratio, seed, design, features, tail,
+tangent_mirror, stiffness_prior, shear_prior, friction_cone, fallback, fallback_near mm,
+fallback_far mm, solver 'cd'|'sparsa', feature_weights (3), bin_blend mm, threads,
+modeling_range N, above_range 'keep'|'exclude', foaw_window samples, foaw_noise mm,
+velocity_window s, force_limit N, proxy_prefix, contact_column, contact_threshold N, time_unit
+'s'|'ms', length_unit 'mm'|'m', mesh, sys). With proxy columns qx,qy,qz (mm) and a contact
+column they are the proxy; without, the surface, normals, proxy and friction are estimated from
+the recording (datadriven/estimate.hpp) and kept in the model. With out=PATH the model (and the
+estimated surface and yield surfaces, and the coverage file) are written there. progress: True
+(a tqdm bar when installed), False, or a callable(what, fraction, eta_s); Ctrl-C or an
+exception of the callable stops the training within a fraction of a second.)doc");
   m.def("evaluate_force_model", &evaluate, pyb::arg("model"), pyb::arg("recording"),
         pyb::arg("proxy_prefix") = "q", pyb::arg("contact_column") = "contact",
-        pyb::arg("contact_threshold") = 0.05, pyb::arg("mesh") = "", pyb::arg("time_unit") = "s",
-        pyb::arg("length_unit") = "mm", pyb::arg("train") = "",
-        "`inhap model eval`: replays a test recording through the servo renderer; returns the "
-        "--json report as a dict (errors in N, eq. 4.27-4.31, the mean and k-NN baselines fitted "
-        "on `train` or the model's training recording) plus 'text' (what it prints). time_unit "
-        "s|ms and length_unit mm|m: the recording's t and p columns.");
+        pyb::arg("contact_threshold") = 0.05, pyb::arg("mesh") = pyb::none(),
+        pyb::arg("time_unit") = "s", pyb::arg("length_unit") = "mm",
+        pyb::arg("train") = pyb::none(),
+        "`inhap model eval`: replays a test recording (path or inhap.Recording) through the "
+        "servo renderer of a model (path or inhap.ForceModel); returns the --json report as a "
+        "dict (errors in N, eq. 4.27-4.31, the mean and k-NN baselines fitted on `train` (path "
+        "or inhap.Recording), else on a model's training samples in memory, else on the "
+        "training recording its file names) plus 'text' (what it prints). mesh: the shape mesh "
+        "(path or inhap.Mesh) of a local-frame model. time_unit s|ms and length_unit mm|m: the "
+        "recording's t and p columns.");
   m.def("render_force_model", &render, pyb::arg("model"), pyb::arg("recording"),
         pyb::arg("out") = "", pyb::arg("proxy_prefix") = "q",
         pyb::arg("contact_column") = "contact", pyb::arg("contact_threshold") = 0.05,
-        pyb::arg("mesh") = "", pyb::arg("time_unit") = "s", pyb::arg("length_unit") = "mm",
-        "`inhap model render`: rendered forces of a recording at servo rate. Returns t (s), p "
-        "(mm), force (rendered, N), measured (N), q (mm), contact; out=PATH also writes the CSV.");
+        pyb::arg("mesh") = pyb::none(), pyb::arg("time_unit") = "s", pyb::arg("length_unit") = "mm",
+        "`inhap model render`: rendered forces of a recording (path or inhap.Recording) at "
+        "servo rate by a model (path or inhap.ForceModel). Returns t (s), p (mm), force "
+        "(rendered, N), measured (N), q (mm), contact, support (the training-support line); "
+        "out=PATH also writes the CSV.");
+  m.def("evaluate_recordings", &evaluate_recordings, pyb::arg("train"), pyb::arg("test"),
+        pyb::kw_only(), pyb::arg("preset") = pyb::none(), pyb::arg("time_unit") = pyb::none(),
+        pyb::arg("length_unit") = pyb::none(), pyb::arg("contact_threshold") = pyb::none(),
+        pyb::arg("threads") = pyb::none(), pyb::arg("progress") = true,
+        "`inhap eval recordings`: trains on `train` as `model train` with no flags (the proxy "
+        "estimated when it has no proxy columns), renders `test` (paths or inhap.Recording, "
+        "t s, p mm unless time_unit 's'|'ms' / length_unit 'mm'|'m') and scores both beside "
+        "the baselines (mean force, k-NN on p and on (p, pdot)). Returns its --json dict plus "
+        "'text' (what it prints), 'notes' (training's), and per test sample t (s), measured "
+        "and rendered force (N, (N, 3)) and scored (bool).");
 }
 
 }  // namespace inhap::py

@@ -85,7 +85,7 @@ std::vector<double> to_doubles(const pyb::handle& obj, const char* name) {
   return std::vector<double>(p, p + a.shape(0));
 }
 
-ProgressBridge::ProgressBridge(pyb::object progress) : thread_(std::this_thread::get_id()) {
+ProgressBridge::ProgressBridge(pyb::object progress) {
   if (progress.is_none() || (pyb::isinstance<pyb::bool_>(progress) && !progress.cast<bool>()))
     return;
   if (pyb::isinstance<pyb::bool_>(progress)) {  // True: tqdm when installed
@@ -116,12 +116,20 @@ inhap::Progress ProgressBridge::callback() {
       [this](const std::string& what, double fraction, double eta) { call(what, fraction, eta); };
 }
 
+void ProgressBridge::stop(pyb::error_already_set&& e) {
+  error_ = std::make_shared<pyb::error_already_set>(std::move(e));
+  flag_.request();
+}
+
+void ProgressBridge::poll() {
+  pyb::gil_scoped_acquire gil;
+  if (!error_ && PyErr_CheckSignals() != 0) stop(pyb::error_already_set());
+}
+
 void ProgressBridge::call(const std::string& what, double fraction, double eta) {
   pyb::gil_scoped_acquire gil;
-  const bool caller = std::this_thread::get_id() == thread_;
   if (!error_) {
     try {
-      if (PyErr_CheckSignals() != 0) throw pyb::error_already_set();
       if (fn_ && tqdm_) {
         if (!bar_ || what != what_) {
           if (bar_) bar_.attr("close")();
@@ -138,10 +146,10 @@ void ProgressBridge::call(const std::string& what, double fraction, double eta) 
         fn_(what, fraction, eta);
       }
     } catch (pyb::error_already_set& e) {
-      error_ = std::make_shared<pyb::error_already_set>(std::move(e));
+      stop(std::move(e));
     }
   }
-  if (error_ && caller) throw Interrupted();
+  if (error_ && std::this_thread::get_id() == thread_) throw Interrupted();
 }
 
 void ProgressBridge::finish() {

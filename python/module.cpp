@@ -15,6 +15,7 @@ void register_model(pyb::module_& m);
 void register_render(pyb::module_& m);
 void register_lab(pyb::module_& m);
 void register_sys(pyb::module_& m);
+void register_files(pyb::module_& m);
 }  // namespace inhap::py
 
 PYBIND11_MODULE(inhap, m) {
@@ -46,4 +47,5 @@ PYBIND11_MODULE(inhap, m) {
   inhap::py::register_render(m);
   inhap::py::register_lab(m);
   inhap::py::register_sys(m);
+  inhap::py::register_files(m);
 }

@@ -56,3 +56,32 @@ def test_replay_releases_the_gil(map_mesh):
     stop.set()
     th.join()
     assert during >= 2  # the other thread ran while replay was in C++
+
+
+def test_ctrl_c_stops_a_training_mid_bin():
+    """One bin of 300 centres on 40 s of contact takes many seconds; Ctrl-C one second in stops
+    it within a second, before the bin ends (its only progress call would be fraction 1)."""
+    import _thread
+
+    lab = inhap.lab_record(scene="planar", seconds=40, seed=4, progress=False)
+    rec = lab.recording
+    inside = lab.truth["contact"] > 0
+    for i, axis in enumerate("xyz"):
+        rec["q" + axis] = np.where(inside, lab.truth["anchor"][:, i], rec.p[:, i])
+    rec["contact"] = inside.astype(np.float64)
+    seen = []
+    fired = []
+
+    def interrupt():
+        fired.append(time.monotonic())
+        _thread.interrupt_main()
+
+    timer = threading.Timer(1.0, interrupt)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        inhap.train_force_model(rec, preset="world", bins=1, centers=300, nonzeros=300,
+                                threads=1, progress=lambda w, f, eta: seen.append(f))
+    stopped = time.monotonic()
+    timer.join()
+    assert fired and stopped - fired[0] < 1.0
+    assert seen == []  # the bin never finished

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "inhap/core/cancel.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/friction/mesh_surface.hpp"
 #include "inhap/friction/proxy_track.hpp"
@@ -372,6 +373,7 @@ namespace {
 FrictionEstimate fit_radius(const Recording& rec, const SurfaceEstimate& s,
                             const friction::ShapeQuery& shape, double radius_per_n, double tau_s,
                             double threshold) {
+  check_cancel();  // one proxy track per candidate: the estimate's long part
   const friction::SysModel sys = cone_sys(s, radius_per_n, 1.0, tau_s);
   const friction::ProxyColumns pc = friction::proxy_track({.sys = &sys, .shape = &shape}, rec);
   double sgg = 0, sfg = 0, sff = 0;

@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "force_model_priors.hpp"
+#include "inhap/core/cancel.hpp"
 #include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/datadriven/kmeans.hpp"
@@ -304,9 +305,12 @@ void parallel_for(int n, int threads, const std::function<void(int)>& task) {
   std::atomic<int> next{0};
   std::mutex mutex;
   std::exception_ptr error;
+  const CancelFlag* cancel = current_cancel();
   auto worker = [&] {
+    const CancelScope scope(cancel);  // the caller's flag in every worker
     for (int i = next++; i < n; i = next++) {
       try {
+        check_cancel();
         task(i);
       } catch (...) {
         std::lock_guard lock(mutex);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "inhap/core/cancel.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 
@@ -110,6 +111,7 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const KMeansParams& params) {
   Eigen::VectorXd dist2(n);
   Eigen::VectorXd counts(k);
   for (int it = 0; it < params.max_iterations; ++it) {
+    check_cancel();
     assign(x, xnorm, res.centroids, label, dist2, nullptr);
     res.iterations = it + 1;
     std::size_t moved = 0;

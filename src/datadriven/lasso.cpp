@@ -9,6 +9,7 @@
 #include <cmath>
 #include <thread>
 
+#include "inhap/core/cancel.hpp"
 #include "inhap/core/error.hpp"
 
 namespace inhap::datadriven {
@@ -38,8 +39,12 @@ void split_range(Eigen::Index n, int threads, Fn&& fn) {
     return;
   }
   std::vector<std::thread> pool;
+  const CancelFlag* cancel = current_cancel();
   for (Eigen::Index i = 1; i < t; ++i)
-    pool.emplace_back([&, i] { fn(n * i / t, n * (i + 1) / t); });
+    pool.emplace_back([&, i, cancel] {
+      const CancelScope scope(cancel);
+      fn(n * i / t, n * (i + 1) / t);
+    });
   fn(Eigen::Index{0}, n / t);
   for (auto& th : pool) th.join();
 }
@@ -197,6 +202,7 @@ void newton_polish(WorkingSet& s, double lambda) {
 void solve_restricted(WorkingSet& s, double lambda, double fnorm2, double tol, int& sweeps,
                       int max_sweeps) {
   while (sweeps < max_sweeps) {
+    check_cancel();
     double dmax = 0;
     for (int i = 0; i < 10 && sweeps < max_sweeps; ++i) {
       dmax = s.sweep(lambda);
@@ -301,6 +307,7 @@ LassoResult solve_one(const Eigen::MatrixXd& a, const Eigen::VectorXd& f,
     double sub_tol = tol;
     FullCheck chk;
     for (;;) {
+      check_cancel();
       solve_restricted(s, lam, fnorm2, sub_tol, sweeps, p.max_sweeps);
       chk = full_check(a, f, s, lam, r, grad, p.threads);
       ++res.passes;

@@ -9,6 +9,7 @@
 #include <deque>
 #include <numeric>
 
+#include "inhap/core/cancel.hpp"
 #include "inhap/core/error.hpp"
 
 namespace inhap::datadriven {
@@ -160,6 +161,7 @@ std::vector<SparsaResult> sparsa_multi(const Eigen::MatrixXd& a, const Eigen::Ma
   std::vector<int> nz, active;
   Eigen::MatrixXd r, g;
   for (;;) {
+    check_cancel();
     active.clear();
     for (Eigen::Index k = 0; k < nc; ++k)
       if (!cols[static_cast<std::size_t>(k)].done) active.push_back(static_cast<int>(k));

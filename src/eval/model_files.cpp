@@ -43,8 +43,13 @@ void add_normals(ProxyTrack& t, const Recording& rec, const std::string& path,
     throw ParseError(path, 1,
                      "local-frame features: expected normal columns nx,ny,nz or a shape mesh "
                      "(--mesh), got neither");
-  const friction::MeshSurface shape(read_mesh(mesh), 0.0);
-  for (std::size_t i = 0; i < rec.size(); ++i) {
+  add_normals(t, read_mesh(mesh));
+}
+
+void add_normals(ProxyTrack& t, const TriMesh& mesh) {
+  t.n.assign(t.q.size(), Vec3::UnitZ());
+  const friction::MeshSurface shape(mesh, 0.0);
+  for (std::size_t i = 0; i < t.q.size(); ++i) {
     Vec3 c, n;
     if (t.contact[i] && shape.closest(t.q[i], c, n)) t.n[i] = n;
   }
@@ -188,12 +193,19 @@ std::vector<std::string> write_training_coverage(const TrainingSet& set, const s
 }
 
 TrainFileResult train_from_file(const TrainFileOptions& o) {
+  TrainFileResult r = train_from_recording(read_recording_in(o.recording, o.units), o);
+  ForceModelProvenance& m = r.model.provenance;
+  m.recording_path = o.recording;
+  m.recording_digest = file_digest(o.recording);
+  return r;
+}
+
+TrainFileResult train_from_recording(const Recording& rec, const TrainFileOptions& o) {
   TrainFileResult r;
   const auto say = [&](std::string line) {
     if (o.on_note) o.on_note(line);
     r.notes.push_back(std::move(line));
   };
-  const Recording rec = read_recording_in(o.recording, o.units);
   ProxyTrack track = train_track(rec, o, r);
   if (r.estimate) say(estimate_note(*r.estimate));
   const bool have_normals = has_normal_columns(rec) || !o.mesh.empty() || r.estimate;
@@ -233,8 +245,6 @@ TrainFileResult train_from_file(const TrainFileOptions& o) {
   r.model.model.force_limit_n = o.force_limit_n;
   ForceModelProvenance& m = r.model.provenance;
   m.proxy_source = track.proxy_source;
-  m.recording_path = o.recording;
-  m.recording_digest = file_digest(o.recording);
   m.time_unit = o.units.time;
   m.length_unit = o.units.length;
   if (r.estimate) m.estimated = {"surface", "normals", "proxy", "friction"};
@@ -321,42 +331,34 @@ std::vector<std::string> write_estimate_files(const std::string& model_path,
   return {mesh, sys};
 }
 
-ProxyTrack replay_track(const std::string& model_path, const TrainedForceModel& tm,
-                        const Recording& rec, const std::string& recording,
-                        const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
-  const ForceModelProvenance& pv = tm.provenance;
-  if (proxy.prefix == "p") return probe_track(rec, proxy);
-  if (pv.proxy_source != "estimated") {
-    ProxyTrack t = track_of(rec, recording, proxy);
-    if (tm.model.features == FeatureSet::kLocalFrame)  // normal columns first, else the mesh
-      add_normals(t, rec, recording,
-                  has_normal_columns(rec) ? std::string() : model_mesh(model_path, mesh_flag, pv));
-    return t;
-  }
-  if (pv.sys_path.empty())
+namespace {
+
+// The shape (or estimated surface) mesh of a model source.
+TriMesh source_mesh(const ModelSource& m) {
+  if (m.mesh) return *m.mesh;
+  if (m.mesh_flag.empty() && m.estimate) return m.estimate->mesh;
+  if (m.path.empty() && m.mesh_flag.empty())
+    throw Error(
+        "force model in memory: it uses local-frame features or an estimated proxy but has no "
+        "mesh; give a shape mesh");
+  return read_mesh(model_mesh(m.path, m.mesh_flag, m.model->provenance));
+}
+
+// The yield surfaces of a model trained on an estimated proxy.
+friction::SysModel source_sys(const ModelSource& m) {
+  if (m.estimate) return m.estimate->sys;
+  const ForceModelProvenance& pv = m.model->provenance;
+  if (m.path.empty() || pv.sys_path.empty())
     throw Error(
         fmt::format("{}: the model's proxy was estimated but it names no yield surfaces "
                     "(references.sys)",
-                    model_path));
-  const friction::SysModel sys =
-      friction::read_sys_json(resolve_reference(model_path, pv.sys_path, "sys"));
-  return estimated_track(rec, sys, read_mesh(model_mesh(model_path, mesh_flag, pv)));
+                    m.path.empty() ? "force model in memory" : m.path));
+  return friction::read_sys_json(resolve_reference(m.path, pv.sys_path, "sys"));
 }
 
-ReplayedFile replay_file(const std::string& model_path, const TrainedForceModel& tm,
-                         const std::string& recording, const ProxyColumnsSpec& proxy,
-                         const std::string& mesh_flag, const RecordingUnits& units) {
-  ReplayedFile r{read_recording_in(recording, units), {}, {}};
-  r.track = replay_track(model_path, tm, r.rec, recording, proxy, mesh_flag);
-  r.forces = replay(tm.model, r.rec, r.track);
-  return r;
-}
-
-SupportShare support_share(const std::string& model_path, const ReplayedFile& r) {
+SupportShare share_outside(const CoverageMap& map, const ReplayedFile& r, std::string file) {
   SupportShare c;
-  c.file = coverage_path_for(model_path);
-  if (!std::filesystem::exists(c.file)) return c;
-  const CoverageMap map = read_coverage(c.file);
+  c.file = std::move(file);
   std::size_t n = 0, out = 0, out_pos = 0;
   for (std::size_t i = 0; i < r.rec.size(); ++i)
     if (r.track.contact[i]) {
@@ -368,6 +370,74 @@ SupportShare support_share(const std::string& model_path, const ReplayedFile& r)
   c.outside_share = n ? static_cast<double>(out) / static_cast<double>(n) : 0.0;
   c.outside_position_share = n ? static_cast<double>(out_pos) / static_cast<double>(n) : 0.0;
   return c;
+}
+
+}  // namespace
+
+ProxyTrack replay_track(const ModelSource& m, const Recording& rec, const std::string& recording,
+                        const ProxyColumnsSpec& proxy) {
+  const TrainedForceModel& tm = *m.model;
+  if (proxy.prefix == "p") return probe_track(rec, proxy);
+  if (tm.provenance.proxy_source != "estimated") {
+    ProxyTrack t = track_of(rec, recording, proxy);
+    if (tm.model.features == FeatureSet::kLocalFrame) {  // normal columns first, else the mesh
+      if (has_normal_columns(rec))
+        add_normals(t, rec, recording, std::string());
+      else
+        add_normals(t, source_mesh(m));
+    }
+    return t;
+  }
+  const friction::SysModel sys = source_sys(m);
+  return estimated_track(rec, sys, source_mesh(m));
+}
+
+ProxyTrack replay_track(const std::string& model_path, const TrainedForceModel& tm,
+                        const Recording& rec, const std::string& recording,
+                        const ProxyColumnsSpec& proxy, const std::string& mesh_flag) {
+  ModelSource m;
+  m.model = &tm;
+  m.path = model_path;
+  m.mesh_flag = mesh_flag;
+  return replay_track(m, rec, recording, proxy);
+}
+
+ReplayedFile replay_recording(const ModelSource& m, Recording rec, const std::string& recording,
+                              const ProxyColumnsSpec& proxy) {
+  ReplayedFile r{std::move(rec), {}, {}};
+  r.track = replay_track(m, r.rec, recording, proxy);
+  r.forces = replay(m.model->model, r.rec, r.track);
+  return r;
+}
+
+ReplayedFile replay_file(const std::string& model_path, const TrainedForceModel& tm,
+                         const std::string& recording, const ProxyColumnsSpec& proxy,
+                         const std::string& mesh_flag, const RecordingUnits& units) {
+  ModelSource m;
+  m.model = &tm;
+  m.path = model_path;
+  m.mesh_flag = mesh_flag;
+  return replay_recording(m, read_recording_in(recording, units), recording, proxy);
+}
+
+SupportShare support_share(const std::string& model_path, const ReplayedFile& r) {
+  const std::string file = coverage_path_for(model_path);
+  if (!std::filesystem::exists(file)) {
+    SupportShare c;
+    c.file = file;
+    return c;
+  }
+  return share_outside(read_coverage(file), r, file);
+}
+
+SupportShare support_share(const ModelSource& m, const ReplayedFile& r) {
+  if (m.set) return share_outside(CoverageMap(m.set->q, m.set->f), r, std::string());
+  if (m.path.empty()) {
+    SupportShare c;
+    c.file = "(none: a model in memory without its training samples)";
+    return c;
+  }
+  return support_share(m.path, r);
 }
 
 std::string support_note(const SupportShare& c) {
@@ -385,42 +455,44 @@ std::vector<char> scored_samples(const Recording& rec, const ProxyTrack& t,
 
 namespace {
 
-// The baselines fitted on the model's training recording (or `train`), scored on the samples
-// of `r`; nullopt with the reason in `note` when the training recording is not found.
-std::optional<BaselineReport> model_baselines(const std::string& model_path,
-                                              const TrainedForceModel& tm, const ReplayedFile& r,
-                                              const std::vector<char>& mask,
-                                              const ProxyColumnsSpec& proxy,
-                                              const std::string& mesh_flag, std::string train,
-                                              std::string& note) {
-  const ForceModelProvenance& pv = tm.provenance;
-  if (train.empty()) {
-    if (pv.recording_path.empty()) {
-      note = "no baselines: the model names no training recording; give --train FILE";
-      return std::nullopt;
-    }
-    try {
-      train = resolve_reference(model_path, pv.recording_path, "recording");
-    } catch (const Error& e) {
-      note = fmt::format("no baselines: {}; give --train FILE", e.what());
-      return std::nullopt;
-    }
+// The samples the baselines are fitted on: `train` when given, else the training samples in
+// memory, else the training recording the model file names; nullopt with the reason in `note`
+// when there are none.
+std::optional<TrainingSet> baseline_set(const ModelSource& m, const ProxyColumnsSpec& proxy,
+                                        const Recording* train, const std::string& train_name,
+                                        std::string& note) {
+  const TrainedForceModel& tm = *m.model;
+  if (train) {
+    note = fmt::format("baselines fitted on {}", train_name);
+    return make_training_set(*train, replay_track(m, *train, train_name, proxy), tm.model.foaw);
   }
-  const Recording rec = read_recording_in(train, {pv.time_unit, pv.length_unit});
-  const ProxyTrack t = replay_track(model_path, tm, rec, train, proxy, mesh_flag);
-  const TrainingSet set = make_training_set(rec, t, tm.model.foaw);
-  note = fmt::format("baselines fitted on {}", train);
-  return score_with_baselines(r.forces, set, r.rec, foaw_velocities(r.rec.p, tm.model.foaw), mask);
+  if (m.set) {
+    note = "baselines fitted on the training samples";
+    return *m.set;
+  }
+  const ForceModelProvenance& pv = tm.provenance;
+  if (pv.recording_path.empty()) {
+    note = "no baselines: the model names no training recording; give --train FILE";
+    return std::nullopt;
+  }
+  std::string path;
+  try {
+    path = resolve_reference(m.path, pv.recording_path, "recording");
+  } catch (const Error& e) {
+    note = fmt::format("no baselines: {}; give --train FILE", e.what());
+    return std::nullopt;
+  }
+  const Recording rec = read_recording_in(path, {pv.time_unit, pv.length_unit});
+  note = fmt::format("baselines fitted on {}", path);
+  return make_training_set(rec, replay_track(m, rec, path, proxy), tm.model.foaw);
 }
 
 }  // namespace
 
-ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
-                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag,
-                                    const RecordingUnits& units, const std::string& train) {
-  const TrainedForceModel tm = load_trained_force_model(model_path);
-  const ForceModel& m = tm.model;
-  const ReplayedFile r = replay_file(model_path, tm, recording, proxy, mesh_flag, units);
+ModelEvalResult evaluate_model(const ModelSource& m, const ReplayedFile& r,
+                               const std::string& recording, const ProxyColumnsSpec& proxy,
+                               const Recording* train, const std::string& train_name) {
+  const TrainedForceModel& tm = *m.model;
   const std::vector<char> mask = scored_samples(r.rec, r.track, proxy);
   std::vector<Vec3> rendered, measured;
   for (std::size_t i = 0; i < r.rec.size(); ++i)
@@ -434,9 +506,9 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
   ModelEvalResult e;
   e.errors = force_errors(rendered, measured);
   e.contact_samples = rendered.size();
-  e.support = support_share(model_path, r);
+  e.support = support_share(m, r);
   nlohmann::ordered_json& j = e.json;
-  j["model"] = model_path;
+  j["model"] = m.path;
   j["recording"] = recording;
   j["samples"] = r.rec.size();
   j["contact_samples"] = rendered.size();
@@ -445,21 +517,39 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
   j["units"] = {{"force", "N"}};
   // Measured forces above the model's render clamp: the rendered force is capped there (the
   // device limit), so the errors on those samples include the clamp. Said, not hidden.
-  e.above_force_limit = count_above(measured, m.force_limit_n);
-  e.force_limit_n = m.force_limit_n;
-  j["force_limit_n"] = m.force_limit_n;
+  e.above_force_limit = count_above(measured, tm.model.force_limit_n);
+  e.force_limit_n = tm.model.force_limit_n;
+  j["force_limit_n"] = tm.model.force_limit_n;
   j["measured_above_force_limit"] = e.above_force_limit;
   if (e.support.known)
     j["coverage"] = {{"file", e.support.file},
                      {"outside_share", e.support.outside_share},
                      {"outside_position_share", e.support.outside_position_share}};
   j["errors"] = nlohmann::ordered_json::parse(force_errors_json(e.errors));
-  e.baselines = model_baselines(model_path, tm, r, mask, proxy, mesh_flag, train, e.baselines_note);
-  if (e.baselines) {
+  const std::optional<TrainingSet> set =
+      baseline_set(m, proxy, train, train_name, e.baselines_note);
+  if (set) {
+    e.baselines =
+        score_with_baselines(r.forces, *set, r.rec, foaw_velocities(r.rec.p, tm.model.foaw), mask);
     j["baselines"] = baselines_json(*e.baselines);
     j["verdict"] = e.baselines->verdict;
   }
   return e;
+}
+
+ModelEvalResult evaluate_model_file(const std::string& model_path, const std::string& recording,
+                                    const ProxyColumnsSpec& proxy, const std::string& mesh_flag,
+                                    const RecordingUnits& units, const std::string& train) {
+  const TrainedForceModel tm = load_trained_force_model(model_path);
+  ModelSource m;
+  m.model = &tm;
+  m.path = model_path;
+  m.mesh_flag = mesh_flag;
+  const ReplayedFile r = replay_recording(m, read_recording_in(recording, units), recording, proxy);
+  if (train.empty()) return evaluate_model(m, r, recording, proxy);
+  const ForceModelProvenance& pv = tm.provenance;
+  const Recording rec = read_recording_in(train, {pv.time_unit, pv.length_unit});
+  return evaluate_model(m, r, recording, proxy, &rec, train);
 }
 
 std::string model_eval_text(const ModelEvalResult& r) {

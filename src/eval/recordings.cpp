@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "inhap/core/error.hpp"
 #include "inhap/friction/mesh_surface.hpp"
@@ -15,7 +16,10 @@ namespace inhap::eval {
 
 using namespace inhap::datadriven;
 
-Recording read_recording_in(const std::string& path, const RecordingUnits& u) {
+namespace {
+
+// Factors to s and mm of a recording's units; Error on an unknown unit.
+std::pair<double, double> unit_scales(const RecordingUnits& u) {
   double ts = 1.0, ls = 1.0;
   if (u.time == "ms")
     ts = 1e-3;
@@ -25,7 +29,20 @@ Recording read_recording_in(const std::string& path, const RecordingUnits& u) {
     ls = 1e3;
   else if (u.length != "mm")
     throw Error(fmt::format("expected length unit 'mm' or 'm', got '{}'", u.length));
+  return {ts, ls};
+}
+
+}  // namespace
+
+Recording read_recording_in(const std::string& path, const RecordingUnits& u) {
+  unit_scales(u);  // an unknown unit is said before the file is read
   Recording rec = read_recording(path);
+  convert_units(rec, u);
+  return rec;
+}
+
+void convert_units(Recording& rec, const RecordingUnits& u) {
+  const auto [ts, ls] = unit_scales(u);
   if (ts != 1.0)
     for (double& t : rec.t) t *= ts;
   if (ls != 1.0) {
@@ -35,7 +52,6 @@ Recording read_recording_in(const std::string& path, const RecordingUnits& u) {
         if (rec.extra_names[c] == n)
           for (double& v : rec.extra[c]) v *= ls;
   }
-  return rec;
 }
 
 bool has_proxy_columns(const Recording& rec, const std::string& prefix) {

@@ -12,12 +12,12 @@ namespace inhap::eval {
 
 using namespace inhap::datadriven;
 
-RecordingsEval evaluate_recordings(const TrainFileOptions& o, const std::string& test) {
-  RecordingsEval e;
-  e.train = train_from_file(o);
+namespace {
+
+// Replays e.test with the model of e.train and scores it beside the baselines.
+void score(RecordingsEval& e, const TrainFileOptions& o, const std::string& test) {
   const double dt = e.train.model.model.foaw.dt_s;
   e.rate_hz = dt > 0 ? 1.0 / dt : 0.0;
-  e.test = read_recording_in(test, o.units);
   ProxyTrack track;
   if (e.train.estimate) {
     track = estimated_track(e.test, e.train.estimate->sys, e.train.estimate->mesh);
@@ -33,12 +33,31 @@ RecordingsEval evaluate_recordings(const TrainFileOptions& o, const std::string&
   e.scored = scored_samples(e.test, track, o.proxy);
   e.report = score_with_baselines(e.rendered, e.train.set, e.test,
                                   foaw_velocities(e.test.p, e.train.model.model.foaw), e.scored);
+}
+
+}  // namespace
+
+RecordingsEval evaluate_recordings(const TrainFileOptions& o, const std::string& test) {
+  RecordingsEval e;
+  e.train = train_from_file(o);
+  e.test = read_recording_in(test, o.units);
+  score(e, o, test);
   return e;
 }
 
-nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::string& test) {
+RecordingsEval evaluate_recordings(const Recording& train, Recording test,
+                                   const TrainFileOptions& o, const std::string& test_name) {
+  RecordingsEval e;
+  e.train = train_from_recording(train, o);
+  e.test = std::move(test);
+  score(e, o, test_name);
+  return e;
+}
+
+nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::string& test,
+                                       const std::string& train) {
   nlohmann::ordered_json j;
-  j["train"] = e.train.model.provenance.recording_path;
+  j["train"] = train.empty() ? e.train.model.provenance.recording_path : train;
   j["test"] = test;
   j["units"] = {{"force", "N"}, {"rate", "Hz"}};
   j["samples"] = e.report.samples;

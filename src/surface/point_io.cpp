@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "inhap/core/error.hpp"
 #include "inhap/geometry/mesh_io.hpp"
 
 namespace inhap {
@@ -39,6 +42,16 @@ bool ends_with_ply(const std::string& path) {
 }
 
 }  // namespace
+
+void write_points(const std::string& path, const PointSet& s, bool ascii) {
+  if (!s.directions.empty() && s.directions.size() != s.points.size())
+    throw Error(fmt::format("{}: expected a direction per point ({}), got {}", path,
+                            s.points.size(), s.directions.size()));
+  TriMesh m;
+  m.positions = s.points;
+  m.normals = s.directions;
+  write_mesh(path, m, MeshWriteOptions{.ascii = ascii});
+}
 
 PointSet read_points(const std::string& path) {
   TriMesh m = read_mesh(path);

@@ -39,6 +39,9 @@ bool has_normal_columns(const Recording& rec);
 /// naming `path` when there are neither.
 void add_normals(datadriven::ProxyTrack& t, const Recording& rec, const std::string& path,
                  const std::string& mesh);
+/// The same with the shape mesh in memory (normal columns ignored): the outward normal of `mesh`
+/// closest to q in contact, +z elsewhere.
+void add_normals(datadriven::ProxyTrack& t, const TriMesh& mesh);
 
 /// What `model train` was asked: a preset, and every option given explicitly (by long name,
 /// "--bins", ...; the values in `params`, `design`, `features`, `above_range`).
@@ -100,6 +103,11 @@ std::vector<std::string> write_estimate_files(const std::string& model_path,
 /// Reads the recording, builds the training set and trains (the model is not written).
 TrainFileResult train_from_file(const TrainFileOptions& o);
 
+/// The same on a recording in memory, its t and p already in s and mm (convert_units; `o.units`
+/// are recorded as the source's): `o.recording` only names it in messages, and the model's
+/// provenance names no training file.
+TrainFileResult train_from_recording(const Recording& rec, const TrainFileOptions& o);
+
 /// The model's training report: samples, features, bins, design, non-zeros per axis, then the
 /// l1 fit's certificate per bin and axis (and the CPU time per stage when `verbose`).
 std::string train_summary(const datadriven::TrainedForceModel& m, bool verbose);
@@ -115,6 +123,28 @@ struct ReplayedFile {
   datadriven::ProxyTrack track;
   std::vector<Vec3> forces;  ///< rendered, N
 };
+
+/// A model and where what its replay and evaluation need besides itself comes from: the files
+/// its provenance names (found beside the model file `path`), or what a training in memory
+/// kept (`estimate`, `set`), or a shape mesh given by the caller (`mesh`, else `mesh_flag`).
+struct ModelSource {
+  const datadriven::TrainedForceModel* model = nullptr;
+  std::string path;  ///< the model file; empty for a model in memory
+  /// The estimated surface and yield surfaces of a training in memory (estimated proxy).
+  const datadriven::RecordingEstimate* estimate = nullptr;
+  /// The training samples of a training in memory: the baselines and the training support.
+  const datadriven::TrainingSet* set = nullptr;
+  std::string mesh_flag;          ///< a shape mesh file given explicitly (--mesh)
+  const TriMesh* mesh = nullptr;  ///< a shape mesh in memory (before mesh_flag)
+};
+
+/// replay_track for any model source; `recording` names `rec` in messages.
+datadriven::ProxyTrack replay_track(const ModelSource& m, const Recording& rec,
+                                    const std::string& recording, const ProxyColumnsSpec& proxy);
+
+/// Replays a recording in memory (t s, p mm) through the servo renderer.
+ReplayedFile replay_recording(const ModelSource& m, Recording rec, const std::string& recording,
+                              const ProxyColumnsSpec& proxy);
 
 /// The proxy track a model is replayed with: the probe itself for prefix "p"; the estimated proxy
 /// (the model's surface mesh and yield surfaces) when the model was trained on one; else the
@@ -143,6 +173,9 @@ struct SupportShare {
   double outside_share = 0, outside_position_share = 0;
 };
 SupportShare support_share(const std::string& model_path, const ReplayedFile& r);
+/// The same for any model source: the training samples in memory (file empty), else the coverage
+/// file beside the model file.
+SupportShare support_share(const ModelSource& m, const ReplayedFile& r);
 /// The line the program prints about it.
 std::string support_note(const SupportShare& s);
 
@@ -162,6 +195,13 @@ ModelEvalResult evaluate_model_file(const std::string& model_path, const std::st
                                     const ProxyColumnsSpec& proxy, const std::string& mesh_flag,
                                     const RecordingUnits& units = {},
                                     const std::string& train = {});
+/// `model eval` of a replay `r` of the recording named `recording`. The baselines are fitted on
+/// `train` (a recording in memory, t s and p mm, named `train_name`) when given, else on the
+/// training samples in memory (`m.set`), else on the training recording the model file names.
+ModelEvalResult evaluate_model(const ModelSource& m, const ReplayedFile& r,
+                               const std::string& recording, const ProxyColumnsSpec& proxy,
+                               const Recording* train = nullptr,
+                               const std::string& train_name = {});
 /// The lines `model eval` prints: RMSE, median AE and RE of the contact samples, and how many
 /// were measured above the render clamp.
 std::string model_eval_text(const ModelEvalResult& r);

@@ -28,6 +28,10 @@ struct RecordingUnits {
 /// unit.
 Recording read_recording_in(const std::string& path, const RecordingUnits& units);
 
+/// Converts a recording's t and p (and proxy columns qx,qy,qz) from `units` to s and mm in place.
+/// Throws inhap::Error on an unknown unit.
+void convert_units(Recording& rec, const RecordingUnits& units);
+
 /// True when the recording has the proxy columns <prefix>x,y,z.
 bool has_proxy_columns(const Recording& rec, const std::string& prefix);
 

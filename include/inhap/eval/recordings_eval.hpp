@@ -23,9 +23,16 @@ struct RecordingsEval {
 /// scores. Throws inhap::Error / ParseError naming the file on bad input.
 RecordingsEval evaluate_recordings(const TrainFileOptions& o, const std::string& test);
 
+/// The same on recordings in memory (t s, p mm: convert_units), `o.recording` and `test_name`
+/// naming them in messages (train_from_recording).
+RecordingsEval evaluate_recordings(const Recording& train, Recording test,
+                                   const TrainFileOptions& o, const std::string& test_name);
+
 /// {"train", "test", "model": {"rmse_n", "re_median", ...}, "baselines": {...}, "verdict",
-/// "rate_hz", "estimated": [...], "samples": n}.
-nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::string& test);
+/// "rate_hz", "estimated": [...], "samples": n}. "train" is `train` when given, else the
+/// training recording the model names.
+nlohmann::ordered_json recordings_json(const RecordingsEval& e, const std::string& test,
+                                       const std::string& train = {});
 
 /// Measured against rendered force per axis for the model and the best baseline (by RE median),
 /// as CSV rows: t, measured x/y/z, model x/y/z, baseline x/y/z (N), scored samples only.

@@ -18,4 +18,9 @@ struct PointSet {
 /// Throws ParseError / IoError like read_mesh().
 PointSet read_points(const std::string& path);
 
+/// Writes the points (and the directions as nx,ny,nz when there are any) as a PLY (binary, or
+/// ASCII) or OBJ (points only) file that read_points() reads back exactly, atomically. Throws
+/// Error when directions are given for some points only, IoError when it cannot write.
+void write_points(const std::string& path, const PointSet& points, bool ascii = false);
+
 }  // namespace inhap
