@@ -12,6 +12,9 @@
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/eval/model_files.hpp"
+#include "inhap/eval/sys_bridge.hpp"
+#include "inhap/eval/sys_lab.hpp"
+#include "inhap/geometry/mesh_io.hpp"
 #include "inhap/studio/session.hpp"
 #include "session_rig.hpp"
 
@@ -172,20 +175,33 @@ std::string Session::do_model_stop() {
 }
 
 std::string Session::do_model_train(const Message& m) {
-  const std::string recording = get_string(m, "recording", 255);
-  const std::string out = get_string(m, "out", 255);
-  if (!ends_with(out, ".json")) throw ProtocolError("model_train: expected out ending in .json");
+  TrainJob job;
+  job.recording = get_string(m, "recording", 255);
+  job.out = get_string(m, "out", 255);
+  job.proxy = lab_ ? "palpation" : "recording";
+  if (m.body.contains("proxy")) job.proxy = get_choice(m, "proxy", {"palpation", "recording"});
+  if (!ends_with(job.out, ".json") || job.out.size() < 6)
+    throw ProtocolError("model_train: expected out ending in .json");
   if (training_) throw ProtocolError("model_train: a training is running (Cancel it first)");
-  workspace_.input(recording);  // exists, regular, no link: checked before the thread starts
-  workspace_.output(out);
+  workspace_.input(job.recording);  // exists, regular, no link: checked before the thread starts
+  workspace_.output(job.out);
+  if (job.proxy == "palpation") {
+    std::lock_guard lock(data_mu_);
+    if (sys_ && palp_mesh_) job.sys = *sys_, job.shape = *palp_mesh_;
+  }
+  if (job.proxy == "palpation" && !job.sys && !lab_)
+    throw ProtocolError("model_train: palpate reference points in the Palpation view first");
   if (train_thread_.joinable()) train_thread_.join();
   train_cancel_ = false;
   training_ = true;
-  train_thread_ = std::thread([this, recording, out] { train_worker(recording, out); });
   nlohmann::json j = ok("model_train");
-  j["recording"] = recording;
-  j["out"] = out;
+  j["recording"] = job.recording;
+  j["out"] = job.out;
+  j["proxy"] = job.proxy;
+  j["palpation"] = job.sys ? "palpation view" : job.proxy == "palpation" ? "lab scene" : "";
   j["threads"] = 1;
+  train_thread_ =
+      std::thread([this, job = std::move(job)]() mutable { train_worker(std::move(job)); });
   return j.dump();
 }
 
@@ -200,49 +216,104 @@ void Session::end_training() {
   if (train_thread_.joinable()) train_thread_.join();
 }
 
-void Session::train_worker(std::string recording, std::string out) {
+void Session::train_worker(TrainJob job) {
   // One thread at the lowest priority: the servo thread (and the page's server) come first.
   setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
   const auto t0 = std::chrono::steady_clock::now();
-  nlohmann::json done{{"type", "trained"}, {"recording", recording}, {"out", out}};
+  const std::string& recording = job.recording;
+  const std::string& out = job.out;
+  nlohmann::json done{
+      {"type", "trained"}, {"recording", recording}, {"out", out}, {"proxy", job.proxy}};
+  auto last = std::make_shared<std::chrono::steady_clock::time_point>();
+  const Progress progress = [this, last](const std::string& stage, double f, double eta) {
+    if (train_cancel_) throw Cancelled();
+    const auto now = std::chrono::steady_clock::now();
+    if (now - *last < std::chrono::milliseconds(200) && f < 1) return;
+    *last = now;
+    broadcast_(
+        dump_safe({{"type", "train_progress"}, {"stage", stage}, {"fraction", f}, {"eta_s", eta}}));
+  };
+  auto said = std::make_shared<std::vector<std::string>>();  // what training printed
+  const auto say = [this, said](const std::string& note) {
+    if (train_cancel_) throw Cancelled();
+    said->push_back(note);
+    broadcast_(dump_safe({{"type", "train_progress"}, {"note", note}}));
+  };
   try {
+    const std::string stem = out.substr(0, out.size() - 5);
     const WorkspacePath in = workspace_.input(recording);
     const WorkspacePath dst = workspace_.output(out);
+    std::vector<std::string> lines, files;
     eval::TrainFileOptions o;  // the defaults of `inhap model train`
     o.recording = in.path();
+    std::optional<friction::SysModel> sys;
+    std::optional<TriMesh> shape;
+    std::optional<WorkspacePath> proxied, sys_file, mesh_file;
+    if (job.proxy == "palpation") {
+      // `inhap sys palpate` (or the Palpation view's fit), then `inhap sys proxy`: the thesis'
+      // proxy, q from the sliding yield surfaces on the shape.
+      const std::string sys_name = stem + ".palpation.json";
+      const std::string mesh_name = stem + ".palpation.shape.ply";
+      const std::string rec_name = stem + ".proxy.csv";
+      sys_file.emplace(workspace_.output(sys_name));
+      mesh_file.emplace(workspace_.output(mesh_name));
+      proxied.emplace(workspace_.output(rec_name));
+      if (job.sys) {
+        say("yield surfaces of the Palpation view");
+        with_names({&*sys_file, &*mesh_file}, [&] {
+          friction::write_sys_json(sys_file->path(), *job.sys);
+          write_mesh(mesh_file->path(), *job.shape);
+        });
+        sys = std::move(job.sys);
+        shape = std::move(job.shape);
+        files.push_back(sys_name), files.push_back(mesh_name);
+      } else {
+        eval::ScenePalpationOptions po;  // `inhap sys palpate --scene NAME` (9 points)
+        po.scene = scene_.name;
+        po.seed = options_.seed;
+        po.progress_label = "palpation";
+        po.progress = progress;
+        say("palpating the lab's " + scene_.name + " as `inhap sys palpate` does");
+        eval::ScenePalpation pal = eval::palpate_scene(po);
+        with_names({&*sys_file}, [&] { eval::write_scene_palpation(sys_file->path(), pal); });
+        say(dst.tidy(eval::scene_palpation_text(sys_file->path(), pal)));
+        sys = std::move(pal.sys);
+        shape = std::move(pal.shape_mesh);
+        files.push_back(sys_name);
+      }
+      const auto run = with_names({&in, &*sys_file, &*mesh_file, &*proxied}, [&] {
+        return eval::proxy_file(sys_file->path(), mesh_file->path(), in.path(), proxied->path(),
+                                0.0, true);
+      });
+      say(fmt::format("proxy: {} rows, {} in contact, {} sliding -> {}", run.rows,
+                      run.counts.contact, run.counts.sliding, rec_name));
+      files.push_back(rec_name);
+      o.recording = proxied->path();
+      o.sys = sys_file->path();
+      o.mesh = mesh_file->path();
+    }
     o.request.params.threads = 1;
-    auto last = std::make_shared<std::chrono::steady_clock::time_point>();
-    o.progress = [this, last](const std::string& stage, double f, double eta) {
-      if (train_cancel_) throw Cancelled();
-      const auto now = std::chrono::steady_clock::now();
-      if (now - *last < std::chrono::milliseconds(200) && f < 1) return;
-      *last = now;
-      broadcast_(nlohmann::json{
-          {"type", "train_progress"}, {"stage", stage}, {"fraction", f}, {"eta_s", eta}}
-                     .dump());
-    };
-    o.on_note = [this](const std::string& note) {
-      if (train_cancel_) throw Cancelled();
-      broadcast_(dump_safe({{"type", "train_progress"}, {"note", note}}));
-    };
-    broadcast_(
-        nlohmann::json{{"type", "train_progress"}, {"stage", "read"}, {"fraction", 0}}.dump());
-    eval::TrainFileResult r = with_names({&in}, [&] { return eval::train_from_file(o); });
+    o.progress = progress;
+    o.on_note = say;
+    eval::TrainFileResult r =
+        with_names({&in, proxied ? &*proxied : nullptr}, [&] { return eval::train_from_file(o); });
     if (train_cancel_) throw Cancelled();
-    if (!r.estimate)
-      throw Error(
-          fmt::format("{}: the studio feels models with an estimated proxy; this "
-                      "recording has proxy columns",
-                      quote_input(recording, 200)));
-    r.model.provenance.recording_path = recording;  // as the page named it (beside the model)
-    std::vector<std::string> lines = r.notes;
-    std::vector<std::string> files;
+    lines = *said;  // the notes of train_from_file came through `say`
+    if (!sys && !r.estimate)
+      throw Error(fmt::format("{}: has proxy columns; train it with proxy palpation",
+                              quote_input(recording, 200)));
+    r.model.provenance.recording_path = proxied ? stem + ".proxy.csv" : recording;
+    if (sys) {
+      r.model.provenance.sys_path = stem + ".palpation.json";
+      r.model.provenance.mesh_path = stem + ".palpation.shape.ply";
+    }
     // In the order of `inhap model train`, each file atomically: the model is written after the
     // files it references (their digests are of the files as written).
     with_names({&in, &dst}, [&] {
-      for (const std::string& f :
-           eval::write_estimate_files(dst.path(), *r.estimate, r.model.provenance))
-        files.push_back(dst.tidy(f));
+      if (r.estimate)
+        for (const std::string& f :
+             eval::write_estimate_files(dst.path(), *r.estimate, r.model.provenance))
+          files.push_back(dst.tidy(f));
       datadriven::save_force_model(dst.path(), r.model);
       lines.push_back(eval::range_note(r.model.provenance, r.set, o.force_limit_n));
       for (const std::string& l :
@@ -253,8 +324,10 @@ void Session::train_worker(std::string recording, std::string out) {
     files.push_back(datadriven::coverage_path_for(out));
     lines.push_back(eval::train_summary(r.model, false));
     auto bundle =
-        std::make_shared<DataDrivenBundle>(r.model.model, r.estimate->sys, r.estimate->mesh, 0.0);
-    CoverageTracker cov;  // the training set's coverage (the estimated proxy), as written
+        sys ? std::make_shared<DataDrivenBundle>(r.model.model, std::move(*sys), *shape, 0.0)
+            : std::make_shared<DataDrivenBundle>(r.model.model, r.estimate->sys, r.estimate->mesh,
+                                                 0.0);
+    CoverageTracker cov;  // the training set's coverage (its proxy), as written
     for (std::size_t i = 0; i < r.set.size(); ++i)
       cov.add(TickPoint{double(i) * 1e-3, r.set.q[i], r.set.f[i], true});
     const auto& st = r.model.provenance.stats;

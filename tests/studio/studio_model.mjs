@@ -3,8 +3,9 @@
 //   node studio_model.mjs --inhap BIN --web WEB_DIR --out OUT_DIR
 // lab:planar at --speed 20: the lab's explore operator records 65 simulated s (the training run of
 // `inhap lab record --operator explore --coverage`), the coverage map shows visited cells; the
-// recording and its truth land in the workspace; training (one thread, nice 19) writes the model,
-// its estimate files and coverage; the servo loop's statistics are printed for a stretch without
+// recording and its truth land in the workspace; training (one thread, nice 19: the lab scene
+// palpated as `sys palpate`, the proxy as `sys proxy`, then `model train`) writes the model, the
+// yield surfaces, shape, proxied recording and coverage; the servo loop's statistics are printed for a stretch without
 // and a stretch with training beside it; then a scripted mouse path is felt on the object and on
 // the model, and the running RMSE per axis of model - object is checked against the planar
 // target of `eval forces` (0.15 N); two blind answers land in the answers CSV; no console error.
@@ -96,7 +97,7 @@ try {
   if (tr.status === 'done') log(`training printed:\n${tr.lines.join('\n')}`);
   check(busy.overruns <= Math.max(2, 2 * idle.overruns * (busy.ticks / Math.max(1, idle.ticks))),
     `no overruns caused by training (${busy.overruns} in ${busy.ticks} ticks vs ${idle.overruns} in ${idle.ticks} without)`);
-  for (const f of ['model.json', 'model.coverage.csv', 'model.surface.ply', 'model.sys.json'])
+  for (const f of ['model.json', 'model.coverage.csv', 'model.palpation.json', 'model.palpation.shape.ply', 'model.proxy.csv'])
     check(fs.existsSync(path.join(workspace, f)), `${f} in the workspace`);
   await sleep(500);
   await page.screenshot({ path: path.join(out, 'studio-model-coverage.png') });

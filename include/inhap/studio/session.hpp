@@ -225,7 +225,16 @@ class Session {
   std::string do_model_stats();
   void build_model_rig(Rig& rig, const std::string& mode);
   void stream_model(Rig& rig, bool flush);
-  void train_worker(std::string recording, std::string out);
+  /// The proxy of the training: "palpation" (the Palpation view's yield surfaces and shape when
+  /// fitted, else the lab scene palpated as `inhap sys palpate`; the recording's proxy then by
+  /// `inhap sys proxy`) or "recording" (estimated from the recording, as `inhap model train`
+  /// on a recording without proxy columns).
+  struct TrainJob {
+    std::string recording, out, proxy;
+    std::optional<friction::SysModel> sys;  ///< the Palpation view's, when fitted
+    std::optional<TriMesh> shape;           ///< its probe-centre shape
+  };
+  void train_worker(TrainJob job);
   void end_training();
   std::string model_rec_operator_ = "explore", model_rec_path_ = "model-rec.csv";
   double model_rec_seconds_ = 65;
