@@ -276,7 +276,9 @@ void Session::train_worker(TrainJob job) {
         say("palpating the lab's " + scene_.name + " as `inhap sys palpate` does");
         eval::ScenePalpation pal = eval::palpate_scene(po);
         with_names({&*sys_file}, [&] { eval::write_scene_palpation(sys_file->path(), pal); });
-        say(dst.tidy(eval::scene_palpation_text(sys_file->path(), pal)));
+        std::string text = sys_file->tidy(eval::scene_palpation_text(sys_file->path(), pal));
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        say(text);
         sys = std::move(pal.sys);
         shape = std::move(pal.shape_mesh);
         files.push_back(sys_name);

@@ -86,6 +86,14 @@ try {
   await sleep(T(8000));
   const idle = await stats();
   log(`MEASURED servo loop, no training (8 s): ${statsLine(idle)}; load average ${os.loadavg()[0].toFixed(1)}`);
+  // Cancel: a training started and cancelled at once ends as cancelled and writes no model.
+  await page.click('#mtrain');
+  await page.waitForFunction(() => window.studio.lastReply && window.studio.lastReply.request === 'model_train', { timeout: T(10000) });
+  await page.click('#mcancel');
+  await page.waitForFunction(() => window.studio.model.trained, { timeout: T(60000), polling: 100 });
+  const cancelled = await page.evaluate(() => { const t = window.studio.model.trained; window.studio.model.trained = null; return t; });
+  check(cancelled.status === 'cancelled' && !fs.existsSync(path.join(workspace, 'model.json')), `Cancel: the training ends as ${cancelled.status}, no model written`);
+  await stats();  // a fresh loop for the figures beside the training
   const trainStart = Date.now();
   await page.click('#mtrain');
   await page.waitForFunction(() => window.studio.model.trained, { timeout: T(300000), polling: 250 });

@@ -163,7 +163,7 @@ export function createModelView({ $, S, send }) {
   });
   $('mrec').onclick = () => send({ type: 'model_record', operator: $('mrecop').value, seconds: +$('mrecsecs').value, path: $('mrecname').value });
   $('mrecstop').onclick = () => send({ type: 'model_stop' });
-  $('mtrain').onclick = () => send({ type: 'model_train', recording: $('mtrainrec').value, out: $('mtrainout').value });
+  $('mtrain').onclick = () => send({ type: 'model_train', recording: $('mtrainrec').value, out: $('mtrainout').value, proxy: $('mproxy').value });
   $('mcancel').onclick = () => send({ type: 'model_cancel' });
   $('mobject').onclick = () => send({ type: 'model_source', source: M.blind ? 'a' : 'object' });
   $('mmodel').onclick = () => send({ type: 'model_source', source: M.blind ? 'b' : 'model' });
