@@ -111,7 +111,7 @@ try {
   await page.screenshot({ path: path.join(out, 'studio-model-coverage.png') });
 
   // 3. Feel: a scripted mouse path (press, slide, release) on the object, then on the model.
-  const drive = async (seconds) => {
+  const drive = async (seconds, shot) => {
     const t1 = Date.now() + seconds * 1000;
     const strokes = [[[-8, -4], [8, -4]], [[8, 2], [-8, 2]], [[-6, 6], [6, 6]], [[0, -8], [0, 8]]];
     let k = 0;
@@ -122,7 +122,10 @@ try {
       await page.mouse.move(a.x, a.y, { steps: 5 });
       await sleep(300);
       await page.mouse.down();
-      for (let i = 1; i <= 60; ++i) { await page.mouse.move(a.x + (b.x - a.x) * i / 60, a.y + (b.y - a.y) * i / 60); await sleep(25); }
+      for (let i = 1; i <= 60; ++i) {
+        await page.mouse.move(a.x + (b.x - a.x) * i / 60, a.y + (b.y - a.y) * i / 60); await sleep(25);
+        if (shot && k === 2 && i === 40) await page.screenshot({ path: path.join(out, 'studio-model.png') });  // pressed, mid-slide
+      }
       await page.mouse.up();
       await sleep(300);
     }
@@ -133,10 +136,9 @@ try {
   log(`felt: ${onObject.src}; RMSE model - object x/y/z ${onObject.rmse.map((v) => v.toFixed(3)).join(' / ')} N over ${onObject.n} ticks`);
   await page.keyboard.press('m');  // A/B: the model
   await page.waitForFunction(() => window.studio.model.source === 'model', { timeout: T(5000) });
-  await drive(8);
+  await drive(8, true);
   const both = await page.evaluate(() => ({ rmse: window.studio.model.rmse, n: window.studio.model.n }));
   log(`MEASURED model vs object along the scripted path: RMSE x/y/z ${both.rmse.map((v) => v.toFixed(3)).join(' / ')} N over ${both.n} ticks in contact`);
-  await page.screenshot({ path: path.join(out, 'studio-model.png') });
   check(both.n > 1000 && both.rmse.every((v) => v <= 0.15), `RMSE per axis <= 0.15 N (${both.rmse.map((v) => v.toFixed(3)).join(' / ')})`);
 
   // 4. Blind: two answers.

@@ -74,8 +74,8 @@ export function createModelView({ $, S, send }) {
     g.fillText(c ? `${c.samples} contact samples, ${c.cells.length} cells` : 'no exploration yet', 180, 20);
     if (S.state) {  // the probe
       const [x, y] = S.state.p;
-      g.fillStyle = S.state.contact ? '#e02020' : '#20a020';
-      g.beginPath(); g.arc(f.px(x), f.py(y), 5, 0, 2 * Math.PI); g.fill();
+      g.fillStyle = S.state.contact ? '#ffffff' : '#20a020'; g.strokeStyle = '#000'; g.lineWidth = 2;
+      g.beginPath(); g.arc(f.px(x), f.py(y), 7, 0, 2 * Math.PI); g.fill(); g.stroke();
     }
   }
   function drawPlot() {
