@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/coverage.hpp"
@@ -34,6 +35,62 @@ struct Cancelled : Error {
 bool ends_with(const std::string& s, const char* ext) {
   const std::string e(ext);
   return s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+// The thesis' proxy for training: `inhap sys palpate --scene NAME` (or the Palpation view's
+// fit: `sys`, `shape`), then `inhap sys proxy` on the recording `in`; the files as the page
+// names them (beside the model, named after its stem).
+struct PalpationProxy {
+  std::optional<WorkspacePath> sys_file, mesh_file, proxied;
+  friction::SysModel sys;
+  TriMesh shape;
+  std::vector<std::string> files;
+};
+PalpationProxy palpation_proxy(const Workspace& ws, const lab::Scene& scene, std::uint64_t seed,
+                               const std::string& stem, std::optional<friction::SysModel>& sys,
+                               std::optional<TriMesh>& shape, const WorkspacePath& in,
+                               const Progress& progress,
+                               const std::function<void(const std::string&)>& say) {
+  PalpationProxy r;
+  const std::string sys_name = stem + ".palpation.json";
+  const std::string mesh_name = stem + ".palpation.shape.ply";
+  const std::string rec_name = stem + ".proxy.csv";
+  r.sys_file.emplace(ws.output(sys_name));
+  r.mesh_file.emplace(ws.output(mesh_name));
+  r.proxied.emplace(ws.output(rec_name));
+  const WorkspacePath &sf = *r.sys_file, &mf = *r.mesh_file, &pf = *r.proxied;
+  if (sys && shape) {
+    say("yield surfaces of the Palpation view");
+    with_names({&sf, &mf}, [&] {
+      friction::write_sys_json(sf.path(), *sys);
+      write_mesh(mf.path(), *shape);
+    });
+    r.sys = std::move(*sys);
+    r.shape = std::move(*shape);
+    r.files = {sys_name, mesh_name};
+  } else {
+    eval::ScenePalpationOptions po;  // `inhap sys palpate --scene NAME` (9 points)
+    po.scene = scene.name;
+    po.seed = seed;
+    po.progress_label = "palpation";
+    po.progress = progress;
+    say("palpating the lab's " + scene.name + " as `inhap sys palpate` does");
+    eval::ScenePalpation pal = eval::palpate_scene(po);
+    with_names({&sf}, [&] { eval::write_scene_palpation(sf.path(), pal); });
+    std::string text = sf.tidy(eval::scene_palpation_text(sf.path(), pal));
+    while (!text.empty() && text.back() == '\n') text.pop_back();
+    say(text);
+    r.sys = std::move(pal.sys);
+    r.shape = std::move(pal.shape_mesh);
+    r.files = {sys_name};
+  }
+  const auto run = with_names({&in, &sf, &mf, &pf}, [&] {
+    return eval::proxy_file(sf.path(), mf.path(), in.path(), pf.path(), 0.0, true);
+  });
+  say(fmt::format("proxy: {} rows, {} in contact, {} sliding -> {}", run.rows, run.counts.contact,
+                  run.counts.sliding, rec_name));
+  r.files.push_back(rec_name);
+  return r;
 }
 
 }  // namespace
@@ -248,63 +305,28 @@ void Session::train_worker(TrainJob job) {
     o.recording = in.path();
     std::optional<friction::SysModel> sys;
     std::optional<TriMesh> shape;
-    std::optional<WorkspacePath> proxied, sys_file, mesh_file;
+    std::optional<PalpationProxy> pp;
     if (job.proxy == "palpation") {
-      // `inhap sys palpate` (or the Palpation view's fit), then `inhap sys proxy`: the thesis'
-      // proxy, q from the sliding yield surfaces on the shape.
-      const std::string sys_name = stem + ".palpation.json";
-      const std::string mesh_name = stem + ".palpation.shape.ply";
-      const std::string rec_name = stem + ".proxy.csv";
-      sys_file.emplace(workspace_.output(sys_name));
-      mesh_file.emplace(workspace_.output(mesh_name));
-      proxied.emplace(workspace_.output(rec_name));
-      if (job.sys) {
-        say("yield surfaces of the Palpation view");
-        with_names({&*sys_file, &*mesh_file}, [&] {
-          friction::write_sys_json(sys_file->path(), *job.sys);
-          write_mesh(mesh_file->path(), *job.shape);
-        });
-        sys = std::move(job.sys);
-        shape = std::move(job.shape);
-        files.push_back(sys_name), files.push_back(mesh_name);
-      } else {
-        eval::ScenePalpationOptions po;  // `inhap sys palpate --scene NAME` (9 points)
-        po.scene = scene_.name;
-        po.seed = options_.seed;
-        po.progress_label = "palpation";
-        po.progress = progress;
-        say("palpating the lab's " + scene_.name + " as `inhap sys palpate` does");
-        eval::ScenePalpation pal = eval::palpate_scene(po);
-        with_names({&*sys_file}, [&] { eval::write_scene_palpation(sys_file->path(), pal); });
-        std::string text = sys_file->tidy(eval::scene_palpation_text(sys_file->path(), pal));
-        while (!text.empty() && text.back() == '\n') text.pop_back();
-        say(text);
-        sys = std::move(pal.sys);
-        shape = std::move(pal.shape_mesh);
-        files.push_back(sys_name);
-      }
-      const auto run = with_names({&in, &*sys_file, &*mesh_file, &*proxied}, [&] {
-        return eval::proxy_file(sys_file->path(), mesh_file->path(), in.path(), proxied->path(),
-                                0.0, true);
-      });
-      say(fmt::format("proxy: {} rows, {} in contact, {} sliding -> {}", run.rows,
-                      run.counts.contact, run.counts.sliding, rec_name));
-      files.push_back(rec_name);
-      o.recording = proxied->path();
-      o.sys = sys_file->path();
-      o.mesh = mesh_file->path();
+      pp.emplace(palpation_proxy(workspace_, scene_, options_.seed, stem, job.sys, job.shape, in,
+                                 progress, say));
+      sys = std::move(pp->sys);
+      shape = std::move(pp->shape);
+      files = pp->files;
+      o.recording = pp->proxied->path();
+      o.sys = pp->sys_file->path();
+      o.mesh = pp->mesh_file->path();
     }
     o.request.params.threads = 1;
     o.progress = progress;
     o.on_note = say;
     eval::TrainFileResult r =
-        with_names({&in, proxied ? &*proxied : nullptr}, [&] { return eval::train_from_file(o); });
+        with_names({&in, pp ? &*pp->proxied : nullptr}, [&] { return eval::train_from_file(o); });
     if (train_cancel_) throw Cancelled();
     lines = *said;  // the notes of train_from_file came through `say`
     if (!sys && !r.estimate)
       throw Error(fmt::format("{}: has proxy columns; train it with proxy palpation",
                               quote_input(recording, 200)));
-    r.model.provenance.recording_path = proxied ? stem + ".proxy.csv" : recording;
+    r.model.provenance.recording_path = pp ? stem + ".proxy.csv" : recording;
     if (sys) {
       r.model.provenance.sys_path = stem + ".palpation.json";
       r.model.provenance.mesh_path = stem + ".palpation.shape.ply";
