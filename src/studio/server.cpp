@@ -31,6 +31,7 @@ const std::map<std::string, std::pair<std::string, std::string>>& routes() {
       {"/studio.css", {"studio/studio.css", "text/css; charset=utf-8"}},
       {"/plots.js", {"studio/plots.js", "text/javascript; charset=utf-8"}},
       {"/markers.js", {"studio/markers.js", "text/javascript; charset=utf-8"}},
+      {"/model.js", {"studio/model.js", "text/javascript; charset=utf-8"}},
       {"/lib/three.module.js", {"node_modules/three/build/three.module.js", "text/javascript"}},
       {"/lib/three.core.js", {"node_modules/three/build/three.core.js", "text/javascript"}},
       {"/lib/OrbitControls.js",

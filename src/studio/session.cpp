@@ -12,25 +12,9 @@
 #include "inhap/rendering/datasets.hpp"
 #include "inhap/studio/display.hpp"
 #include "inhap/studio/experiment_summary.hpp"
+#include "session_rig.hpp"
 
 namespace inhap::studio {
-
-// What one view runs: the device (lab) or the shared bridge, the renderer and its model, the
-// loop and its observer ring.
-struct Session::Rig {
-  std::unique_ptr<LabHandDevice> lab_device;
-  Device* device = nullptr;
-  TargetMailbox mailbox;
-  MouseOperator* mouse = nullptr;
-  PalpationRenderer* palp = nullptr;  ///< the palpation protocol, while it runs
-  std::unique_ptr<rendering::Model> model;
-  std::unique_ptr<haptics::Renderer> renderer;
-  haptics::ObserverRing ring;
-  std::unique_ptr<haptics::ServoLoop> loop;
-  CompensatorConfig comp;
-  CompensatorState comp_state;
-  StreamTapDetector taps;
-};
 
 std::optional<Contact> StreamTapDetector::add(double t, const Vec3& p, const Vec3& f) {
   t_.push_back(t), p_.push_back(p), f_.push_back(f);
@@ -100,6 +84,7 @@ void Session::start(double connect_s) {
 }
 
 void Session::stop() {
+  end_training();  // before the lock: the worker's last message may wait for nothing else
   std::lock_guard cmd(cmd_mu_);
   stop_rig();
   if (bridge_) bridge_->stop();
@@ -120,6 +105,32 @@ std::string Session::mode() const {
 
 void Session::start_rig(const std::string& mode) {
   auto rig = std::make_unique<Rig>();
+  if (mode == "model" || mode == "model_record") {
+    build_model_rig(*rig, mode);
+  } else {
+    build_rig(*rig, mode);
+  }
+  haptics::LoopOptions lo;
+  lo.realtime = options_.realtime;
+  // The lab's time is simulated and there is no arm to protect: a wall-clock deadline missed
+  // under load changes nothing it computes, while a watchdog zero force would spoil a palpation
+  // cycle and show a pressed probe with no force. A real device (udp) keeps the watchdog.
+  if (lab_) lo.watchdog_misses = std::numeric_limits<int>::max();
+  rig->loop = std::make_unique<haptics::ServoLoop>(*rig->device, *rig->renderer, lo);
+  rig->loop->add_observer(rig->ring);
+  {
+    std::lock_guard lock(data_mu_);
+    mode_ = mode;
+    have_latest_ = false;
+  }
+  rig_ = std::move(rig);
+  rig_->loop->start();
+  stop_stream_ = false;
+  streamer_ = std::thread([this] { stream_loop(); });
+}
+
+void Session::build_rig(Rig& rig_ref, const std::string& mode) {
+  Rig* rig = &rig_ref;
   const bool palp = mode == "palpation" || mode == "palpating";
   const bool mouse = mode != "sampling" && !palp;
   if (lab_) {
@@ -173,23 +184,6 @@ void Session::start_rig(const std::string& mode) {
     if (mode == "explore" && data_driven_)
       rig->renderer = std::make_unique<haptics::DataDrivenRenderer>(data_driven_->model);
   }
-  haptics::LoopOptions lo;
-  lo.realtime = options_.realtime;
-  // The lab's time is simulated and there is no arm to protect: a wall-clock deadline missed
-  // under load changes nothing it computes, while a watchdog zero force would spoil a palpation
-  // cycle and show a pressed probe with no force. A real device (udp) keeps the watchdog.
-  if (lab_) lo.watchdog_misses = std::numeric_limits<int>::max();
-  rig->loop = std::make_unique<haptics::ServoLoop>(*rig->device, *rig->renderer, lo);
-  rig->loop->add_observer(rig->ring);
-  {
-    std::lock_guard lock(data_mu_);
-    mode_ = mode;
-    have_latest_ = false;
-  }
-  rig_ = std::move(rig);
-  rig_->loop->start();
-  stop_stream_ = false;
-  streamer_ = std::thread([this] { stream_loop(); });
 }
 
 void Session::stop_rig() {
@@ -226,6 +220,7 @@ void Session::stream_loop() {
     }
     for (const Contact& c : found) on_contact(c);
     if (rig_->palp) stream_palpation(*rig_->palp, fitted);
+    if (rig_->recorder || rig_->compare) stream_model(*rig_, false);
     const std::uint64_t seq = rig_->mouse ? rig_->mouse->applied_seq() : 0;
     const auto now = clock::now();
     if (!have || (now - last_sent < period && seq == sent_seq)) continue;
@@ -241,6 +236,7 @@ void Session::stream_loop() {
     last_sent = now;
     sent_seq = seq;
   }
+  if (rig_->recorder || rig_->compare) stream_model(*rig_, true);
 }
 
 std::string Session::state_json(const haptics::LoopSample& s) const {
@@ -286,7 +282,7 @@ std::string Session::dispatch(const Message& m) {
   }
   if (m.type == "mode")
     return set_mode(
-        get_choice(m, "mode", {"sampling", "idle", "explore", "experiment", "palpation"}));
+        get_choice(m, "mode", {"sampling", "idle", "explore", "experiment", "palpation", "model"}));
   if (m.type == "probe") return do_probe(m);
   if (m.type == "delete") return do_delete(m);
   if (m.type == "undo") return do_undo();
@@ -305,6 +301,14 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "palpate") return do_palpate(m);
   if (m.type == "save_sys") return do_save_sys(m);
   if (m.type == "summary") return dump_safe(summarize_answers(workspace_));
+  if (m.type == "model_record") return do_model_record(m);
+  if (m.type == "model_stop") return do_model_stop();
+  if (m.type == "model_train") return do_model_train(m);
+  if (m.type == "model_cancel") return do_model_cancel();
+  if (m.type == "model_source") return do_model_source(m);
+  if (m.type == "model_blind") return do_model_blind(m);
+  if (m.type == "model_answer") return do_model_answer(m);
+  if (m.type == "model_stats") return do_model_stats();
   if (m.type == "stats") {
     // The raw text, quoted and capped (the body was checked for depth before parsing).
     fmt::print(stderr, "page: {}\n", quote_input(dump_safe(m.body), 2000));
@@ -335,6 +339,8 @@ std::string Session::hello() const {
 std::string Session::set_mode(const std::string& mode) {
   if (mode == "experiment" && !surface_)
     throw ProtocolError("mode: start an experiment first ({\"type\":\"experiment\",...})");
+  if (mode == "model" && !lab_)
+    throw ProtocolError("mode: the Model view needs the lab (--device lab:SCENE)");
   if (mode == "palpation" && !lab_ && !reconstruction_)
     throw ProtocolError(
         "mode: palpation needs a shape: reconstruct one in the sampling view first (a real "
@@ -364,7 +370,10 @@ std::string Session::do_probe(const Message& m) {
   if (!rig_ || !rig_->mouse) return nlohmann::json{{"type", "ok"}, {"request", "probe"}}.dump();
   // Hover 3 mm above the point; pressed, up to 12 mm into the surface: the hand's spring
   // (0.6 N/mm) against the rendered surface sets the force.
-  rig_->mailbox.write(Vec3(x, y, z) + n * (3.0 - 15.0 * press), static_cast<std::uint64_t>(seq));
+  // The Model view's lab probe is the 8 mm ball: its centre rides that much higher.
+  const double lift = mode_.rfind("model", 0) == 0 ? lab::DeviceParams{}.probe.radius_mm : 0.0;
+  rig_->mailbox.write(Vec3(x, y, z) + n * (lift + 3.0 - 15.0 * press),
+                      static_cast<std::uint64_t>(seq));
   probe_written_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
   probe_written_seq_ = static_cast<std::uint64_t>(seq);
   return {};  // no reply: the state stream shows the probe

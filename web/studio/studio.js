@@ -8,6 +8,7 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
 import { drawFig47, drawFig48, drawLine } from '/plots.js';
 import { Markers } from '/markers.js';
+import { createModelView } from '/model.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const $ = (id) => document.getElementById(id);
@@ -23,8 +24,10 @@ const send = (m) => { if (ws.readyState === 1) ws.send(JSON.stringify(m)); };
 ws.onopen = () => { $('status').textContent = 'connected'; send({ type: 'hello' }); };
 ws.onclose = () => { $('status').textContent = 'disconnected'; };
 let needRender = true;  // the scene changes only through messages, the camera and the mouse
+let modelView = null;  // the Model view (model.js), made once the page's functions exist
 ws.onmessage = (ev) => {
   const m = JSON.parse(ev.data);
+  if (modelView && modelView.onMessage(m)) return;
   // states move the markers only (markers.js); cycles and progress go to plots and text
   if (m.type !== 'state' && m.type !== 'cycle' && m.type !== 'progress') needRender = true;
   S.messages++;
@@ -110,7 +113,7 @@ function buildMesh(m, opacity) {
 }
 function onMesh(m) {
   const mesh = buildMesh(m, m.role === 'object' ? 0.35 : 1);
-  if (m.role === 'object') { if (objectMesh) scene.remove(objectMesh); objectMesh = mesh; }
+  if (m.role === 'object') { if (objectMesh) scene.remove(objectMesh); objectMesh = mesh; if (modelView) modelView.setObject(m); }
   if (m.role === 'reconstruction') {
     if (reconMesh) scene.remove(reconMesh);
     reconMesh = mesh; S.mesh = { vertices: m.vertices.length / 3, faces: m.faces.length / 3 };
@@ -390,7 +393,7 @@ if (experimenter) {
   document.body.classList.add('experimenter');
   S.view = 'experimenter';
   loadPlotly();
-  for (const x of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + x).classList.add('hidden');
+  for (const x of ['sampling', 'explore', 'experiment', 'palpation', 'model']) $('side-' + x).classList.add('hidden');
   $('side-experimenter').classList.remove('hidden');
   ws.addEventListener('open', () => { send({ type: 'progress' }); send({ type: 'summary' }); });
 }
@@ -463,19 +466,23 @@ S.palpTopScreenPos = () => {  // the highest vertex of the shape on the screen (
 function setView(v) {
   S.view = v;
   document.querySelectorAll('.tab').forEach((b) => b.classList.toggle('active', b.dataset.view === v));
-  for (const s of ['sampling', 'explore', 'experiment', 'palpation']) $('side-' + s).classList.toggle('hidden', s !== v);
-  host.classList.toggle('hidden', v === 'experiment');
+  for (const s of ['sampling', 'explore', 'experiment', 'palpation', 'model']) $('side-' + s).classList.toggle('hidden', s !== v);
+  host.classList.toggle('hidden', v === 'experiment' || v === 'model');
+  modelView.show(v === 'model');
   svg.classList.toggle('hidden', v !== 'experiment');
   showFor(v);
   if (v === 'sampling') send({ type: 'mode', mode: tapping ? 'sampling' : 'idle' });
   if (v === 'explore') { send({ type: 'mode', mode: 'explore' }); if (!exploreMesh) send({ type: 'open_mesh', source: 'study25' }); }
   if (v === 'experiment' && S.trial) send({ type: 'mode', mode: 'experiment' });
   if (v === 'palpation' && !S.palpRunning) send({ type: 'mode', mode: 'palpation' });
+  if (v === 'model') send({ type: 'mode', mode: 'model' });
   resize();
 }
 document.querySelectorAll('.tab').forEach((b) => (b.onclick = () => setView(b.dataset.view)));
 
 // --- frame loop ----------------------------------------------------------------------------
+modelView = createModelView({ $, S, send });
+S.send = send;  // the browser test sends a few messages of its own (model_stats)
 let fpsT = performance.now(), fpsN = 0;
 const forceCanvas = $('fplot');
 // Timings for the browser test: JS time of the render call and of the whole frame callback, ms.
@@ -492,6 +499,7 @@ function frame(t) {
     $('status').textContent = `${S.view} · ${S.fps.toFixed(0)} fps · ${S.state ? S.state.t.toFixed(1) : '-'} s` +
       (S.dropped ? ` · ${S.dropped} dropped` : ''); }
   drawState(t);
+  if (S.view === 'model') modelView.tick();
   if (S.view === 'explore' && forceDirty) { forceDirty = false; drawLine(forceCanvas, fT, fY, 4, '|f| (N)', '#e07000'); }
   if (['sampling', 'explore', 'palpation'].includes(S.view) && (needRender || markedState !== S.state)) {
     const r0 = performance.now();

@@ -1,5 +1,6 @@
 // `inhap studio`: the servo loop plus a local web page (docs/studio.md): sampling by tapping,
-// palpation, exploring a model, the thesis 5.4 participant screen and experimenter window.
+// palpation, exploring a model, the thesis 5.4 participant screen and experimenter window, and
+// the Model view (record, train, feel the model against the object).
 // Units: mm, N, N/mm, s.
 #include <fmt/format.h>
 
@@ -77,8 +78,9 @@ void register_studio(CLI::App& app) {
       "The servo loop plus a local web page (docs/studio.md): sample an object by tapping and\n"
       "reconstruct it, palpate reference points and fit the sliding yield surfaces (sys.json),\n"
       "explore a model with a stiffness map (TCA-MESH / CBA), run the thesis 5.4 participant\n"
-      "screen with an experimenter window. Listens on 127.0.0.1 only and prints the URL with its\n"
-      "access token. Units: mm, N, N/mm, s.");
+      "screen with an experimenter window, record a free exploration, train the data-driven force\n"
+      "model on it and feel it against the object (Model view, lab only). Listens on 127.0.0.1\n"
+      "only and prints the URL with its access token. Units: mm, N, N/mm, s.");
   c->add_option("--device", a->session.device,
                 "lab:SCENE (the virtual lab: a simulated operator taps for sampling, the mouse "
                 "moves the probe through a simulated hand elsewhere) or udp / udp:PORT (a device "

@@ -114,6 +114,7 @@ class Session {
   std::string hello() const;
   std::string set_mode(const std::string& mode);
   void start_rig(const std::string& mode);
+  void build_rig(Rig& rig, const std::string& mode);
   void stop_rig();
   void stream_loop();
   std::string state_json(const haptics::LoopSample& s) const;
@@ -213,6 +214,47 @@ class Session {
   std::vector<friction::CycleRecord> palp_cycles_;  // data_mu_
   std::optional<friction::SysModel> sys_;           // data_mu_
   std::string palp_error_;                          // data_mu_
+  // the Model view (session_model.cpp): recording, training, feeling the model against the object
+  std::string do_model_record(const Message& m);
+  std::string do_model_stop();
+  std::string do_model_train(const Message& m);
+  std::string do_model_cancel();
+  std::string do_model_source(const Message& m);
+  std::string do_model_blind(const Message& m);
+  std::string do_model_answer(const Message& m);
+  std::string do_model_stats();
+  void build_model_rig(Rig& rig, const std::string& mode);
+  void stream_model(Rig& rig, bool flush);
+  /// The proxy of the training: "palpation" (the Palpation view's yield surfaces and shape when
+  /// fitted, else the lab scene palpated as `inhap sys palpate`; the recording's proxy then by
+  /// `inhap sys proxy`) or "recording" (estimated from the recording, as `inhap model train`
+  /// on a recording without proxy columns).
+  struct TrainJob {
+    std::string recording, out, proxy;
+    std::optional<friction::SysModel> sys;  ///< the Palpation view's, when fitted
+    std::optional<TriMesh> shape;           ///< its probe-centre shape
+  };
+  void train_worker(TrainJob job);
+  void end_training();
+  std::string model_rec_operator_ = "explore", model_rec_path_ = "model-rec.csv";
+  double model_rec_seconds_ = 65;
+  struct ModelStream;
+  std::unique_ptr<ModelStream> model_stream_;  // streamer thread only
+  std::thread train_thread_;
+  std::atomic<bool> training_{false}, train_cancel_{false};
+  std::shared_ptr<DataDrivenBundle> model_bundle_;  // data_mu_
+  std::string model_name_;                          // data_mu_
+  bool ab_model_ = false;  ///< the compare renderer commands the model (else the object)
+  bool ab_blind_ = false;
+  bool ab_model_is_b_ = false;  ///< blind trial: which of A/B is the model
+  int ab_trial_ = 0, ab_switches_ = 0;
+  std::string ab_path_ = "model-ab.csv";
+  struct AbAnswer {
+    int trial = 0, switches = 0;
+    bool model_is_b = false, answer_b = false;
+    double t_s = 0;
+  };
+  std::vector<AbAnswer> ab_answers_;
 };
 
 }  // namespace inhap::studio
