@@ -37,6 +37,7 @@ double median(std::vector<double> v) {
 // normal force f_n along it.
 struct PlaneSample {
   double u, v, s, fn;
+  double slope = 1.0;  ///< 1 / cos of the local surface's tilt from the axis (depth along it)
 };
 
 // The cells' fit of s = h - b fn^gamma (least squares in h and b, b >= 0) on every sample of the
@@ -59,7 +60,7 @@ bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const Estima
   const std::size_t n = block.size();
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double x = std::pow(block[i]->fn, gamma), y = block[i]->s;
+    const double x = block[i]->slope * std::pow(block[i]->fn, gamma), y = block[i]->s;
     sx += x, sy += y, sxx += x * x, sxy += x * y;
   }
   const double dn = static_cast<double>(n), den = dn * sxx - sx * sx;
@@ -76,7 +77,8 @@ bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const Estima
   out.h = (sy - ds_dx * sx) / dn;
   out.sse = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double r = block[i]->s - (out.h - out.b * std::pow(block[i]->fn, gamma));
+    const double r =
+        block[i]->s - (out.h - out.b * block[i]->slope * std::pow(block[i]->fn, gamma));
     out.sse += r * r;
   }
   out.n = n;
@@ -203,11 +205,23 @@ TriMesh SurfaceEstimate::mesh() const {
 
 namespace {
 
+// The outward normal of `s` at the world point p (from the height field's slope).
+Vec3 normal_at(const SurfaceEstimate& s, const Vec3& p) {
+  const Vec3 d = p - s.origin;
+  const double u = d.dot(s.e1), v = d.dot(s.e2), h = 0.5 * s.cell_mm;
+  const double du = (s.height_at(u + h, v) - s.height_at(u - h, v)) / (2 * h);
+  const double dv = (s.height_at(u, v + h) - s.height_at(u, v - h)) / (2 * h);
+  const Vec3 n = s.axis - du * s.e1 - dv * s.e2;
+  return n.allFinite() && n.norm() > 1e-9 ? Vec3(n.normalized()) : s.axis;
+}
+
 // The height field around `axis` (see the file comment); `uvh` gets the fitted cells' centres
-// and heights.
+// and heights. With `prev` (an earlier estimate about the same axis) each sample's normal force
+// and depth are taken along that surface's local normal, not the axis: on a slope tilted by t
+// the depth along the axis is the normal depth / cos t.
 SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_t>& idx,
                               const EstimateParams& prm, const Vec3& axis, const std::string& path,
-                              std::vector<Vec3>& uvh) {
+                              std::vector<Vec3>& uvh, const SurfaceEstimate* prev = nullptr) {
   SurfaceEstimate s;
   s.cell_mm = prm.cell_mm;
   plane_frame(axis, s);
@@ -216,7 +230,13 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
   ps.reserve(idx.size());
   for (std::size_t i : idx) {
     const Vec3& p = rec.p[i];
-    ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(s.axis)});
+    if (prev) {
+      const Vec3 n = normal_at(*prev, p);
+      const double c = std::max(n.dot(s.axis), 0.5);  // tilts beyond 60 degrees: capped
+      ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(n), 1.0 / c});
+    } else {
+      ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(s.axis)});
+    }
     umin = std::min(umin, ps.back().u), umax = std::max(umax, ps.back().u);
     vmin = std::min(vmin, ps.back().v), vmax = std::max(vmax, ps.back().v);
   }
@@ -319,6 +339,11 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm
     uvh.clear();
     s = surface_about(rec, idx, prm, axis, path, uvh);
   }
+  // Once more with each sample's normal force and depth along the local normal of that surface
+  // (a second such pass changes the lab dome's surface by 0.01 mm).
+  const SurfaceEstimate about_axis = s;
+  uvh.clear();
+  s = surface_about(rec, idx, prm, axis, path, uvh, &about_axis);
   return s;
 }
 
@@ -461,7 +486,8 @@ std::string estimate_note(const RecordingEstimate& e) {
       "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
       "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
       "it, "
-      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:.3g} s (tangential "
+      "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:.3g} s "
+      "(tangential "
       "RMS {:.3f} -> {:.3f} N)",
       s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
       s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.tau_s,

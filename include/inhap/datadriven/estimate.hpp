@@ -14,7 +14,10 @@
 // residual) using every sample of the block, its slope b shrunk towards the recording's median b
 // (a ridge term, `slope_prior_spread`: a block pressed over a narrow force range takes the
 // recording's law and only its offset from the data); h, the position at zero force, is the
-// undeformed surface there. Cells without enough samples or force spread are filled from their
+// undeformed surface there. A last pass takes each sample's normal force and depth along the
+// local normal of that surface (on a slope tilted by t the depth along a is the normal depth /
+// cos t), so b is in normal depth as the proxy estimator measures it. Cells without enough
+// samples or force spread are filled from their
 // neighbours (harmonic fill), then the heights are smoothed (3 x 3 mean, `smooth_passes`). The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
 //
