@@ -61,7 +61,9 @@ struct TapOptions {
   /// taps cover the object evenly at any moment and no spot is tapped twice. The approach is
   /// the normal tilted up to 12 deg (the normal when the tilted stylus would not be clear).
   /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s).
-  bool whole_object = false;
+  /// The default. false: the earlier top-cap protocol (random points of the scene's region
+  /// seen from above, normals within max_tilt_deg of +z; `--region top`).
+  bool whole_object = true;
   ReachOptions reach;
   std::size_t candidates = 30000;  ///< whole-object mode: surface samples the spots come from
 };
