@@ -17,21 +17,21 @@
 namespace inhap::eval {
 
 struct TapScoreOptions {
-  double radius_mm = 5.0;            ///< coverage: a surface point within this of a tap is covered
-  std::size_t samples = 20000;       ///< coverage: area-uniform surface samples (seeded)
-  double eps = 0.2;                  ///< contact threshold, N (as `eval contacts`)
-  std::size_t window = 100;          ///< knee-fit window, samples (as `eval contacts`)
+  double radius_mm = 5.0;       ///< coverage: a surface point within this of a tap is covered
+  std::size_t samples = 20000;  ///< coverage: area-uniform surface samples (seeded)
+  double eps = 0.2;             ///< contact threshold, N (as `eval contacts`)
+  std::size_t window = 100;     ///< knee-fit window, samples (as `eval contacts`)
   /// The recording's probe radius (0: the sharp tip). A sphere's true contact point is its
   /// centre: coverage uses the surface point closest to it, over the surface the sphere reaches.
   double probe_radius_mm = 0.0;
 };
 
 struct TapScore {
-  std::size_t taps = 0;       ///< true taps (contact episodes numbered by the truth)
-  double seconds = 0;         ///< length of the recording, s
+  std::size_t taps = 0;  ///< true taps (contact episodes numbered by the truth)
+  double seconds = 0;    ///< length of the recording, s
   double taps_per_minute = 0;
-  double coverage = 0;  ///< share of the reachable surface within radius_mm of a tap
-  std::size_t matched = 0;    ///< detected contacts matched to distinct true taps (estimate)
+  double coverage = 0;      ///< share of the reachable surface within radius_mm of a tap
+  std::size_t matched = 0;  ///< detected contacts matched to distinct true taps (estimate)
   std::size_t false_detections = 0;
   ErrorSummary estimate, threshold;  ///< contact-point error, mm
   EntrySideCounts sides;

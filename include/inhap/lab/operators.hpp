@@ -56,10 +56,10 @@ struct TapOptions {
   double max_tilt_deg = 50.0;                  ///< accepted surface-normal angle from +z
   /// Whole-object mode, the default (thesis ch. 3: the user tapped each object all over what
   /// the stylus reaches): spots from the reachable surface (reach.hpp) instead of the region's
-  /// disk, seen from above. Each next spot is the one nearest the hand among the reachable candidates at
-  /// least `spacing` from every earlier tap on the same side (normals within 90 deg); when none
-  /// is left the spacing shrinks by 0.8 (it starts at a fifth of the object's size), so the
-  /// taps cover the object evenly at any moment and no spot is tapped twice. The approach is
+  /// disk, seen from above. Each next spot is the one nearest the hand among the reachable
+  /// candidates at least `spacing` from every earlier tap on the same side (normals within 90 deg);
+  /// when none is left the spacing shrinks by 0.8 (it starts at a fifth of the object's size), so
+  /// the taps cover the object evenly at any moment and no spot is tapped twice. The approach is
   /// the normal tilted up to 12 deg (the normal when the tilted stylus would not be clear).
   /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s);
   /// approaches no slower than 30 mm/s; a move between spots backs out along the approach line
