@@ -15,7 +15,7 @@ namespace {
 
 // A four-lobed ring with three grooves along its tube, lying on the table: centre line
 // R(u) = R0 (1 + 0.12 cos 4u) (concave between the lobes), tube radius r0 (1 + 0.12 cos 3v)
-// (three concave grooves), a hole in the middle. Closed and outward; size 2.6 R0 across.
+// (three concave grooves), a hole in the middle. Closed and outward; 2.24 (R0 + r0) across.
 TriMesh lobed_ring(double r0_centre, double r0_tube, int nu = 160, int nv = 48) {
   TriMesh m;
   for (int i = 0; i < nu; ++i)
