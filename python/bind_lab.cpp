@@ -85,8 +85,8 @@ proxy q, mm), force (noise-free, N), k (N/mm), mu. Float arrays are views (no co
       "lab_record",
       [](const std::string& scene, const std::string& op, double seconds, std::uint64_t seed,
          const std::string& probe, const std::string& physics, bool noise, bool gravity,
-         bool inertia, bool whole_object, bool coverage, double rate, const std::string& scene_file,
-         const std::string& out, pyb::object progress) {
+         bool inertia, bool whole_object, const std::string& region, bool coverage, double rate,
+         const std::string& scene_file, const std::string& out, pyb::object progress) {
         eval::LabRecordRequest q;
         q.rate_hz = rate;
         q.op = op;
@@ -98,17 +98,21 @@ proxy q, mm), force (noise-free, N), k (N/mm), mu. Float arrays are views (no co
         q.no_gravity = !gravity;
         q.no_inertia = !inertia;
         q.whole_object = whole_object;
+        q.region = region;
         q.coverage = coverage;
         return record(scene, scene_file, q, out, std::move(progress));
       },
       pyb::arg("scene") = "planar", pyb::arg("operator") = "explore", pyb::arg("seconds") = 60.0,
       pyb::arg("seed") = 1, pyb::arg("probe") = "sphere", pyb::arg("physics") = "builtin",
       pyb::arg("noise") = true, pyb::arg("gravity") = true, pyb::arg("inertia") = true,
-      pyb::arg("whole_object") = false, pyb::arg("coverage") = false, pyb::arg("rate") = 1000.0,
-      pyb::arg("scene_file") = "", pyb::arg("out") = "", pyb::arg("progress") = true,
+      pyb::arg("whole_object") = false, pyb::arg("region") = "reachable",
+      pyb::arg("coverage") = false, pyb::arg("rate") = 1000.0, pyb::arg("scene_file") = "",
+      pyb::arg("out") = "", pyb::arg("progress") = true,
       "`inhap lab record`: simulates an operator (tap | explore | air) on a built-in scene (or "
       "scene_file JSON) for `seconds` s at 1 kHz with the sphere (8 mm) or tip probe. The same "
-      "seed gives the same bytes as the program; rate < 1000 Hz keeps the tick nearest each "
+      "seed gives the same bytes as the program. The tap operator taps the reachable surface "
+      "(region='reachable', the default; whole_object=True means the same) or the region seen "
+      "from above (region='top'); rate < 1000 Hz keeps the tick nearest each "
       "jittered "
       "instant of a logger at that rate. out=PATH also writes PATH and its truth.");
   m.def("lab_scenes", &lab::builtin_scene_names, "Names of the built-in lab scenes");

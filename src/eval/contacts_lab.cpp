@@ -70,12 +70,14 @@ ContactObjectResult run_contact_object(const std::string& name, const ContactObj
     r.skipped_shape = scene.object.shape().type_name();
     return r;
   }
+  lab::TapOptions top;  // fig. 3.4 is measured on the top-cap protocol (the region seen from above)
+  top.whole_object = false;
   const lab::LabRecording rec = record_taps(
       scene, o.taps, o.seed,
       [&](const std::string&, double f, double) {
         if (o.progress) o.progress("taps", f, 0);
       },
-      o.physics);
+      o.physics, top);
   ContactOptions est, thr;
   est.eps_f = thr.eps_f = o.eps;
   est.window = thr.window = o.window;

@@ -52,7 +52,13 @@ lab::RecordSpec lab_record_spec(const LabRecordRequest& a) {
   spec.noise = !a.no_noise;
   spec.gravity = !a.no_gravity;
   spec.inertia = !a.no_inertia;
-  spec.tap.whole_object = a.whole_object;
+  if (a.region != "reachable" && a.region != "top")
+    throw Error(fmt::format("--region: expected reachable or top, got '{}'", a.region));
+  if (a.whole_object && a.region == "top")
+    throw Error(
+        "--whole-object asks for the reachable surface (now the default) but --region top for "
+        "the top cap: give one of them");
+  spec.tap.whole_object = a.region == "reachable";
   if (a.coverage && a.op != "explore")
     throw Error(fmt::format("--coverage: expected --operator explore, got '{}'", a.op));
   spec.explore.coverage = a.coverage;

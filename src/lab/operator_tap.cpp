@@ -13,6 +13,9 @@ namespace {
 using detail::log_uniform;
 using detail::min_jerk;
 
+/// Whole-object mode: the slowest approach, mm/s (TapOptions::min_speed when higher).
+constexpr double kRoundMinSpeed = 30.0;
+
 class TapOperator final : public HandOperator {
  public:
   TapOperator(const Scene& scene, std::uint64_t seed, TapOptions o)
@@ -102,7 +105,10 @@ class TapOperator final : public HandOperator {
       u_ = spot.normal;
     }
 
-    speed_ = log_uniform(rng_, opt_.min_speed, opt_.max_speed);
+    // Going round an object a person taps briskly: no approach slower than 30 mm/s.
+    const double slowest =
+        opt_.whole_object ? std::max(opt_.min_speed, kRoundMinSpeed) : opt_.min_speed;
+    speed_ = log_uniform(rng_, slowest, std::max(slowest, opt_.max_speed));
     peak_ = rng_.uniform(opt_.min_force, opt_.max_force);
     ramp_t_ = std::max(0.02, speed_ / 4000.0);
     const double ramp_s = 0.5 * speed_ * ramp_t_;
@@ -125,6 +131,7 @@ class TapOperator final : public HandOperator {
     if (opt_.whole_object) {
       path_ = around_path(start_, spot.center + opt_.reach.stylus_length_mm * u_, speed);
       way_out_ = spot.center + opt_.reach.stylus_length_mm * u_;
+      last_u_ = u_;
       has_way_out_ = true;
     } else {
       path_ = detail::over_path(scene_.object, radius_, target_, start_, speed);
@@ -132,14 +139,29 @@ class TapOperator final : public HandOperator {
   }
 
   /// Whole-object mode: from the last tap's retraction point to `to` (the next approach start)
-  /// straight when clear, else back out along the last approach line, over the object (or
-  /// straight across when that is clear) and in along the next approach line.
+  /// straight when clear; else out along the last approach line, across and in along the next
+  /// one, as short a way out as is clear (10, 20, 35 mm, then the full stylus length); else
+  /// over the object.
   detail::Path around_path(const Vec3& to, const Vec3& to_out, double speed) const {
     detail::Path p;
     p.reset(target_);
     if (detail::clear_segment(scene_.object, radius_, target_, to)) {
       p.add(to, speed);
       return p;
+    }
+    const double full = opt_.reach.stylus_length_mm;
+    if (has_way_out_) {
+      const Vec3 last_in = way_out_ - full * last_u_, next_in = to_out - full * u_;
+      for (const double out : {10.0, 20.0, 35.0}) {
+        if (out >= full) break;
+        const Vec3 a = last_in + std::max(out, (target_ - last_in).dot(last_u_)) * last_u_;
+        const Vec3 b = next_in + std::max(out, (to - next_in).dot(u_)) * u_;
+        if (!segment_clear(scene_.object, radius_, a, b, 0.0)) continue;
+        p.add(a, speed);
+        p.add(b, speed);
+        p.add(to, speed);
+        return p;
+      }
     }
     const Vec3 from_out = has_way_out_ ? way_out_ : target_;
     p.add(from_out, speed);
@@ -238,7 +260,7 @@ class TapOperator final : public HandOperator {
   std::vector<SurfaceSample> pool_;
   std::vector<double> gap_;  ///< distance of each candidate to the nearest earlier tap, mm
   double spacing_ = 0;
-  Vec3 way_out_ = Vec3::Zero();
+  Vec3 way_out_ = Vec3::Zero(), last_u_ = Vec3::UnitZ();  ///< last approach: far end, direction
   bool has_way_out_ = false;
   double speed_ = 100, peak_ = 2, ramp_t_ = 0.05, believed_ = 10, plan_depth_ = 5;
 };

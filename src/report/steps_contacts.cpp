@@ -48,6 +48,7 @@ StepResult step_contacts(const Context& c) {
     }
     lab::RecordSpec spec;
     spec.operator_name = "tap";
+    spec.tap.whole_object = false;  // fig. 3.4: taps on the region seen from above
     spec.seconds = c.options.quick ? 10.0 : 30.0;
     spec.seed = c.options.seed + 10 + i;
     spec.physics = c.options.physics;

@@ -20,6 +20,7 @@ lab::LabRecording record_dome(const Context& c, const std::string& op, double se
                               std::uint64_t seed) {
   lab::RecordSpec spec;
   spec.operator_name = op;
+  spec.tap.whole_object = false;  // fig. 3.2: taps on the dome's top, seen from above
   spec.seconds = seconds;
   spec.seed = seed;
   spec.physics = c.options.physics;

@@ -15,6 +15,7 @@ namespace {
 lab::LabRecording tapping(const std::string& scene, double seconds, std::uint64_t seed) {
   lab::RecordSpec spec;
   spec.operator_name = "tap";
+  spec.tap.whole_object = false;  // the top-cap protocol of fig. 3.4 (eval contacts)
   spec.probe = lab::ProbeSpec::tip();
   spec.seconds = seconds;
   spec.seed = seed;

@@ -71,6 +71,23 @@ TEST(CommandHelpers, LabRecordSpec) {
   EXPECT_TRUE(lab_record_spec(r).explore.coverage);
 }
 
+// The tap operator's default is the reachable surface (the thesis' protocol); --region top is the
+// top cap; --whole-object is accepted (the default) but contradicts --region top.
+TEST(CommandHelpers, LabRecordTapRegion) {
+  LabRecordRequest r;
+  r.op = "tap";
+  EXPECT_TRUE(lab_record_spec(r).tap.whole_object);
+  EXPECT_TRUE(lab::TapOptions{}.whole_object);
+  r.region = "top";
+  EXPECT_FALSE(lab_record_spec(r).tap.whole_object);
+  r.whole_object = true;
+  EXPECT_THROW(lab_record_spec(r), Error);
+  r.region = "reachable";
+  EXPECT_TRUE(lab_record_spec(r).tap.whole_object);
+  r.region = "side";
+  EXPECT_THROW(lab_record_spec(r), Error);
+}
+
 TEST(CommandHelpers, LongRecordingNote) {
   EXPECT_EQ(long_recording_note(600), "");
   // 1000 s: 1e6 rows of 400 bytes = 0.4 GB

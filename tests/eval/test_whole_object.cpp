@@ -26,6 +26,7 @@ TEST(WholeObject, ThinPlateTappedAtFullForceIsNeverTouchedFromItsFarSide) {
   scene.region = {Vec2(0, 0), 25.0};
   lab::RecordSpec spec;
   spec.operator_name = "tap";
+  spec.tap.whole_object = false;  // straight down onto the plate (the top-cap protocol)
   spec.probe = lab::ProbeSpec::tip();
   spec.seconds = 40;
   spec.seed = 3;

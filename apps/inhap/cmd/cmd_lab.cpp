@@ -109,9 +109,17 @@ void register_lab(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1000.0));
   rec->add_flag("--no-noise", a->req.no_noise, "no force-sensor noise in the raw reading");
+  rec->add_option(
+         "--region", a->req.region,
+         "tap operator: reachable = every surface a stylus reaches on the object as it\n"
+         "rests (tops, sides, reachable overhangs; not the base it rests on), spread evenly\n"
+         "(blue noise), >= 1 tap/s (the thesis' protocol) | top = random points of the\n"
+         "scene's region seen from above (the earlier top-cap protocol)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"reachable", "top"}));
   rec->add_flag("--whole-object", a->req.whole_object,
-                "tap operator: every surface point a stylus reaches (tops, sides, overhangs; base\n"
-                "excluded), spread evenly, >= 1 tap/s, instead of the region seen from above");
+                "tap operator: the same as --region reachable, the default (kept for old command\n"
+                "lines; an error with --region top)");
   rec->add_flag("--coverage", a->req.coverage,
                 "explore operator: a training exploration that covers the object (a grid of\n"
                 "spots over the region, every depth at each, slides between them; then the random\n"

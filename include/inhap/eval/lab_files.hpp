@@ -28,8 +28,13 @@ struct LabRecordRequest {
   std::string physics = "builtin";
   double seconds = 60;
   std::uint64_t seed = 1;
-  bool no_noise = false, no_gravity = false, no_inertia = false, whole_object = false,
-       coverage = false;
+  /// Tap operator: "reachable" (every surface a stylus reaches on the object as it rests, the
+  /// thesis' protocol) or "top" (the scene's region seen from above, the top-cap protocol).
+  std::string region = "reachable";
+  /// `--whole-object`: accepted for old command lines; the reachable region is the default.
+  /// Error together with region "top".
+  bool whole_object = false;
+  bool no_noise = false, no_gravity = false, no_inertia = false, coverage = false;
   /// Logging rate, Hz: the servo and physics run at 1 kHz, the file keeps the tick nearest each
   /// jittered logging instant (as a real rig's logger at a lower rate does). 1000 = every tick.
   double rate_hz = 1000;
@@ -40,8 +45,8 @@ struct LabRecordRequest {
 /// its truth alike; a comment line says so.
 lab::LabRecording downsample_recording(const lab::LabRecording& lab, double rate_hz,
                                        std::uint64_t seed);
-/// The lab's RecordSpec for them. Error naming the flag for an unknown probe, or --coverage with
-/// an operator other than explore.
+/// The lab's RecordSpec for them. Error naming the flag for an unknown probe or region,
+/// --whole-object with --region top, or --coverage with an operator other than explore.
 lab::RecordSpec lab_record_spec(const LabRecordRequest& r);
 
 /// Recordings longer than this (s) get a note on their size.

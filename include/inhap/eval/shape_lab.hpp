@@ -52,7 +52,8 @@ EntrySideCounts count_far_side_contacts(const lab::LabRecording& rec, const lab:
                                         double reversal_n = 0.5);
 
 /// Records the tapping operator (tip probe) on a scene until at least `taps` true taps exist
-/// (region mode about 0.7 taps per second, whole-object mode (`tap.whole_object`) about 1.1).
+/// (whole-object mode (`tap.whole_object`, the default) about 1.1 taps per second, region mode
+/// about 0.7).
 /// `progress` is called while recording (may be empty). Throws inhap::Error when the
 /// operator keeps missing.
 lab::LabRecording record_taps(const lab::Scene& scene, std::size_t taps, std::uint64_t seed,

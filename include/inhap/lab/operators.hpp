@@ -7,12 +7,13 @@
 // surface is, trembles slightly (8-12 Hz physiological tremor plus slow drift) and varies
 // speeds, forces and durations from gesture to gesture. Everything random comes from its seed.
 //
-//   tap      taps random points of the scene's region (surface normal within 50 deg of +z):
-//            approach 20-200 mm/s (log-uniform), press to a peak of 1-4 N, dwell, retract, move
-//            on (thesis ch. 3 shape modeling). TapOptions::whole_object: every surface point
-//            a stylus reaches on the object resting on its table instead (tops, sides,
-//            reachable overhangs; reach.hpp), approached along the local normal, spots spread
-//            evenly (progressive Poisson-disk choice, nearest unvisited spot next).
+//   tap      thesis ch. 3 shape modeling: taps every surface point a stylus reaches on the
+//            object resting on its table (tops, sides, reachable overhangs, not the base;
+//            reach.hpp), approached along the local normal, spots spread evenly (progressive
+//            Poisson-disk choice, nearest unvisited spot next): approach 30-200 mm/s
+//            (log-uniform), press to a peak of 1-4 N, dwell, retract, move on (>= 1 tap/s).
+//            TapOptions::whole_object = false: the earlier top-cap protocol, random points of
+//            the scene's region seen from above (normal within 50 deg of +z), 20-200 mm/s.
 //   explore  free exploration for force modeling (thesis 4.4.1): pushes up to 5 N, deep pushes,
 //            strokes, rubbing circles, then a sliding-only passage (the last third) that never
 //            leaves the surface; the normal force is regulated like a person would (delayed
@@ -53,15 +54,19 @@ struct TapOptions {
   double min_speed = 20.0, max_speed = 200.0;  ///< approach speed range, mm/s (log-uniform)
   double min_force = 1.0, max_force = 4.0;     ///< planned peak force range, N
   double max_tilt_deg = 50.0;                  ///< accepted surface-normal angle from +z
-  /// Whole-object mode (thesis ch. 3: the user tapped each object all over what the stylus
-  /// reaches): spots from the reachable surface (reach.hpp) instead of the region's disk, seen
-  /// from above. Each next spot is the one nearest the hand among the reachable candidates at
-  /// least `spacing` from every earlier tap on the same side (normals within 90 deg); when none
-  /// is left the spacing shrinks by 0.8 (it starts at a fifth of the object's size), so the
-  /// taps cover the object evenly at any moment and no spot is tapped twice. The approach is
+  /// Whole-object mode, the default (thesis ch. 3: the user tapped each object all over what
+  /// the stylus reaches): spots from the reachable surface (reach.hpp) instead of the region's
+  /// disk, seen from above. Each next spot is the one nearest the hand among the reachable
+  /// candidates at least `spacing` from every earlier tap on the same side (normals within 90 deg);
+  /// when none is left the spacing shrinks by 0.8 (it starts at a fifth of the object's size), so
+  /// the taps cover the object evenly at any moment and no spot is tapped twice. The approach is
   /// the normal tilted up to 12 deg (the normal when the tilted stylus would not be clear).
-  /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s).
-  bool whole_object = false;
+  /// Pauses, dwell and retraction are those of a person going round an object (>= 1 tap/s);
+  /// approaches no slower than 30 mm/s; a move between spots backs out along the approach line
+  /// only as far as clears the way (10, 20, 35 mm, the stylus length), else goes over.
+  /// The default. false: the earlier top-cap protocol (random points of the scene's region
+  /// seen from above, normals within max_tilt_deg of +z; `--region top`).
+  bool whole_object = true;
   ReachOptions reach;
   std::size_t candidates = 30000;  ///< whole-object mode: surface samples the spots come from
 };

@@ -9,8 +9,8 @@
 //     above the table;
 //   - the hand can get there from above: the vertical segment from x + stylus_length_mm n up to
 //     above the object is clear as well.
-// The tapping operator (whole-object mode) taps only such points and `inhap eval shape` measures
-// its coverage over the same set.
+// The tapping operator (whole-object mode, its default) taps only such points and `inhap eval
+// shape` measures its coverage over the same set.
 #pragma once
 
 #include <cstddef>
