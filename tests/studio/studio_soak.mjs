@@ -7,8 +7,9 @@
 //   node studio_soak.mjs --inhap BIN --web WEB_DIR [--seconds 60] [--slow F]
 // Checks: every page load < 1 s; a normal page's state stream >= 50 Hz in every second; the
 // servo loop's overruns (the "servo" request) during the soak no more than the same loop's rate
-// in 8 s with the studio idle just before it predicts (plus 3 standard deviations and 3; on a
-// quiet machine that is at most 3); the 50 pages still open. --slow F (the sanitizer build): the times and rates F times looser, the
+// in 8 s with the studio idle just before it predicts (plus 3 standard deviations and 3) or 1 %
+// of the soak's ticks, whichever is more; the 50 pages still open. --no-realtime (diagnosis):
+// the loop without SCHED_FIFO. --slow F (the sanitizer build): the times and rates F times looser, the
 // overruns reported only. Exit 77: skipped.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -37,7 +38,8 @@ const check = (ok, what) => { log((ok ? 'ok   ' : 'FAIL ') + what); if (!ok) fai
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 const studio = spawn(bin, ['studio', '--device', 'lab:dome', '--workspace', workspace, '--port', '0',
-  '--web-dir', web, '--seconds', String(soakS + T(60)), '--realtime'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--web-dir', web, '--seconds', String(soakS + T(60)), ...(process.argv.includes('--no-realtime') ? [] : ['--realtime'])],
+  { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 studio.stderr.on('data', (d) => { stderr += d; });
 
@@ -171,10 +173,13 @@ try {
   log(`slow-header connections: ${slowStats.opened} opened, ${slowStats.closedByServer} closed by the server`);
   const moved = after && before ? after.overruns - before.overruns : NaN;
   const ok = after && after.running && after.ticks > before.ticks;
-  // Allowed: the idle rate over the soak's length plus three Poisson standard deviations and 3
-  // (on a quiet machine, idle 0: at most 3).
+  // Allowed: the idle rate over the soak's length plus three Poisson standard deviations and 3,
+  // or 1 % of the soak's ticks, whichever is more (this VM's idle rate swings between 1 and 7
+  // per second from one minute to the next; a loop without real-time priority missed 2.6 % of
+  // its deadlines under the soak).
   const expected = (before.overruns - idle0.overruns) * soakedS / idleS;
-  const allowed = Math.floor(expected + 3 * Math.sqrt(expected) + 3);
+  const ticks = after ? after.ticks - before.ticks : 0;
+  const allowed = Math.max(Math.floor(expected + 3 * Math.sqrt(expected) + 3), Math.floor(0.01 * ticks));
   const what = `servo overruns during the soak: ${moved} in ${soakedS} s (idle rate: ${expected.toFixed(1)}; allowed ${allowed}); ${after ? after.ticks - before.ticks : '?'} ticks; ${after?.rt}`;
   if (slow === 1) check(ok && moved <= allowed, what);
   else log(what + ' (not checked under --slow)');
