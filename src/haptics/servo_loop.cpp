@@ -158,7 +158,7 @@ void ServoLoop::run() {
       const double now = now_s();
       late_us = (now - deadline) * 1e6;
       if (late_us > period * 1e6) {
-        ++overruns_;
+        overruns_.fetch_add(1, std::memory_order_relaxed);
         ++missed_in_row_;
         deadline = now;  // resynchronise: no burst of catch-up ticks
       } else {
@@ -199,7 +199,7 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
       (device_fault && t0 - fault_since_s_ >= options_.reset_gap_s))
     long_fault_ = true;
   if (device_fault || missed_in_row_ >= options_.watchdog_misses) {
-    if (!holding_) ++trips_;
+    if (!holding_) trips_.fetch_add(1, std::memory_order_relaxed);
     holding_ = true;
     good_in_row_ = 0;
   } else if (holding_ && (!long_fault_ || ++good_in_row_ >= options_.recover_ticks)) {
@@ -207,7 +207,7 @@ void ServoLoop::tick_once(double /*wake_late_us*/) {
     if (long_fault_) renderer_.reset();
     long_fault_ = false;
   }
-  if (holding_) ++watchdog_ticks_;
+  if (holding_) watchdog_ticks_.fetch_add(1, std::memory_order_relaxed);
   const bool zeroed = holding_ || !out.force_n.allFinite();
   const Vec3 cmd = zeroed ? Vec3::Zero() : out.force_n;
   if (bridge_) bridge_->set_zeroed(zeroed);  // status bit kStatusZeroed with this force
@@ -253,10 +253,10 @@ LoopStats ServoLoop::stats() const {
   LoopStats s;
   s.ticks = ticks_.load(std::memory_order_relaxed);
   s.period_us = 1e6 / device_.info().servo_rate_hz;
+  s.overruns = overruns_.load(std::memory_order_relaxed);
+  s.watchdog_trips = trips_.load(std::memory_order_relaxed);
+  s.watchdog_ticks = watchdog_ticks_.load(std::memory_order_relaxed);
   if (running()) return s;  // the histograms belong to the loop thread while it runs
-  s.overruns = overruns_;
-  s.watchdog_trips = trips_;
-  s.watchdog_ticks = watchdog_ticks_;
   for (const ObserverRing* r : observers_) s.dropped_samples += r->dropped();
   s.jitter_p50_us = jitter_.quantile(0.5);
   s.jitter_p99_us = jitter_.quantile(0.99);

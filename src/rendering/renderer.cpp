@@ -33,9 +33,20 @@ TriMesh checked(TriMesh mesh, const Params& params) {
     throw Error(fmt::format(
         "rendering params: expected force_limit_n in (0, {}] N (the device's limit), got {}",
         kDeviceForceLimitN, params.force_limit_n));
-  if (!positive(params.default_stiffness))
-    throw Error(fmt::format("rendering params: expected default_stiffness > 0 N/mm, got {}",
-                            params.default_stiffness));
+  if (!positive(params.default_stiffness) || params.default_stiffness > kMaxStiffnessNmm)
+    throw Error(fmt::format("rendering params: expected default_stiffness in (0, {}] N/mm, got {}",
+                            kMaxStiffnessNmm, params.default_stiffness));
+  if (mesh.has_property("stiffness")) {
+    // Below min_stiffness (zero, negative) is floored when rendering; above the maximum or not
+    // finite is a bad map.
+    const std::vector<double>& k = mesh.property("stiffness");
+    for (std::size_t v = 0; v < k.size(); ++v)
+      if (!(std::isfinite(k[v]) && k[v] <= kMaxStiffnessNmm))
+        throw Error(
+            fmt::format("rendering model: vertex {}: stiffness {} N/mm, expected a finite "
+                        "value of at most {} N/mm (the stiffest surface rendered)",
+                        v, k[v], kMaxStiffnessNmm));
+  }
   if (!positive(params.min_stiffness))
     throw Error(fmt::format("rendering params: expected min_stiffness > 0 N/mm, got {}",
                             params.min_stiffness));

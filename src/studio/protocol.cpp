@@ -13,7 +13,7 @@ const std::vector<std::string>& message_types() {
       "export",       "save_session", "open_session",  "open_mesh",    "algorithm",  "experiment",
       "answer",       "next_trial",   "stats",         "summary",      "palpate",    "save_sys",
       "progress",     "preview",      "apply_preview", "model_record", "model_stop", "model_train",
-      "model_cancel", "model_source", "model_blind",   "model_answer", "model_stats"};
+      "model_cancel", "model_source", "model_blind",   "model_answer", "model_stats", "servo"};
   return types;
 }
 

@@ -1,11 +1,18 @@
 #include "inhap/studio/server.hpp"
 
+#include <arpa/inet.h>
 #include <civetweb.h>
 #include <fmt/format.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -80,6 +87,22 @@ int ws_data_cb(mg_connection* conn, int bits, char* data, size_t len, void* self
 void ws_close_cb(const mg_connection* conn, void* self) {
   static_cast<Server*>(self)->on_ws_close(conn);
 }
+// The connection callbacks get the Server from the context's user data (mg_start's argument).
+Server* server_of(const mg_connection* conn) {
+  return static_cast<Server*>(mg_get_user_data(mg_get_context(conn)));
+}
+int init_connection_cb(const mg_connection* conn, void** conn_data) {
+  *conn_data = nullptr;
+  server_of(conn)->on_connection_open(conn);
+  return 0;
+}
+int begin_request_cb(mg_connection* conn) {
+  server_of(conn)->on_request(conn);
+  return 0;  // civetweb goes on to the handlers
+}
+void connection_close_cb(const mg_connection* conn) {
+  server_of(conn)->on_connection_close(conn);
+}
 
 bool has_studio(const fs::path& d) {
   return fs::exists(d / "studio/index.html");
@@ -97,7 +120,11 @@ std::string find_studio_web_dir(const std::string& given) {
 }
 
 Server::Server(int port, std::string web_dir, std::string token)
-    : web_dir_(std::move(web_dir)), token_(std::move(token)) {
+    : web_dir_(std::move(web_dir)),
+      token_(std::move(token)),
+      limits_([this](const std::string& address, int peer_port, bool refuse) {
+        shutdown_peer_socket(address, peer_port, listen_port_.load(), refuse);
+      }) {
   if (port < 0 || port > 65535) throw Error("--port: expected 0-65535");
   // civetweb's workers ask for 100 KB of stack; thread_stack.cpp (linked in by this call) gives
   // them room for the static TLS on top.
@@ -105,13 +132,16 @@ Server::Server(int port, std::string web_dir, std::string token)
   mg_init_library(0);
   const std::string ports = fmt::format("127.0.0.1:{}", port);
   // Every open page holds one of civetweb's workers, and so does a connection whose request
-  // has not arrived yet: 64 workers, and 2 s for a request (headers and body) and for each write
-  // to a page, so slow or silent connections (no token needed to open one) free their worker
-  // soon and a page that stops reading blocks only its own writer.
+  // has not arrived yet: 2 s for a request (headers and body) and for each write to a page, so
+  // slow or silent connections (no token needed to open one) free their worker soon and a page
+  // that stops reading blocks only its own writer. civetweb has no per-client limit: the
+  // connection callbacks below count connections per client address (ConnectionLimits), so
+  // connections without a request cannot take more than kPendingTotal of the workers.
+  const std::string workers = std::to_string(kWorkers);
   const char* options[] = {"listening_ports",
                            ports.c_str(),
                            "num_threads",
-                           "64",
+                           workers.c_str(),
                            "connection_queue",
                            "64",
                            "request_timeout_ms",
@@ -126,6 +156,9 @@ Server::Server(int port, std::string web_dir, std::string token)
                            "1",
                            nullptr};
   mg_callbacks callbacks{};
+  callbacks.init_connection = init_connection_cb;
+  callbacks.begin_request = begin_request_cb;
+  callbacks.connection_close = connection_close_cb;
   ctx_ = mg_start(&callbacks, this, options);
   if (!ctx_) {
     mg_exit_library();
@@ -137,13 +170,22 @@ Server::Server(int port, std::string web_dir, std::string token)
     throw Error("civetweb: no listening port");
   }
   port_ = sp[0].port;
+  listen_port_ = port_;
   http_thread_ = std::thread([this] { http_work(); });
+  trim_thread_ = std::thread([this] { trim_loop(); });
   worker_ = std::thread([this] { work(); });
   mg_set_request_handler(ctx_, "/", http_cb, this);
   mg_set_websocket_handler(ctx_, "/ws", ws_connect_cb, ws_ready_cb, ws_data_cb, ws_close_cb, this);
+  learn_request_info_offset();
 }
 
 Server::~Server() {
+  {
+    std::lock_guard lock(trim_mu_);
+    trim_quit_ = true;
+  }
+  trim_cv_.notify_all();
+  if (trim_thread_.joinable()) trim_thread_.join();
   stop_handling();
   close_clients();          // the writers end before civetweb frees the connections
   if (ctx_) mg_stop(ctx_);  // waits for civetweb's threads, which may wait for the HTTP thread
@@ -242,6 +284,58 @@ void Server::stop_http() {
   }
   http_cv_.notify_all();
   if (http_thread_.joinable()) http_thread_.join();
+}
+
+// On civetweb's workers. A connection's address and port are known when it is opened; its
+// request (and with it the token) only when begin_request runs.
+void Server::on_connection_open(const mg_connection* conn) {
+  const std::ptrdiff_t offset = request_info_offset_.load();
+  if (offset < 0) return;  // before the first request: not counted
+  const auto* ri =
+      reinterpret_cast<const mg_request_info*>(reinterpret_cast<const char*>(conn) + offset);
+  const std::string address(ri->remote_addr, strnlen(ri->remote_addr, sizeof ri->remote_addr));
+  if (!address.empty()) limits_.opened(conn, address, ri->remote_port);
+}
+
+void Server::learn_request_info_offset() {
+  // A request to ourselves (refused 403: no token), read to its end; its begin_request sets
+  // the offset.
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port_));
+  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+  if (fd >= 0 && connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+    const std::string req =
+        fmt::format("GET / HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nConnection: close\r\n\r\n", port_);
+    (void)send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    char buf[1024];
+    while (std::chrono::steady_clock::now() < end) {
+      pollfd p{fd, POLLIN, 0};
+      if (poll(&p, 1, 50) == 1 && recv(fd, buf, sizeof buf, 0) <= 0) break;
+    }
+  }
+  if (fd >= 0) close(fd);
+}
+
+void Server::trim_loop() {
+  std::unique_lock lock(trim_mu_);
+  while (!trim_cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return trim_quit_; }))
+    limits_.trim();
+}
+
+void Server::on_request(const mg_connection* conn) {
+  if (request_info_offset_.load() < 0) {
+    const auto d = reinterpret_cast<const char*>(mg_get_request_info(conn)) -
+                   reinterpret_cast<const char*>(conn);
+    if (d >= 0 && d < 65536) request_info_offset_ = d;
+  }
+  limits_.arrived(conn);
+}
+
+void Server::on_connection_close(const mg_connection* conn) {
+  limits_.closed(conn);
 }
 
 int Server::on_http(mg_connection* conn) {

@@ -309,6 +309,7 @@ std::string Session::dispatch(const Message& m) {
   if (m.type == "model_blind") return do_model_blind(m);
   if (m.type == "model_answer") return do_model_answer(m);
   if (m.type == "model_stats") return do_model_stats();
+  if (m.type == "servo") return servo_json();
   if (m.type == "stats") {
     // The raw text, quoted and capped (the body was checked for depth before parsing).
     fmt::print(stderr, "page: {}\n", quote_input(dump_safe(m.body), 2000));
@@ -333,6 +334,22 @@ std::string Session::hello() const {
                    {"speed", options_.speed},
                    {"workspace", workspace_.root().string()},
                    {"stream_hz", options_.stream_hz}};
+  return j.dump();
+}
+
+std::string Session::servo_json() const {
+  // The current view's loop (a new view starts a new loop, and new counts).
+  nlohmann::json j{{"type", "servo"}, {"mode", mode()}, {"running", false}};
+  if (rig_ && rig_->loop) {
+    const haptics::LoopStats st = rig_->loop->stats();
+    j.update({{"running", rig_->loop->running()},
+              {"ticks", st.ticks},
+              {"overruns", st.overruns},
+              {"watchdog_trips", st.watchdog_trips},
+              {"watchdog_ticks", st.watchdog_ticks},
+              {"period_us", st.period_us},
+              {"rt", rig_->loop->rt_status()}});
+  }
   return j.dump();
 }
 

@@ -31,28 +31,6 @@ TriMesh read_workspace_mesh(const Workspace& ws, const std::string& rel) {
                        : parse_obj(bytes, quote_input(rel, 200));
 }
 
-nlohmann::json vec(const Vec3& p) {
-  return nlohmann::json::array({p.x(), p.y(), p.z()});
-}
-
-nlohmann::json sample_json(const Sample& s) {
-  return {{"id", s.id},
-          {"point", vec(s.point)},
-          {"threshold", vec(s.threshold)},
-          {"direction", vec(s.direction)},
-          {"t", s.t_contact},
-          {"peak_force", s.peak_force},
-          {"estimated", s.estimated}};
-}
-
-Vec3 vec_from(const nlohmann::json& j, const char* what) {
-  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
-    throw ProtocolError(fmt::format("session file: \"{}\" expected [x, y, z]", what));
-  const Vec3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
-  if (!v.allFinite()) throw ProtocolError(fmt::format("session file: \"{}\" not finite", what));
-  return v;
-}
-
 }  // namespace
 
 // --- sampling --------------------------------------------------------------------------------
@@ -239,26 +217,9 @@ std::string Session::do_save_session(const Message& m) {
 
 std::string Session::do_open_session(const Message& m) {
   const std::string path = get_string(m, "path");
-  const nlohmann::json doc = nlohmann::json::parse(workspace_.read(path), nullptr, false);
-  if (doc.is_discarded() || !doc.is_object() || doc.value("format", "") != "inhap-studio-session" ||
-      !doc.contains("samples") || !doc["samples"].is_array())
-    throw ProtocolError(
-        fmt::format("{}: expected an inhap studio session file", quote_input(path, 200)));
-  std::vector<Sample> loaded;
+  std::vector<Sample> loaded = parse_session_file(workspace_.read(path), path);
   long next = 0;
-  for (const auto& e : doc["samples"]) {
-    if (!e.is_object() || !e.contains("id") || !e["id"].is_number_integer())
-      throw ProtocolError("session file: a sample without an integer \"id\"");
-    Sample s;
-    s.id = e["id"].get<long>();
-    s.point = vec_from(e.value("point", nlohmann::json()), "point");
-    s.threshold = vec_from(e.value("threshold", nlohmann::json()), "threshold");
-    s.direction = vec_from(e.value("direction", nlohmann::json()), "direction");
-    s.deleted = e.value("deleted", false);
-    s.estimated = e.value("estimated", false);
-    next = std::max(next, s.id + 1);
-    loaded.push_back(s);
-  }
+  for (const Sample& s : loaded) next = std::max(next, s.id + 1);
   {
     std::lock_guard lock(data_mu_);
     samples_ = std::move(loaded);

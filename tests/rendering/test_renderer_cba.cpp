@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "inhap/core/device.hpp"
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/rendering/renderer.hpp"
@@ -48,6 +51,43 @@ TEST(RendererModel, InterpolatesStiffnessAndNormalBarycentrically) {
   mesh.set_property("stiffness", {-1.0, 0.0, 0.0});
   rendering::Model m0(mesh);
   EXPECT_DOUBLE_EQ(m0.stiffness(q), rendering::Params{}.min_stiffness);
+}
+
+// A 1e5 N/mm map sat at the 6.2 N clamp for the first 182 ms of a stroke's contact: a stiffness
+// above kMaxStiffnessNmm, or not finite, in the map or as the default, is refused by name.
+TEST(RendererModel, RefusesAStiffnessAboveTheMaximumOrNotFinite) {
+  TriMesh mesh = test::flat_plane(2, 2, 1, 0, 0);
+  std::vector<double> k(mesh.num_vertices(), 0.5);
+  const auto error_of = [](const TriMesh& m, rendering::Params p = {}) -> std::string {
+    try {
+      rendering::Model model(m, p);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  k[1] = 1e5;
+  mesh.set_property("stiffness", k);
+  const std::string e = error_of(mesh);
+  EXPECT_NE(e.find("vertex 1: stiffness 100000 N/mm"), std::string::npos) << e;
+  EXPECT_NE(e.find("at most 100 N/mm"), std::string::npos) << e;
+  for (double bad : {std::nan(""), HUGE_VAL, std::nextafter(rendering::kMaxStiffnessNmm, 1e9)}) {
+    k[1] = bad;
+    mesh.set_property("stiffness", k);
+    EXPECT_NE(error_of(mesh).find("vertex 1"), std::string::npos) << bad;
+  }
+  k[1] = rendering::kMaxStiffnessNmm;  // the maximum itself is allowed
+  mesh.set_property("stiffness", k);
+  EXPECT_EQ(error_of(mesh), "");
+  rendering::Params p;
+  p.default_stiffness = 1e5;
+  EXPECT_NE(error_of(test::flat_plane(2, 2, 1, 0, 0), p).find("default_stiffness"),
+            std::string::npos);
+  p.default_stiffness = rendering::kMaxStiffnessNmm;
+  EXPECT_EQ(error_of(test::flat_plane(2, 2, 1, 0, 0), p), "");
+  // The rationale, as arithmetic: at the maximum, a probe arriving at 20 mm/s (0.02 mm per 1 ms
+  // tick) is asked for less than the device's limit on its first tick of contact.
+  EXPECT_LT(rendering::kMaxStiffnessNmm * 20.0 * 1e-3, kDeviceForceLimitN);
 }
 
 TEST(RendererModel, RejectsEmptyMeshAndBadParams) {

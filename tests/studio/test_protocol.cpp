@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <thread>
+#include <utility>
 
 #include <fmt/format.h>
 #include "inhap/core/atomic_file.hpp"
@@ -267,4 +270,63 @@ TEST(StudioSession, HelloSendsTheObjectsTopViewToTheMicrometre) {
       longest = std::max(longest, n);
     }
   EXPECT_LE(longest, 3u);
+}
+
+// The servo request: no loop before start(); then the running loop's counts, read while it runs
+// (ticks advance between two requests).
+TEST(StudioSession, ServoRequestReportsTheRunningLoop) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  StudioOptions o;
+  Session s(o, ws, [](const std::string&) {});
+  const json idle = reply(s, R"({"type":"servo"})");
+  EXPECT_EQ(idle["type"], "servo");
+  EXPECT_EQ(idle["running"], false);
+  s.start(0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const json a = reply(s, R"({"type":"servo"})");
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const json b = reply(s, R"({"type":"servo"})");
+  s.stop();
+  ASSERT_EQ(a["type"], "servo") << a.dump();
+  EXPECT_EQ(a["running"], true);
+  EXPECT_GT(b["ticks"].get<std::uint64_t>(), a["ticks"].get<std::uint64_t>());
+  EXPECT_GE(b["overruns"].get<std::uint64_t>(), a["overruns"].get<std::uint64_t>());
+  EXPECT_EQ(a["period_us"], 1000.0);
+  EXPECT_TRUE(a["rt"].is_string());
+}
+
+// A session file from the workspace is hostile too: ids that repeat, overflow (id + 1 was
+// computed from a long) or are not integers, and flags that are not booleans are refused with
+// the file's name, and the samples stay as they were.
+TEST(StudioSession, OpenSessionRefusesBadIdsAndFlags) {
+  inhap::test::TempDir tmp;
+  const Workspace ws(tmp.root() / "ws");
+  inhap::write_file_atomic((ws.root() / "s.json").string(), session_file(3));
+  Session s(StudioOptions{}, ws, [](const std::string&) {});
+  ASSERT_EQ(reply(s, R"({"type":"open_session","path":"s.json"})")["type"], "samples");
+  const std::string good = session_file(1);
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = good;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  const std::pair<std::string, std::string> bad[] = {
+      {R"({"format":"inhap-studio-session","samples":[{"id":1,"point":[0,0,0],"threshold":[0,0,0],"direction":[0,0,1]},{"id":1,"point":[0,0,0],"threshold":[0,0,0],"direction":[0,0,1]}]})",
+       "appears twice"},
+      {with(R"("id":0)", R"("id":9223372036854775807)"), "outside 0..2^52"},
+      {with(R"("id":0)", R"("id":-1)"), "outside 0..2^52"},
+      {with(R"("id":0)", R"("id":0.5)"), "integer"},
+      {with(R"("id":0)", R"("id":0,"deleted":"yes")"), "true or false"},
+      {std::string(100, '[') + std::string(100, ']'), "session file"},
+  };
+  for (const auto& [text, needle] : bad) {
+    inhap::write_file_atomic((ws.root() / "b.json").string(), text);
+    const json r = reply(s, R"({"type":"open_session","path":"b.json"})");
+    EXPECT_EQ(r["type"], "error") << text;
+    const std::string msg = r.value("message", "");
+    EXPECT_NE(msg.find("b.json"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+    EXPECT_EQ(s.live_samples(), 3u);
+  }
 }

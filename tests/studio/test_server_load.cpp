@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "inhap/studio/connection_limits.hpp"
 #include "inhap/studio/security.hpp"
 #include "inhap/studio/server.hpp"
 #include "support/temp_dir.hpp"
@@ -60,6 +62,49 @@ std::string read_until(int fd, const std::string& until, double timeout_s) {
     got.append(buf, static_cast<std::size_t>(n));
   }
   return got;
+}
+
+// A connection from `source` (a loopback address; any when null) that sends a request line and
+// one header line, never the end of the headers.
+int slow_header(int port, const char* source = nullptr) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (source) {
+    sockaddr_in b{};
+    b.sin_family = AF_INET;
+    inet_pton(AF_INET, source, &b.sin_addr);
+    if (bind(fd, reinterpret_cast<sockaddr*>(&b), sizeof b) != 0) {
+      close(fd);
+      return -1;
+    }
+  }
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    close(fd);
+    return -1;
+  }
+  send_all(fd, "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n");
+  return fd;
+}
+
+// How many of `fds` the server has closed (end of stream or reset), by the end of timeout_s.
+std::size_t closed_by_server(const std::vector<int>& fds, double timeout_s) {
+  std::vector<bool> done(fds.size(), false);
+  std::size_t n = 0;
+  const auto end = clk::now() + std::chrono::duration<double>(timeout_s);
+  while (clk::now() < end && n < fds.size()) {
+    for (std::size_t i = 0; i < fds.size(); ++i) {
+      if (done[i]) continue;
+      pollfd p{fds[i], POLLIN, 0};
+      if (poll(&p, 1, 0) != 1) continue;
+      char b[512];
+      if (recv(fds[i], b, sizeof b, MSG_DONTWAIT) <= 0) done[i] = true, ++n;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return n;
 }
 
 // A WebSocket with the token; -1 when the upgrade failed.
@@ -191,6 +236,69 @@ TEST(StudioServerLoad, SlowClientsTakeNoWorkerAndNoOtherPagesStream) {
   for (int fd : slow) close(fd);
   close(stalled);
   close(page);
+}
+
+// Before: civetweb's 64 workers, and a connection without a request held one for up to 2 s (the
+// request time-out): 150 such connections from one process took every worker and a page load
+// waited for them. Now an address keeps at most 8 of them (all addresses 32) past 0.1 s: the
+// others are closed at once and a page load goes through.
+TEST(StudioServerLoad, ConnectionsWithoutARequestTakeNoMoreThanTheirShareOfWorkers) {
+  inhap::test::TempDir tmp;
+  const std::string token = make_token();
+  Server server(0, web_dir(tmp), token);
+  const auto t0 = clk::now();
+  std::vector<int> slow;
+  for (int i = 0; i < 150; ++i) {  // more than the workers
+    const int fd = slow_header(server.port());
+    ASSERT_GE(fd, 0);
+    slow.push_back(fd);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto t1 = clk::now();
+  const int http = connect_to(server.port());
+  const std::string host = "127.0.0.1:" + std::to_string(server.port());
+  send_all(http, "GET /?token=" + token + " HTTP/1.1\r\nHost: " + host + "\r\n\r\n");
+  const std::string r = read_until(http, "</title>", 5.0);
+  const double load_s = std::chrono::duration<double>(clk::now() - t1).count();
+  close(http);
+  EXPECT_NE(r.find("200 OK"), std::string::npos) << r.substr(0, 200);
+  EXPECT_LT(load_s, 1.0);
+  // Closed long before the 2 s request time-out: all but the last 8.
+  const double left_s = 1.5 - std::chrono::duration<double>(clk::now() - t0).count();
+  const std::size_t closed = closed_by_server(slow, left_s);
+  EXPECT_GE(closed, slow.size() - ConnectionLimits::kPendingPerAddress);
+  EXPECT_LE(server.connection_limits().pending("127.0.0.1"), ConnectionLimits::kPendingPerAddress);
+  std::printf(
+      "page load %.3f s with 150 slow-header connections; %zu of them closed within 1.5 s\n",
+      load_s, closed);
+  for (int fd : slow) close(fd);
+}
+
+// The cap is per address (another loopback address has its own), and all addresses together
+// keep at most 32 connections without a request.
+TEST(StudioServerLoad, TheCapOnConnectionsWithoutARequestIsPerAddress) {
+  inhap::test::TempDir tmp;
+  Server server(0, web_dir(tmp), make_token());
+  std::vector<int> a, b, all;
+  for (int i = 0; i < 20; ++i) {
+    a.push_back(slow_header(server.port(), "127.0.0.1"));
+    b.push_back(slow_header(server.port(), "127.0.0.2"));
+  }
+  ASSERT_GE(*std::min_element(b.begin(), b.end()), 0) << "cannot bind 127.0.0.2";
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  const auto& lim = server.connection_limits();
+  EXPECT_LE(lim.pending("127.0.0.1"), ConnectionLimits::kPendingPerAddress);
+  EXPECT_EQ(lim.pending("127.0.0.2"), ConnectionLimits::kPendingPerAddress)
+      << "the other address keeps its own";
+  // Six from each of seven more addresses: each under its own cap, all together over theirs.
+  for (int k = 3; k < 10; ++k)
+    for (int i = 0; i < 6; ++i)
+      all.push_back(slow_header(server.port(), ("127.0.0." + std::to_string(k)).c_str()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  EXPECT_LE(lim.pending(), ConnectionLimits::kPendingTotal);
+  EXPECT_GE(lim.evicted(), 40u + 42u - ConnectionLimits::kPendingTotal);
+  for (auto* v : {&a, &b, &all})
+    for (int fd : *v) close(fd);
 }
 
 // Before: a burst of 5,000 messages lost 750 without an error to the sender.

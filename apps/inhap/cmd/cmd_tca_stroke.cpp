@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "command.hpp"
@@ -40,7 +41,17 @@ void run_stroke(const StrokeArgs& a) {
   o.to = parse_xy("--to", a.to);
   rendering::Params params = a.params;
   params.force_shading = !a.no_shading;
-  const rendering::Model model(read_mesh(a.mesh), params);
+  if (!(params.default_stiffness > 0 && params.default_stiffness <= rendering::kMaxStiffnessNmm))
+    throw Error(fmt::format("--stiffness: expected a stiffness in (0, {}] N/mm, got {}",
+                            rendering::kMaxStiffnessNmm, params.default_stiffness));
+  TriMesh mesh = read_mesh(a.mesh);
+  std::optional<rendering::Model> built;
+  try {
+    built.emplace(std::move(mesh), params);
+  } catch (const Error& e) {  // the model's checks (the stiffness map): name the file
+    throw Error(fmt::format("{}: {}", a.mesh, e.what()));
+  }
+  const rendering::Model& model = *built;
   const auto samples = rendering::simulate_stroke(model, *alg, o);
 
   rendering::write_stroke_csv(
@@ -99,7 +110,8 @@ void register_stroke(CLI::App& app) {
   cmd->add_option("--a-t", args->params.a_t, "TCA mesh restoration ratio a_t (eq. 5.15)")
       ->capture_default_str();
   cmd->add_option("--stiffness", args->params.default_stiffness,
-                  "stiffness for meshes without the property, N/mm")
+                  "stiffness for meshes without the property, N/mm (at most 100; a mesh's "
+                  "stiffness property likewise)")
       ->capture_default_str();
   cmd->add_flag("--no-force-shading", args->no_shading,
                 "use face normals instead of interpolated vertex normals");

@@ -118,7 +118,8 @@ class ServoLoop {
   void run();
   bool running() const { return running_.load(std::memory_order_acquire); }
   std::uint64_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
-  /// Statistics; complete after stop() (or run() returned); approximate while running.
+  /// Statistics; complete after stop() (or run() returned). While running: ticks, overruns and
+  /// the watchdog's counts only (the histograms belong to the loop thread).
   LoopStats stats() const;
   /// What real-time scheduling was granted ("SCHED_FIFO 80, memory locked", or why not).
   std::string rt_status() const { return rt_status_; }
@@ -144,7 +145,8 @@ class ServoLoop {
   ServoInput next_in_;  ///< the predicted next input (valid when has_next_)
   bool has_next_ = false;
   bool paced_by_device_ = false;
-  std::uint64_t overruns_ = 0, trips_ = 0, watchdog_ticks_ = 0;
+  // Written by the loop thread only; atomic so stats() can read them while the loop runs.
+  std::atomic<std::uint64_t> overruns_{0}, trips_{0}, watchdog_ticks_{0};
   int missed_in_row_ = 0, good_in_row_ = 0, fault_in_row_ = 0;
   bool holding_ = false;
   bool long_fault_ = false;         ///< the current hold needs recover_ticks and a renderer reset

@@ -16,11 +16,19 @@ namespace inhap::rendering {
 
 enum class Algorithm { kCBA, kTCA };
 
+/// The stiffest surface a model may carry, N/mm: 100 times the thesis' maximum (1.0 N/mm), and
+/// below v * dt * k = 6.2 N, i.e. 310 N/mm, where a probe arriving at 20 mm/s (0.02 mm per 1 ms
+/// tick) is asked for more than the device's force limit on its first tick of contact and the
+/// force sits at the clamp while the hand backs out. Model refuses a stiffness map or a default
+/// stiffness above it, or not finite, with an error naming the vertex.
+inline constexpr double kMaxStiffnessNmm = 100.0;
+
 struct Params {
-  double a_s = 0.05;               ///< height restoration slope of s(n) (eq. 5.11), dimensionless
-  double a_t = 0.5;                ///< mesh restoration ratio of t(n) (eq. 5.15), dimensionless
-  double force_limit_n = 6.2;      ///< output force clamp (device limit), N
-  double default_stiffness = 1.0;  ///< N/mm, used when the mesh has no `stiffness` property
+  double a_s = 0.05;           ///< height restoration slope of s(n) (eq. 5.11), dimensionless
+  double a_t = 0.5;            ///< mesh restoration ratio of t(n) (eq. 5.15), dimensionless
+  double force_limit_n = 6.2;  ///< output force clamp (device limit), N
+  double default_stiffness =
+      1.0;  ///< N/mm (at most kMaxStiffnessNmm), when the mesh has no `stiffness` property
   double min_stiffness = 1e-3;  ///< N/mm, floor applied to k(q) (k = 0 would divide by zero in 5.4)
   bool force_shading = true;    ///< interpolate vertex normals for the force direction
   // --- added by the renderer implementation (append-only) ---

@@ -9,7 +9,9 @@
 // thread_stack.hpp gives them room for it.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -19,6 +21,8 @@
 #include <string>
 #include <thread>
 #include <utility>
+
+#include "inhap/studio/connection_limits.hpp"
 
 struct mg_context;
 struct mg_connection;
@@ -55,6 +59,10 @@ class Server {
   /// Messages refused as busy so far (all pages).
   std::uint64_t busy_replies() const;
   std::size_t clients() const;
+  /// civetweb's worker threads: every open page and every connection being read holds one.
+  static constexpr int kWorkers = 128;
+  /// Connections per client address (connection_limits.hpp), kept below kWorkers.
+  const ConnectionLimits& connection_limits() const { return limits_; }
   /// Stops running messages (waits for the one running); later messages are dropped. Call before
   /// the handler's target goes away.
   void stop_handling();
@@ -65,6 +73,9 @@ class Server {
   void on_ws_ready(mg_connection* conn);
   int on_ws_data(mg_connection* conn, int bits, char* data, std::size_t len);
   void on_ws_close(const mg_connection* conn);
+  void on_connection_open(const mg_connection* conn);
+  void on_request(const mg_connection* conn);
+  void on_connection_close(const mg_connection* conn);
 
  private:
   bool allowed(const mg_connection* conn, bool websocket) const;
@@ -90,6 +101,20 @@ class Server {
   std::string web_dir_, token_;
   int port_ = 0;
   mg_context* ctx_ = nullptr;
+  std::atomic<int> listen_port_{0};  ///< port_ for civetweb's threads
+  // civetweb fills a connection's client address (request_info's remote_addr and remote_port)
+  // before init_connection, but mg_get_request_info() returns null until the request has
+  // arrived. The offset of request_info in the connection is learnt from the first request
+  // (the server sends one to itself when it starts) and used for the connections after it.
+  std::atomic<std::ptrdiff_t> request_info_offset_{-1};
+  void learn_request_info_offset();
+  ConnectionLimits limits_;
+  // Trims limits_ every 50 ms (with every worker held, no connection opens to do it).
+  void trim_loop();
+  std::mutex trim_mu_;
+  std::condition_variable trim_cv_;
+  bool trim_quit_ = false;
+  std::thread trim_thread_;
   mutable std::mutex mu_;
   std::map<const mg_connection*, std::unique_ptr<Client>> clients_;
   bool closing_all_ = false;

@@ -34,6 +34,7 @@
 #include "inhap/studio/palpation.hpp"
 #include "inhap/studio/protocol.hpp"
 #include "inhap/studio/security.hpp"
+#include "inhap/studio/session_file.hpp"
 
 namespace inhap::studio {
 
@@ -43,16 +44,6 @@ struct StudioOptions {
   std::uint64_t seed = 1;
   bool realtime = false;  ///< ask for SCHED_FIFO + mlockall
   double stream_hz = 125;
-};
-
-/// A tapped sample with its provenance.
-struct Sample {
-  long id = 0;
-  Vec3 point = Vec3::Zero();      ///< knee-estimated contact point p(t_c), mm
-  Vec3 threshold = Vec3::Zero();  ///< p(t_d), the plain threshold point, mm (for comparison)
-  Vec3 direction = Vec3::UnitZ();
-  double t_contact = 0, peak_force = 0;
-  bool estimated = false, deleted = false;
 };
 
 /// Finds taps in a stream of (t, p, compensated f), one sample at a time: an episode starts when
@@ -112,6 +103,7 @@ class Session {
   struct Rig;
   std::string dispatch(const Message& m);
   std::string hello() const;
+  std::string servo_json() const;
   std::string set_mode(const std::string& mode);
   void start_rig(const std::string& mode);
   void build_rig(Rig& rig, const std::string& mode);
