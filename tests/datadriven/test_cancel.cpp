@@ -58,13 +58,19 @@ TEST(Cancel, ASetFlagStopsTrainingAtOnce) {
 // Uncancelled, the training takes `full` seconds; cancelled 0.2 s in, it stops within 0.5 s of
 // the request, in one bin (the calling thread) or two (a worker thread each).
 TEST(Cancel, AFlagSetFromAnotherThreadStopsTrainingPromptly) {
-  const TrainingSet set = test::synthetic_set(4, 16000);
   for (int threads : {1, 2}) {
     SCOPED_TRACE(threads);
     const TrainParams p = long_params(threads, threads);
-    auto t0 = Clock::now();
-    (void)train_force_model(set, p);
-    const double full = seconds_since(t0);
+    // A training long enough for the test to mean anything on a fast or a slow machine: the
+    // samples doubled until it takes 1.5 s.
+    TrainingSet set;
+    double full = 0;
+    for (std::size_t n = 16000; n <= 128000 && full <= 1.5; n *= 2) {
+      set = test::synthetic_set(4, n);
+      const auto t0 = Clock::now();
+      (void)train_force_model(set, p);
+      full = seconds_since(t0);
+    }
     ASSERT_GT(full, 1.5) << "the training must be long for the test to mean anything";
 
     CancelFlag flag;
@@ -74,7 +80,7 @@ TEST(Cancel, AFlagSetFromAnotherThreadStopsTrainingPromptly) {
       requested = Clock::now();
       flag.request();
     });
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     {
       CancelScope scope(&flag);
       EXPECT_THROW(train_force_model(set, p), Cancelled);

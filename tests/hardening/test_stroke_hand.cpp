@@ -64,9 +64,10 @@ TEST(StrokeHand, FinishesOnSoftMapsAtHighForces) {
   }
 }
 
+// The stiffest map a model accepts (100 N/mm; stiffer is refused, RendererModel.*).
 TEST(StrokeHand, StableOnAVeryStiffMap) {
   for (auto alg : {rendering::Algorithm::kTCA, rendering::Algorithm::kCBA}) {
-    const rendering::Model stiff = flat_map(1e5, 1e5);
+    const rendering::Model stiff = flat_map(100, 100);
     const auto s = rendering::simulate_stroke(stiff, alg, stroke(2.0));
     const Held h = held_force(s, 2.0);
     EXPECT_NEAR(h.mean, 2.0, 0.1) << "mean force while stroking";
