@@ -9,10 +9,10 @@ namespace inhap::studio {
 
 const std::vector<std::string>& message_types() {
   static const std::vector<std::string> types = {
-      "hello",        "mode",         "probe",         "delete",       "undo",       "reconstruct",
-      "export",       "save_session", "open_session",  "open_mesh",    "algorithm",  "experiment",
-      "answer",       "next_trial",   "stats",         "summary",      "palpate",    "save_sys",
-      "progress",     "preview",      "apply_preview", "model_record", "model_stop", "model_train",
+      "hello",        "mode",         "probe",         "delete",       "undo",        "reconstruct",
+      "export",       "save_session", "open_session",  "open_mesh",    "algorithm",   "experiment",
+      "answer",       "next_trial",   "stats",         "summary",      "palpate",     "save_sys",
+      "progress",     "preview",      "apply_preview", "model_record", "model_stop",  "model_train",
       "model_cancel", "model_source", "model_blind",   "model_answer", "model_stats", "servo"};
   return types;
 }
