@@ -22,8 +22,8 @@ namespace {
 // 2/3, a linear spring 1).
 constexpr int kGammaSteps = 17;
 double gamma_candidate(int k) {
-  return (8 + k) / 20.0;
-}  // exact at 1
+  return (8 + k) / 20.0;  // exact at 1
+}
 constexpr double kLevelsN[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};  // f_N levels of the cone sys
 
 double median(std::vector<double> v) {
@@ -233,9 +233,12 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
     if (prev) {
       const Vec3 n = normal_at(*prev, p);
       const double c = std::max(n.dot(s.axis), 0.5);  // tilts beyond 60 degrees: capped
-      ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(n), 1.0 / c});
+      ps.push_back(
+          {p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), std::max(rec.f[i].dot(n), 0.0), 1.0 / c});
     } else {
-      ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), rec.f[i].dot(s.axis)});
+      // A force pulling away (adhesion, a mostly tangential push) counts as zero normal force,
+      // not as a NaN of pow() that would void its whole block.
+      ps.push_back({p.dot(s.e1), p.dot(s.e2), p.dot(s.axis), std::max(rec.f[i].dot(s.axis), 0.0)});
     }
     umin = std::min(umin, ps.back().u), umax = std::max(umax, ps.back().u);
     vmin = std::min(vmin, ps.back().v), vmax = std::max(vmax, ps.back().v);
