@@ -85,26 +85,58 @@ bool fit_cell(std::vector<const PlaneSample*>& block, double gamma, const Estima
   return true;
 }
 
-// Fills unfitted cells (mask 0) by repeated neighbour averaging, then smooths every cell.
+// The value a plane fitted (least squares) to the known cells within `r` cells of (x, y) takes
+// at (x, y); the mean of those cells when they do not span a plane. False: none known.
+bool plane_extrapolate(const Grid& h, const std::vector<char>& known, int x, int y, int r,
+                       double& out) {
+  const int W = h.width, H = h.height;
+  double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+  for (int yy = std::max(0, y - r); yy <= std::min(H - 1, y + r); ++yy)
+    for (int xx = std::max(0, x - r); xx <= std::min(W - 1, x + r); ++xx) {
+      if (!known[std::size_t(yy) * W + xx]) continue;
+      const double dx = xx - x, dy = yy - y, z = h.at(xx, yy);
+      n += 1, sx += dx, sy += dy, sz += z, sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+      sxz += dx * z, syz += dy * z;
+    }
+  if (n == 0) return false;
+  out = sz / n;
+  if (n < 6) return true;
+  // Centred normal equations of z = a + b dx + c dy; a is the value at the cell itself.
+  const double mx = sx / n, my = sy / n, mz = sz / n;
+  const double cxx = sxx - n * mx * mx, cxy = sxy - n * mx * my, cyy = syy - n * my * my;
+  const double cxz = sxz - n * mx * mz, cyz = syz - n * my * mz;
+  const double det = cxx * cyy - cxy * cxy;
+  if (!(det > 1e-6 * (cxx * cyy + 1e-12))) return true;
+  const double b = (cxz * cyy - cyz * cxy) / det, c = (cyz * cxx - cxz * cxy) / det;
+  out = mz - b * mx - c * my;
+  if (!std::isfinite(out)) out = mz;
+  return true;
+}
+
+// Fills unfitted cells (mask 0) front by front, each with the plane through the known cells
+// around it (so a curved surface's slope carries on past the data instead of levelling off),
+// then smooths every cell.
 void fill_and_smooth(Grid& h, std::vector<char> known, int passes) {
   const int W = h.width, H = h.height;
+  constexpr int kPlaneRadius = 3;  // cells: a 7 x 7 window
   for (int it = 0; it < 4 * (W + H); ++it) {
     bool any = false;
     std::vector<char> next = known;
+    Grid filled = h;
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         if (known[std::size_t(y) * W + x]) continue;
-        double sum = 0;
-        int cnt = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
+        bool touches = false;
+        for (int dy = -1; dy <= 1 && !touches; ++dy)
+          for (int dx = -1; dx <= 1 && !touches; ++dx) {
             const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= W || yy >= H || !known[std::size_t(yy) * W + xx])
-              continue;
-            sum += h.at(xx, yy), ++cnt;
+            touches = xx >= 0 && yy >= 0 && xx < W && yy < H && known[std::size_t(yy) * W + xx];
           }
-        if (cnt) h.at(x, y) = sum / cnt, next[std::size_t(y) * W + x] = 1, any = true;
+        double v = 0;
+        if (touches && plane_extrapolate(h, known, x, y, kPlaneRadius, v))
+          filled.at(x, y) = v, next[std::size_t(y) * W + x] = 1, any = true;
       }
+    h = std::move(filled);
     known.swap(next);
     if (!any) break;
   }
