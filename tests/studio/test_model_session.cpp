@@ -3,7 +3,9 @@
 // intact); a training after a Palpation view fit uses those yield surfaces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
@@ -188,4 +190,59 @@ TEST(StudioModelSession, DISABLED_ServoBesideTraining) {
                tr.value("wall_s", 0.0), tr.value("cpu_s", 0.0));
   std::this_thread::sleep_for(std::chrono::seconds(8));
   std::fprintf(stderr, "AFTER: %s\n", line(lab.send({{"type", "model_stats"}})).c_str());
+}
+
+// The Palpation view fits yield surfaces on the lab's planar; a training in the Model view then
+// uses them (not the lab scene palpated anew): it says so, the yield surfaces it wrote beside the
+// model are the view's (its points, not `sys palpate`'s nine), and their elastic limits match the
+// lab's friction truth mu * f_N.
+TEST(StudioModelSession, TrainingUsesThePalpationViewsYieldSurfaces) {
+  test::TempDir dir;
+  Lab lab(dir.root(), "planar");
+  const lab::Scene scene = lab::builtin_scene("planar");
+  const double radius = lab::DeviceParams{}.probe.radius_mm;
+  const auto c = scene.region.center;
+  nlohmann::json points = nlohmann::json::array();
+  std::vector<Vec3> want;
+  for (const auto& [dx, dy] : std::vector<std::pair<double, double>>{{-6, -4}, {6, -4}, {0, 6}}) {
+    const auto p = scene.object.shape().drop(c.x() + dx, c.y() + dy, radius);
+    ASSERT_TRUE(p);
+    points.push_back({p->x(), p->y(), p->z()});
+    want.push_back(*p);
+  }
+  ASSERT_EQ(lab.send({{"type", "mode"}, {"mode", "palpation"}}).value("type", ""), "ok");
+  const auto run =
+      lab.send({{"type", "palpate"}, {"points", points}, {"quick", true}, {"speed", 20}});
+  ASSERT_EQ(run.value("status", ""), "running") << run.dump();
+  const auto fit = lab.wait("yield", 600);
+  ASSERT_FALSE(fit.is_null());
+  ASSERT_EQ(fit["points"].size(), 3u);
+
+  lab.record(15);
+  const auto r = lab.send({{"type", "model_train"}, {"recording", "rec.csv"}, {"out", "m.json"}});
+  EXPECT_EQ(r.value("palpation", ""), "palpation view") << r.dump();
+  const auto t = lab.wait("trained", 600);
+  ASSERT_EQ(t.value("status", ""), "done") << t.dump();
+  ASSERT_FALSE(t["lines"].empty());
+  EXPECT_EQ(t["lines"][0], "yield surfaces of the Palpation view");
+
+  const friction::SysModel sys =
+      friction::read_sys_json((dir.root() / "m.palpation.json").string());
+  ASSERT_EQ(sys.points.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_LT((sys.points[i].position - want[i]).norm(), 0.5) << i;
+  std::vector<double> rel;
+  for (std::size_t i = 0; i < sys.points.size(); ++i) {
+    const double mu = scene.object.mu_at(sys.points[i].position);
+    for (std::size_t j = 0; j < sys.f_normal_levels.size(); ++j)
+      for (std::size_t k = 0; k < sys.angles.size(); ++k) {
+        const friction::BorderResult& b = sys.border(i, j, k).result;
+        if (b.extrapolated || b.no_sliding) continue;
+        rel.push_back(std::abs(b.f_limit - mu * sys.f_normal_levels[j]) /
+                      (mu * sys.f_normal_levels[j]));
+      }
+  }
+  ASSERT_GE(rel.size(), 6u);
+  std::sort(rel.begin(), rel.end());
+  EXPECT_LT(rel[rel.size() / 2], 0.1);
 }
