@@ -7,13 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "inhap/core/atomic_file.hpp"
@@ -168,28 +166,6 @@ TEST(StudioModelSession, TrainingFilesLandAllOrNone) {
       EXPECT_EQ(changes(dir.root(), old), "") << out;
     }
   }
-}
-
-TEST(StudioModelSession, DISABLED_ServoBesideTraining) {
-  test::TempDir dir;
-  Lab lab(dir.root(), "planar");
-  lab.record(65);
-  lab.send({{"type", "model_stats"}});
-  std::this_thread::sleep_for(std::chrono::seconds(8));
-  const auto line = [](const nlohmann::json& s) {
-    char b[256];
-    std::snprintf(b, sizeof b, "ticks %llu, jitter p99/max %.0f/%.0f us, overruns %llu",
-                  s.value("ticks", 0ull), s.value("jitter_p99_us", 0.0),
-                  s.value("jitter_max_us", 0.0), s.value("overruns", 0ull));
-    return std::string(b);
-  };
-  std::fprintf(stderr, "IDLE: %s\n", line(lab.send({{"type", "model_stats"}})).c_str());
-  const auto tr = lab.train("m.json");
-  std::fprintf(stderr, "BUSY: %s; trained %s wall %.1f s cpu %.1f s\n",
-               line(lab.send({{"type", "model_stats"}})).c_str(), tr.value("status", "").c_str(),
-               tr.value("wall_s", 0.0), tr.value("cpu_s", 0.0));
-  std::this_thread::sleep_for(std::chrono::seconds(8));
-  std::fprintf(stderr, "AFTER: %s\n", line(lab.send({{"type", "model_stats"}})).c_str());
 }
 
 // The Palpation view fits yield surfaces on the lab's planar; a training in the Model view then
