@@ -27,6 +27,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -375,6 +376,32 @@ struct Child {
   }
 };
 
+// Relays the child's progress lines to `broadcast` until it closes the pipe; returns its result
+// line (null when it sent none). Throws Cancelled as soon as `cancel` is set.
+nlohmann::json relay(Child& child, const std::atomic<bool>& cancel,
+                     const std::function<void(const std::string&)>& broadcast) {
+  nlohmann::json result;
+  std::string buf;
+  for (;;) {
+    if (cancel) throw Cancelled();
+    pollfd p{child.fd, POLLIN, 0};
+    if (::poll(&p, 1, 100) <= 0) continue;
+    char b[65536];
+    const ssize_t n = ::read(child.fd, b, sizeof b);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return result;  // the child is gone
+    buf.append(b, static_cast<std::size_t>(n));
+    for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1)) {
+      nlohmann::json j = nlohmann::json::parse(buf.substr(0, nl), nullptr, false);
+      if (!j.is_object()) continue;
+      if (j.value("type", "") == "result")
+        result = std::move(j);
+      else
+        broadcast(dump_safe(j));
+    }
+  }
+}
+
 }  // namespace
 
 void Session::train_worker(TrainJob job) {
@@ -402,26 +429,7 @@ void Session::train_worker(TrainJob job) {
     }
     ::close(fds[1]);
     if (child.pid < 0) throw Error("training: cannot start the training process");
-    nlohmann::json result;
-    std::string buf;
-    for (;;) {
-      if (train_cancel_) throw Cancelled();
-      pollfd p{child.fd, POLLIN, 0};
-      if (::poll(&p, 1, 100) <= 0) continue;
-      char b[65536];
-      const ssize_t n = ::read(child.fd, b, sizeof b);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;  // the child is gone
-      buf.append(b, static_cast<std::size_t>(n));
-      for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1)) {
-        nlohmann::json j = nlohmann::json::parse(buf.substr(0, nl), nullptr, false);
-        if (!j.is_object()) continue;
-        if (j.value("type", "") == "result")
-          result = std::move(j);
-        else
-          broadcast_(dump_safe(j));
-      }
-    }
+    nlohmann::json result = relay(child, train_cancel_, broadcast_);
     child.reap();
     if (train_cancel_) throw Cancelled();
     if (!result.is_object())
