@@ -2,13 +2,13 @@
 // exploration with its truth, train in the background (eval::train_from_file, as `inhap model
 // train`), feel the model against the object with A/B and blind answers.
 #include <fmt/format.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <functional>
 
+#include "inhap/core/atomic_file.hpp"
 #include "inhap/core/random.hpp"
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/model_io.hpp"
@@ -27,70 +27,9 @@ nlohmann::json ok(const char* request) {
   return {{"type", "ok"}, {"request", request}};
 }
 
-// The training was cancelled from the page (thrown at the next stage boundary).
-struct Cancelled : Error {
-  Cancelled() : Error("cancelled") {}
-};
-
 bool ends_with(const std::string& s, const char* ext) {
   const std::string e(ext);
   return s.size() > e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
-}
-
-// The thesis' proxy for training: `inhap sys palpate --scene NAME` (or the Palpation view's
-// fit: `sys`, `shape`), then `inhap sys proxy` on the recording `in`; the files as the page
-// names them (beside the model, named after its stem).
-struct PalpationProxy {
-  std::optional<WorkspacePath> sys_file, mesh_file, proxied;
-  friction::SysModel sys;
-  TriMesh shape;
-  std::vector<std::string> files;
-};
-PalpationProxy palpation_proxy(const Workspace& ws, const lab::Scene& scene, std::uint64_t seed,
-                               const std::string& stem, std::optional<friction::SysModel>& sys,
-                               std::optional<TriMesh>& shape, const WorkspacePath& in,
-                               const Progress& progress,
-                               const std::function<void(const std::string&)>& say) {
-  PalpationProxy r;
-  const std::string sys_name = stem + ".palpation.json";
-  const std::string mesh_name = stem + ".palpation.shape.ply";
-  const std::string rec_name = stem + ".proxy.csv";
-  r.sys_file.emplace(ws.output(sys_name));
-  r.mesh_file.emplace(ws.output(mesh_name));
-  r.proxied.emplace(ws.output(rec_name));
-  const WorkspacePath &sf = *r.sys_file, &mf = *r.mesh_file, &pf = *r.proxied;
-  if (sys && shape) {
-    say("yield surfaces of the Palpation view");
-    with_names({&sf, &mf}, [&] {
-      friction::write_sys_json(sf.path(), *sys);
-      write_mesh(mf.path(), *shape);
-    });
-    r.sys = std::move(*sys);
-    r.shape = std::move(*shape);
-    r.files = {sys_name, mesh_name};
-  } else {
-    eval::ScenePalpationOptions po;  // `inhap sys palpate --scene NAME` (9 points)
-    po.scene = scene.name;
-    po.seed = seed;
-    po.progress_label = "palpation";
-    po.progress = progress;
-    say("palpating the lab's " + scene.name + " as `inhap sys palpate` does");
-    eval::ScenePalpation pal = eval::palpate_scene(po);
-    with_names({&sf}, [&] { eval::write_scene_palpation(sf.path(), pal); });
-    std::string text = sf.tidy(eval::scene_palpation_text(sf.path(), pal));
-    while (!text.empty() && text.back() == '\n') text.pop_back();
-    say(text);
-    r.sys = std::move(pal.sys);
-    r.shape = std::move(pal.shape_mesh);
-    r.files = {sys_name};
-  }
-  const auto run = with_names({&in, &sf, &mf, &pf}, [&] {
-    return eval::proxy_file(sf.path(), mf.path(), in.path(), pf.path(), 0.0, true);
-  });
-  say(fmt::format("proxy: {} rows, {} in contact, {} sliding -> {}", run.rows, run.counts.contact,
-                  run.counts.sliding, rec_name));
-  r.files.push_back(rec_name);
-  return r;
 }
 
 }  // namespace
@@ -271,113 +210,6 @@ std::string Session::do_model_cancel() {
 void Session::end_training() {
   train_cancel_ = true;
   if (train_thread_.joinable()) train_thread_.join();
-}
-
-void Session::train_worker(TrainJob job) {
-  // One thread at the lowest priority: the servo thread (and the page's server) come first.
-  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::string& recording = job.recording;
-  const std::string& out = job.out;
-  nlohmann::json done{
-      {"type", "trained"}, {"recording", recording}, {"out", out}, {"proxy", job.proxy}};
-  auto last = std::make_shared<std::chrono::steady_clock::time_point>();
-  const Progress progress = [this, last](const std::string& stage, double f, double eta) {
-    if (train_cancel_) throw Cancelled();
-    const auto now = std::chrono::steady_clock::now();
-    if (now - *last < std::chrono::milliseconds(200) && f < 1) return;
-    *last = now;
-    broadcast_(
-        dump_safe({{"type", "train_progress"}, {"stage", stage}, {"fraction", f}, {"eta_s", eta}}));
-  };
-  auto said = std::make_shared<std::vector<std::string>>();  // what training printed
-  const auto say = [this, said](const std::string& note) {
-    if (train_cancel_) throw Cancelled();
-    said->push_back(note);
-    broadcast_(dump_safe({{"type", "train_progress"}, {"note", note}}));
-  };
-  try {
-    const std::string stem = out.substr(0, out.size() - 5);
-    const WorkspacePath in = workspace_.input(recording);
-    const WorkspacePath dst = workspace_.output(out);
-    std::vector<std::string> lines, files;
-    eval::TrainFileOptions o;  // the defaults of `inhap model train`
-    o.recording = in.path();
-    std::optional<friction::SysModel> sys;
-    std::optional<TriMesh> shape;
-    std::optional<PalpationProxy> pp;
-    if (job.proxy == "palpation") {
-      pp.emplace(palpation_proxy(workspace_, scene_, options_.seed, stem, job.sys, job.shape, in,
-                                 progress, say));
-      sys = std::move(pp->sys);
-      shape = std::move(pp->shape);
-      files = pp->files;
-      o.recording = pp->proxied->path();
-      o.sys = pp->sys_file->path();
-      o.mesh = pp->mesh_file->path();
-    }
-    o.request.params.threads = 1;
-    o.progress = progress;
-    o.on_note = say;
-    eval::TrainFileResult r =
-        with_names({&in, pp ? &*pp->proxied : nullptr}, [&] { return eval::train_from_file(o); });
-    if (train_cancel_) throw Cancelled();
-    lines = *said;  // the notes of train_from_file came through `say`
-    if (!sys && !r.estimate)
-      throw Error(fmt::format("{}: has proxy columns; train it with proxy palpation",
-                              quote_input(recording, 200)));
-    r.model.provenance.recording_path = pp ? stem + ".proxy.csv" : recording;
-    if (sys) {
-      r.model.provenance.sys_path = stem + ".palpation.json";
-      r.model.provenance.mesh_path = stem + ".palpation.shape.ply";
-    }
-    // In the order of `inhap model train`, each file atomically: the model is written after the
-    // files it references (their digests are of the files as written).
-    with_names({&in, &dst}, [&] {
-      if (r.estimate)
-        for (const std::string& f :
-             eval::write_estimate_files(dst.path(), *r.estimate, r.model.provenance))
-          files.push_back(dst.tidy(f));
-      datadriven::save_force_model(dst.path(), r.model);
-      lines.push_back(eval::range_note(r.model.provenance, r.set, o.force_limit_n));
-      for (const std::string& l :
-           eval::write_training_coverage(r.set, datadriven::coverage_path_for(dst.path())))
-        lines.push_back(dst.tidy(l));
-    });
-    files.insert(files.begin(), out);
-    files.push_back(datadriven::coverage_path_for(out));
-    lines.push_back(eval::train_summary(r.model, false));
-    auto bundle =
-        sys ? std::make_shared<DataDrivenBundle>(r.model.model, std::move(*sys), *shape, 0.0)
-            : std::make_shared<DataDrivenBundle>(r.model.model, r.estimate->sys, r.estimate->mesh,
-                                                 0.0);
-    CoverageTracker cov;  // the training set's coverage (its proxy), as written
-    for (std::size_t i = 0; i < r.set.size(); ++i)
-      cov.add(TickPoint{double(i) * 1e-3, r.set.q[i], r.set.f[i], true});
-    const auto& st = r.model.provenance.stats;
-    done["status"] = "done";
-    done["lines"] = lines;
-    done["files"] = files;
-    done["samples"] = st.samples;
-    done["fit_s"] = st.seconds;
-    done["support"] = st.support;
-    done["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    done["threads"] = 1;
-    done["coverage"] = cov.json();
-    std::lock_guard lock(data_mu_);
-    model_bundle_ = std::move(bundle);
-    model_name_ = out;
-  } catch (const Cancelled&) {
-    done["status"] = "cancelled";
-  } catch (const std::exception& e) {
-    done["status"] = "failed";
-    done["message"] = quote_input(e.what(), 1024);
-  } catch (...) {
-    done["status"] = "failed";
-    done["message"] = "internal error";
-  }
-  training_ = false;
-  broadcast_(dump_safe(done));
 }
 
 std::string Session::do_model_source(const Message& m) {

@@ -3,7 +3,8 @@
 //   node studio_model.mjs --inhap BIN --web WEB_DIR --out OUT_DIR
 // lab:planar at --speed 20: the lab's explore operator records 65 simulated s (the training run of
 // `inhap lab record --operator explore --coverage`), the coverage map shows visited cells; the
-// recording and its truth land in the workspace; training (one thread, nice 19: the lab scene
+// recording and its truth land in the workspace; training (a process of its own, one thread,
+// its CPU group at nice 19: the lab scene
 // palpated as `sys palpate`, the proxy as `sys proxy`, then `model train`) writes the model, the
 // yield surfaces, shape, proxied recording and coverage; the servo loop's statistics are printed for a stretch without
 // and a stretch with training beside it; then a scripted mouse path is felt on the object and on
@@ -92,7 +93,8 @@ try {
   await page.click('#mcancel');
   await page.waitForFunction(() => window.studio.model.trained, { timeout: T(60000), polling: 100 });
   const cancelled = await page.evaluate(() => { const t = window.studio.model.trained; window.studio.model.trained = null; return t; });
-  check(cancelled.status === 'cancelled' && !fs.existsSync(path.join(workspace, 'model.json')), `Cancel: the training ends as ${cancelled.status}, no model written`);
+  const leftovers = fs.readdirSync(workspace).filter((f) => f.startsWith('model.'));
+  check(cancelled.status === 'cancelled' && leftovers.length === 0, `Cancel: the training ends as ${cancelled.status}, none of its files written (${leftovers.join(', ') || 'none'})`);
   await stats();  // a fresh loop for the figures beside the training
   const trainStart = Date.now();
   await page.click('#mtrain');
@@ -102,6 +104,10 @@ try {
   const tr = await page.evaluate(() => window.studio.model.trained);
   log(`MEASURED servo loop while training (${trainWall.toFixed(1)} s): ${statsLine(busy)}; load average ${os.loadavg()[0].toFixed(1)}`);
   check(tr.status === 'done', `training finished (${tr.status}${tr.message ? ': ' + tr.message : ''})`);
+  const rate = (s) => (100 * s.overruns / Math.max(1, s.ticks)).toFixed(2);
+  log(`MEASURED servo beside training: without ${idle.overruns} overruns in ${idle.ticks} ticks (${rate(idle)} %, worst wake-up ${(idle.jitter_max_us / 1000).toFixed(1)} ms), ` +
+    `with ${busy.overruns} in ${busy.ticks} (${rate(busy)} %, worst wake-up ${(busy.jitter_max_us / 1000).toFixed(1)} ms); ` +
+    `training: its own process, ${tr.threads} thread, ${(tr.cpu_s || 0).toFixed(1)} s CPU in ${(tr.wall_s || 0).toFixed(1)} s wall = ${(tr.cores || 0).toFixed(2)} cores`);
   if (tr.status === 'done') log(`training printed:\n${tr.lines.join('\n')}`);
   check(busy.overruns <= Math.max(2, 2 * idle.overruns * (busy.ticks / Math.max(1, idle.ticks))),
     `no overruns caused by training (${busy.overruns} in ${busy.ticks} ticks vs ${idle.overruns} in ${idle.ticks} without)`);

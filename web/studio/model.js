@@ -123,7 +123,7 @@ export function createModelView({ $, S, send }) {
       case 'trained':
         M.trained = m;
         if (m.status === 'done') {
-          $('mtraininfo').textContent = `done in ${m.wall_s.toFixed(1)} s (one thread)`;
+          $('mtraininfo').textContent = `done in ${m.wall_s.toFixed(1)} s (one thread in a process of its own, ${m.cpu_s.toFixed(1)} s CPU: ${m.cores.toFixed(2)} cores)`;
           $('msummary').textContent = m.lines.join('\n') + '\nfiles: ' + m.files.join(', ');
           M.coverage = m.coverage; dirty = true;
         } else $('mtraininfo').textContent = m.status + (m.message ? ': ' + m.message : '');

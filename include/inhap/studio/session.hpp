@@ -44,6 +44,9 @@ struct StudioOptions {
   std::uint64_t seed = 1;
   bool realtime = false;  ///< ask for SCHED_FIFO + mlockall
   double stream_hz = 125;
+  /// Tests only: the n-th file a training writes (counting from 1) fails at its first write, as
+  /// an I/O error would (0: off).
+  int fail_training_file = 0;
 };
 
 /// Finds taps in a stream of (t, p, compensated f), one sample at a time: an episode starts when
