@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <optional>
@@ -130,6 +131,27 @@ Vec3 random_point(Rng& rng, const TriMesh& m, int i) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// The index's storage honours its element types' alignment (its records are 64- and 128-byte
+// aligned): with a fixed 64-byte alignment a 128-byte record was stored at an address that is
+// not a multiple of 128 (undefined behaviour; UBSan: "store to misaligned address").
+TEST(MeshIndex, StorageIsAlignedForEveryElementType) {
+  struct alignas(128) Wide {
+    double x[16];
+  };
+  detail::IndexAllocator<Wide> wide;
+  std::vector<std::pair<Wide*, std::size_t>> held;
+  for (std::size_t n = 1; n <= 64; ++n) {
+    Wide* p = wide.allocate(n);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(p) % alignof(Wide), 0u) << n << " records";
+    held.emplace_back(p, n);
+  }
+  for (auto [p, n] : held) wide.deallocate(p, n);
+  detail::IndexAllocator<Wide> big;  // the huge-page path (2 MiB alignment) above 1 MiB
+  Wide* q = big.allocate((std::size_t{3} << 20) / sizeof(Wide));
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(q) % (std::size_t{2} << 20), 0u);
+  big.deallocate(q, (std::size_t{3} << 20) / sizeof(Wide));
+}
+
 TEST(MeshIndex, FirstHitMatchesBruteForce) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);

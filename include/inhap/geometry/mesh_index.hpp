@@ -17,17 +17,18 @@ namespace inhap {
 namespace detail {
 /// Storage of the large index arrays: above 1 MiB, 2 MiB-aligned and (on Linux) advised for
 /// transparent huge pages, since queries jump around 100 MB and would otherwise miss the TLB at
-/// almost every node. Goes through the aligned global operator new.
-void* index_alloc(std::size_t bytes);
-void index_free(void* p, std::size_t bytes) noexcept;
+/// almost every node. Goes through the aligned global operator new; never less aligned than
+/// `min_align` (the element type's alignment: the tree's records are 64- and 128-byte aligned).
+void* index_alloc(std::size_t bytes, std::size_t min_align);
+void index_free(void* p, std::size_t bytes, std::size_t min_align) noexcept;
 template <class T>
 struct IndexAllocator {
   using value_type = T;
   IndexAllocator() = default;
   template <class U>
   IndexAllocator(const IndexAllocator<U>&) {}
-  T* allocate(std::size_t n) { return static_cast<T*>(index_alloc(n * sizeof(T))); }
-  void deallocate(T* p, std::size_t n) noexcept { index_free(p, n * sizeof(T)); }
+  T* allocate(std::size_t n) { return static_cast<T*>(index_alloc(n * sizeof(T), alignof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { index_free(p, n * sizeof(T), alignof(T)); }
   friend bool operator==(const IndexAllocator&, const IndexAllocator&) { return true; }
 };
 template <class T>
