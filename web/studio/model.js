@@ -104,6 +104,10 @@ export function createModelView({ $, S, send }) {
     switch (m.type) {
       case 'coverage':
         M.coverage = m; dirty = true;
+        if (!M.object && m.cells.length) {  // a bridged device: no object, the frame fits the cells
+          const xs = m.cells.map((c) => c[0]), ys = m.cells.map((c) => c[1]), pad = 2 * m.cell_mm;
+          box = { x0: Math.min(...xs) - pad, x1: Math.max(...xs) + pad, y0: Math.min(...ys) - pad, y1: Math.max(...ys) + pad };
+        }
         $('mrecinfo').textContent = `${m.operator}: ${m.t.toFixed(1)} of ${m.seconds} s ${m.operator === 'device' ? 'device time' : 'simulated'}, ${m.samples} contact samples, ${m.cells.length} cells visited, ${m.gaps.length} gaps`;
         if (m.full && M.recording && (m.operator === 'explore' || m.operator === 'device')) send({ type: 'model_stop' });
         return true;
