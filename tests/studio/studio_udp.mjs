@@ -7,7 +7,8 @@
 // the device's time advancing; the tapping operator's taps are detected (>= 20); a reconstruction
 // from them has faces; the samples export into the workspace; the palpation view then takes
 // the reconstruction as its shape; the Model view records the device (no truth, the sensed
-// force) and streams the comparison with the sensed force. Exit 77: skipped.
+// force), trains with the recording's proxy and compares the model with the sensed force. Exit
+// 77: skipped.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -67,7 +68,7 @@ try {
     const look = () => { const i = inbox.findIndex(pred); if (i >= 0) { waiter = null; resolve(inbox.splice(i, 1)[0]); return true; } return false; };
     if (look()) return;
     waiter = look;
-    setTimeout(() => { waiter = null; resolve(null); }, T(ms));
+    setTimeout(() => { if (waiter === look) waiter = null; resolve(null); }, T(ms));  // an answered wait's timer leaves the next wait alone
   });
   send({ type: 'hello' });
   const hello = await reply((m) => m.type === 'hello', 10000);
@@ -104,9 +105,15 @@ try {
   const ms = await reply((m) => m.request === 'model_stop' || m.type === 'error', 20000);
   check(full && ms && ms.rows > 9000 && ms.truth === '' && ms.operator === 'device' && fs.existsSync(path.join(workspace, 'udp-rec.csv')),
     `model recording over the bridge: ${ms ? ms.rows : '?'} rows, ${ms ? ms.contact_rows : '?'} in contact, ${ms ? ms.seconds : '?'} s, no truth`);
-  // Training and the model's force over the bridge: StudioModelSession.BridgedDeviceRecordsTrainsAndCompares.
   const co = await reply((m) => m.type === 'compare' && m.source === 'object' && m.n > 200, 30000);
   check(co && co.rmse.every(Number.isFinite) && co.points.length > 0, `compare stream over the bridge (object = the sensed force): ${co ? co.n : 0} ticks`);
+  send({ type: 'model_train', recording: 'udp-rec.csv', out: 'udp-m.json' });
+  const tr = await reply((m) => m.type === 'trained' || m.type === 'error', 120000);
+  check(tr && tr.status === 'done' && tr.proxy === 'recording' && fs.existsSync(path.join(workspace, 'udp-m.json')),
+    `trained with the recording's proxy: ${tr ? tr.status + (tr.message ? ' ' + tr.message : '') : 'nothing'}`);
+  send({ type: 'model_source', source: 'model' });
+  const cm = await reply((m) => m.type === 'compare' && m.has_model && m.source === 'model' && m.n > 500, 30000);
+  check(cm && cm.rmse.every(Number.isFinite), `the model against the sensed force: RMSE ${cm ? cm.rmse.map((v) => v.toFixed(3)).join(' / ') : '?'} N over ${cm ? cm.n : 0} ticks`);
   exitCode = failures.length ? 1 : 0;
 } catch (e) {
   failures.push(String(e));
