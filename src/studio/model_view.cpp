@@ -53,10 +53,54 @@ lab::LabRecording RecordingDevice::take_log() {
   return r;
 }
 
+void ObservedRecording::start(const CompensatorConfig& config, double seconds) {
+  config_ = config;
+  state_ = {};
+  rec_ = {};
+  seconds_ = seconds;
+  skipped_ = contact_ = 0;
+  full_ = false;
+}
+
+bool ObservedRecording::add(const haptics::LoopSample& s, TickPoint& point) {
+  if (full_) return false;
+  if (rec_.size() && !(s.t_s > rec_.t.back())) {
+    if (!(s.t_s == rec_.t.back())) ++skipped_;
+    return false;
+  }
+  if (!s.p_mm.allFinite() || !s.sensor_force_n.allFinite() || !std::isfinite(s.t_s)) {
+    ++skipped_;
+    return false;
+  }
+  const Vec3 f = compensate_step(config_, state_, s.p_mm, s.sensor_force_n);
+  rec_.t.push_back(s.t_s);
+  rec_.p.push_back(s.p_mm);
+  rec_.f.push_back(f);
+  point.t = s.t_s;
+  point.contact = f.norm() > kSensedContactN;
+  point.q = s.p_mm;
+  point.f = f;
+  contact_ += point.contact;
+  if (s.t_s - rec_.t.front() >= seconds_ - 1e-6) full_ = true;
+  return true;
+}
+
+Recording ObservedRecording::take() {
+  Recording r = std::move(rec_);
+  rec_ = {};
+  return r;
+}
+
 CompareRenderer::CompareRenderer(const lab::SoftObject& object, double probe_radius,
                                  const haptics::DataDrivenModel* model,
                                  const lab::SimDevice* device, double force_limit_n)
-    : object_(object), radius_(probe_radius), limit_(force_limit_n), device_(device) {
+    : object_(&object), radius_(probe_radius), limit_(force_limit_n), device_(device) {
+  if (model) model_ = std::make_unique<haptics::DataDrivenRenderer>(*model);
+}
+
+CompareRenderer::CompareRenderer(const CompensatorConfig& config,
+                                 const haptics::DataDrivenModel* model, double force_limit_n)
+    : limit_(force_limit_n), comp_(config) {
   if (model) model_ = std::make_unique<haptics::DataDrivenRenderer>(*model);
 }
 
@@ -72,9 +116,16 @@ haptics::ServoOutput CompareRenderer::step(const haptics::ServoInput& in) noexce
   const Vec3 v = device_ ? device_->truth().velocity : Vec3::Zero();
   ComparePoint c;
   c.t = in.t_s;
-  c.object = lab::contact_step(object_, radius_, contact_, in.p_mm, v, in.t_s, dt);
-  if (!c.object.allFinite()) c.object.setZero(), contact_.reset();
-  c.object_contact = contact_.in_contact;
+  if (object_) {
+    c.object = lab::contact_step(*object_, radius_, contact_, in.p_mm, v, in.t_s, dt);
+    if (!c.object.allFinite()) c.object.setZero(), contact_.reset();
+    c.object_contact = contact_.in_contact;
+  } else {  // sensed mode: what the device feels (zero commanded unless the model is)
+    c.object = in.has_sensor ? compensate_step(comp_, comp_state_, in.p_mm, in.sensor_force_n)
+                             : Vec3(Vec3::Zero());
+    if (!c.object.allFinite()) c.object.setZero();
+    c.object_contact = c.object.norm() > kSensedContactN;
+  }
   haptics::ServoOutput m;
   if (model_) {
     m = model_->step(in);
@@ -84,10 +135,12 @@ haptics::ServoOutput CompareRenderer::step(const haptics::ServoInput& in) noexce
   ring_.push(c);
   if (use_model_.load(std::memory_order_acquire) && model_) {
     out = m;
-  } else {
+  } else if (object_) {
     out.force_n = c.object;
     out.contact = c.object_contact;
     if (c.object_contact) out.ihip_mm = out.cihip_mm = contact_.proxy;
+  } else {
+    out.contact = c.object_contact;  // the device's own object: nothing commanded
   }
   const double n = out.force_n.norm();
   if (!(n <= limit_))
@@ -97,6 +150,7 @@ haptics::ServoOutput CompareRenderer::step(const haptics::ServoInput& in) noexce
 
 void CompareRenderer::reset() noexcept {
   contact_.reset();
+  comp_state_.reset();
   last_t_ = -1;
   if (model_) model_->reset();
 }

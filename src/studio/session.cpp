@@ -214,13 +214,17 @@ void Session::stream_loop() {
     while (rig_->ring.pop(s)) {
       have = true;
       last = s;
+      if (rig_->observed) {  // the Model view recording a bridged device
+        TickPoint p;
+        if (model_stream_->observed.add(s, p)) model_stream_->coverage.add(p);
+      }
       if (!sampling) continue;
       const Vec3 f = compensate_step(rig_->comp, rig_->comp_state, s.p_mm, s.sensor_force_n);
       if (auto c = rig_->taps.add(s.t_s, s.p_mm, f)) found.push_back(*c);
     }
     for (const Contact& c : found) on_contact(c);
     if (rig_->palp) stream_palpation(*rig_->palp, fitted);
-    if (rig_->recorder || rig_->compare) stream_model(*rig_, false);
+    if (rig_->recorder || rig_->observed || rig_->compare) stream_model(*rig_, false);
     const std::uint64_t seq = rig_->mouse ? rig_->mouse->applied_seq() : 0;
     const auto now = clock::now();
     if (!have || (now - last_sent < period && seq == sent_seq)) continue;
@@ -236,7 +240,7 @@ void Session::stream_loop() {
     last_sent = now;
     sent_seq = seq;
   }
-  if (rig_->recorder || rig_->compare) stream_model(*rig_, true);
+  if (rig_->recorder || rig_->observed || rig_->compare) stream_model(*rig_, true);
 }
 
 std::string Session::state_json(const haptics::LoopSample& s) const {
@@ -356,8 +360,6 @@ std::string Session::servo_json() const {
 std::string Session::set_mode(const std::string& mode) {
   if (mode == "experiment" && !surface_)
     throw ProtocolError("mode: start an experiment first ({\"type\":\"experiment\",...})");
-  if (mode == "model" && !lab_)
-    throw ProtocolError("mode: the Model view needs the lab (--device lab:SCENE)");
   if (mode == "palpation" && !lab_ && !reconstruction_)
     throw ProtocolError(
         "mode: palpation needs a shape: reconstruct one in the sampling view first (a real "

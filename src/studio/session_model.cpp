@@ -35,10 +35,13 @@ bool ends_with(const std::string& s, const char* ext) {
 }  // namespace
 
 void Session::build_model_rig(Rig& rig, const std::string& mode) {
-  if (!lab_) throw ProtocolError("mode: the Model view needs the lab (--device lab:SCENE)");
+  if (!model_stream_) model_stream_ = std::make_unique<ModelStream>();
+  if (!lab_) {
+    build_bridged_model_rig(rig, mode);
+    return;
+  }
   const Box3 b = scene_.object.shape().bounds();
   const Vec3 start(scene_.region.center.x(), scene_.region.center.y(), b.max.z() + 15);
-  if (!model_stream_) model_stream_ = std::make_unique<ModelStream>();
   if (mode == "model_record") {
     std::unique_ptr<lab::HandOperator> op;
     if (model_rec_operator_ == "mouse") {
@@ -81,17 +84,48 @@ void Session::build_model_rig(Rig& rig, const std::string& mode) {
   model_stream_->points = nlohmann::json::array();
 }
 
+// A bridged device: its own hand moves it over its own object. Recording: nothing commanded, the
+// loop's observer ring recorded by the streamer (ModelStream::observed). Feeling: the device's
+// sensed force is the object; the model is stepped on the same path.
+void Session::build_bridged_model_rig(Rig& rig, const std::string& mode) {
+  rig.device = bridge_.get();
+  rig.comp = CompensatorConfig::from(bridge_->info());
+  if (mode == "model_record") {
+    rig.renderer = std::make_unique<haptics::NullRenderer>();
+    rig.observed = true;
+    model_stream_->observed.start(rig.comp, model_rec_seconds_);
+    model_stream_->coverage.clear();
+    model_stream_->told_full = false;
+    return;
+  }
+  {
+    std::lock_guard lock(data_mu_);
+    rig.bundle = model_bundle_;
+  }
+  const double limit = std::min(kDeviceForceLimitN, bridge_->info().max_force_n);
+  auto r =
+      std::make_unique<CompareRenderer>(rig.comp, rig.bundle ? &rig.bundle->model : nullptr, limit);
+  r->use_model(ab_blind_ ? ab_model_is_b_ == ab_model_ : ab_model_);
+  rig.compare = r.get();
+  rig.renderer = std::move(r);
+  model_stream_->rmse = {};
+  model_stream_->last_point_t = -1;
+  model_stream_->points = nlohmann::json::array();
+}
+
 void Session::stream_model(Rig& rig, bool flush) {
   ModelStream& s = *model_stream_;
   const auto now = std::chrono::steady_clock::now();
   if (rig.recorder) {
     TickPoint p;
     while (rig.recorder->ring().pop(p)) s.coverage.add(p);
-    const bool full = rig.recorder->full();
+  }
+  if (rig.recorder || rig.observed) {
+    const bool full = rig.recorder ? rig.recorder->full() : s.observed.full();
     if (flush || now - s.last_coverage > std::chrono::milliseconds(500) || (full && !s.told_full)) {
       s.last_coverage = now;
       nlohmann::json j = s.coverage.json();
-      j["t"] = rig.recorder->logged_s();
+      j["t"] = rig.recorder ? rig.recorder->logged_s() : s.observed.seconds();
       j["seconds"] = model_rec_seconds_;
       j["full"] = full;
       j["operator"] = model_rec_operator_;
@@ -131,20 +165,20 @@ std::string Session::do_model_record(const Message& m) {
   const std::string path = get_string(m, "path", 255);
   if (!ends_with(path, ".csv")) throw ProtocolError("model_record: expected a path ending in .csv");
   workspace_.resolve(path);  // the name's rules now, the file at the stop
-  if (!lab_) throw ProtocolError("model_record: the Model view needs the lab");
   stop_rig();
-  model_rec_operator_ = op;
+  model_rec_operator_ = lab_ ? op : "device";  // a bridged device is moved by its own hand
   model_rec_seconds_ = seconds;
   model_rec_path_ = path;
   start_rig("model_record");
   nlohmann::json j = ok("model_record");
-  j["operator"] = op;
+  j["operator"] = model_rec_operator_;
   j["seconds"] = seconds;
   j["path"] = path;
   return j.dump();
 }
 
 std::string Session::do_model_stop() {
+  if (rig_ && rig_->observed) return stop_observed_recording();
   if (!rig_ || !rig_->recorder) throw ProtocolError("model_stop: no recording is running");
   const WorkspacePath out = workspace_.output(model_rec_path_);
   const WorkspacePath truth = workspace_.output(lab::truth_path_for(model_rec_path_));
@@ -167,6 +201,34 @@ std::string Session::do_model_stop() {
   j["contact_rows"] = contact;
   j["seconds"] = seconds;
   j["operator"] = op;
+  return j.dump();
+}
+
+std::string Session::stop_observed_recording() {
+  const WorkspacePath out = workspace_.output(model_rec_path_);
+  stop_stream_ = true;
+  if (streamer_.joinable()) streamer_.join();
+  rig_->loop->stop();
+  ObservedRecording& obs = model_stream_->observed;
+  haptics::LoopSample ls;  // the streamer is gone: what the loop pushed since its last look
+  for (TickPoint p; rig_->ring.pop(ls);) obs.add(ls, p);
+  const std::size_t dropped = rig_->loop->stats().dropped_samples;
+  rig_.reset();
+  const std::size_t contact = obs.contact_rows(), skipped = obs.skipped();
+  const double seconds = obs.seconds();
+  const Recording rec = obs.take();
+  const std::size_t rows = rec.size();
+  if (rows) with_names({&out}, [&] { write_recording(out.path(), rec); });
+  start_rig("model");
+  nlohmann::json j = ok("model_stop");
+  j["path"] = rows ? model_rec_path_ : std::string();
+  j["truth"] = "";  // a bridged device has none
+  j["rows"] = rows;
+  j["contact_rows"] = contact;
+  j["seconds"] = seconds;
+  j["operator"] = model_rec_operator_;
+  j["dropped"] = dropped;  // ticks the streamer did not drain in time (the ring was full)
+  j["skipped"] = skipped;  // samples whose device time ran backwards
   return j.dump();
 }
 

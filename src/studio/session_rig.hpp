@@ -29,12 +29,14 @@ struct Session::Rig {
   StreamTapDetector taps;
   // the Model view
   RecordingDevice* recorder = nullptr;  ///< recording (the device)
-  CompareRenderer* compare = nullptr;   ///< feeling: object vs model
+  bool observed = false;  ///< recording a bridged device from the ring (ModelStream::observed)
+  CompareRenderer* compare = nullptr;  ///< feeling: object vs model
 };
 
 // What the streamer keeps for the Model view between polls.
 struct Session::ModelStream {
   CoverageTracker coverage;
+  ObservedRecording observed;  ///< a bridged device's recording (Rig::observed)
   RunningRmse rmse;
   nlohmann::json points = nlohmann::json::array();  // [t, object xyz, model xyz] not yet sent
   double last_point_t = -1;

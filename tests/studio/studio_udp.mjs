@@ -6,7 +6,9 @@
 // Checks: the studio waits for the device and prints its URL once it joined; states stream with
 // the device's time advancing; the tapping operator's taps are detected (>= 20); a reconstruction
 // from them has faces; the samples export into the workspace; the palpation view then takes
-// the reconstruction as its shape. Exit 77: skipped.
+// the reconstruction as its shape; the Model view records the device (no truth, the sensed
+// force), trains with the recording's proxy and compares the model with the sensed force. Exit
+// 77: skipped.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -66,7 +68,7 @@ try {
     const look = () => { const i = inbox.findIndex(pred); if (i >= 0) { waiter = null; resolve(inbox.splice(i, 1)[0]); return true; } return false; };
     if (look()) return;
     waiter = look;
-    setTimeout(() => { waiter = null; resolve(null); }, T(ms));
+    setTimeout(() => { if (waiter === look) waiter = null; resolve(null); }, T(ms));  // an answered wait's timer leaves the next wait alone
   });
   send({ type: 'hello' });
   const hello = await reply((m) => m.type === 'hello', 10000);
@@ -90,6 +92,28 @@ try {
   send({ type: 'mode', mode: 'palpation' });
   const pm = await reply((m) => (m.type === 'mesh' && m.role === 'palpation') || m.type === 'error', 20000);
   check(pm && pm.type === 'mesh' && pm.faces.length > 0, 'palpation view: the reconstruction is the shape to palpate');
+
+  // The Model view with the bridged device: a recording of what the loop observes (no truth), a
+  // training with the recording's proxy, the model's force against the sensed force.
+  send({ type: 'mode', mode: 'model' });
+  const mm = await reply((m) => m.request === 'mode' || m.type === 'error', 10000);
+  check(mm && mm.type === 'ok', `model view on a bridged device${mm && mm.message ? ': ' + mm.message : ''}`);
+  send({ type: 'model_record', operator: 'explore', seconds: 10, path: 'udp-rec.csv' });
+  await reply((m) => m.request === 'model_record' || m.type === 'error', 10000);
+  const full = await reply((m) => m.type === 'coverage' && m.full, 60000);
+  send({ type: 'model_stop' });
+  const ms = await reply((m) => m.request === 'model_stop' || m.type === 'error', 20000);
+  check(full && ms && ms.rows > 9000 && ms.truth === '' && ms.operator === 'device' && fs.existsSync(path.join(workspace, 'udp-rec.csv')),
+    `model recording over the bridge: ${ms ? ms.rows : '?'} rows, ${ms ? ms.contact_rows : '?'} in contact, ${ms ? ms.seconds : '?'} s, no truth`);
+  const co = await reply((m) => m.type === 'compare' && m.source === 'object' && m.n > 200, 30000);
+  check(co && co.rmse.every(Number.isFinite) && co.points.length > 0, `compare stream over the bridge (object = the sensed force): ${co ? co.n : 0} ticks`);
+  send({ type: 'model_train', recording: 'udp-rec.csv', out: 'udp-m.json' });
+  const tr = await reply((m) => m.type === 'trained' || m.type === 'error', 120000);
+  check(tr && tr.status === 'done' && tr.proxy === 'recording' && fs.existsSync(path.join(workspace, 'udp-m.json')),
+    `trained with the recording's proxy: ${tr ? tr.status + (tr.message ? ' ' + tr.message : '') : 'nothing'}`);
+  send({ type: 'model_source', source: 'model' });
+  const cm = await reply((m) => m.type === 'compare' && m.has_model && m.source === 'model' && m.n > 500, 30000);
+  check(cm && cm.rmse.every(Number.isFinite), `the model against the sensed force: RMSE ${cm ? cm.rmse.map((v) => v.toFixed(3)).join(' / ') : '?'} N over ${cm ? cm.n : 0} ticks`);
   exitCode = failures.length ? 1 : 0;
 } catch (e) {
   failures.push(String(e));

@@ -136,3 +136,70 @@ TEST(StudioModelView, RunningRmseCountsTicksWhereEitherTouches) {
   EXPECT_DOUBLE_EQ(e.rmse().y(), std::sqrt(4.5));
   EXPECT_DOUBLE_EQ(e.rmse().z(), 0.0);
 }
+
+// A bridged device (sensed mode): the object is the sensor's reading, compensated (no tool mass
+// here, so compensation leaves it as it is); nothing is commanded while the object is selected.
+TEST(StudioModelView, SensedCompareRendererCommandsNothingAndReportsTheSensedForce) {
+  CompensatorConfig cc;
+  cc.tool_mass_kg = 0;
+  CompareRenderer r(cc, nullptr, 2.0);
+  r.use_model(true);  // no model: the object stays
+  EXPECT_FALSE(r.using_model());
+  const Vec3 p(1, 2, 3);
+  const haptics::ServoOutput a = r.step({0.000, p, Vec3(0.5, 0, 2), true});
+  EXPECT_EQ(a.force_n, Vec3::Zero());
+  EXPECT_TRUE(a.contact);
+  const haptics::ServoOutput b = r.step({0.001, p, Vec3(0, 0.05, 0), true});  // below 0.1 N
+  EXPECT_EQ(b.force_n, Vec3::Zero());
+  EXPECT_FALSE(b.contact);
+  ComparePoint c1, c2;
+  ASSERT_TRUE(r.ring().pop(c1));
+  ASSERT_TRUE(r.ring().pop(c2));
+  EXPECT_NEAR((c1.object - Vec3(0.5, 0, 2)).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(c1.object_contact);
+  EXPECT_NEAR((c2.object - Vec3(0, 0.05, 0)).norm(), 0.0, 1e-12);
+  EXPECT_FALSE(c2.object_contact);
+  EXPECT_EQ(c1.model, Vec3::Zero());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const haptics::ServoOutput o = r.step({0.002, Vec3(nan, 0, 0), Vec3(0, 0, 2), true});
+  EXPECT_EQ(o.force_n, Vec3::Zero());
+  EXPECT_FALSE(o.contact);
+}
+
+// The recording of a bridged device from the loop's samples: one row per new device time (a
+// repeat is dropped silently, a time running backwards is counted), up to `seconds`.
+TEST(StudioModelView, ObservedRecordingKeepsNewSamplesUpToItsLength) {
+  CompensatorConfig cc;
+  cc.tool_mass_kg = 0;
+  ObservedRecording rec;
+  rec.start(cc, 0.003);
+  const auto sample = [](double t, double fz) {
+    haptics::LoopSample s;
+    s.t_s = t;
+    s.p_mm = Vec3(t * 1000, 0, 5);
+    s.sensor_force_n = Vec3(0, 0, fz);
+    return s;
+  };
+  TickPoint tp;
+  EXPECT_TRUE(rec.add(sample(0.000, 1.0), tp));
+  EXPECT_TRUE(tp.contact);
+  EXPECT_EQ(tp.q, Vec3(0, 0, 5));
+  EXPECT_FALSE(rec.add(sample(0.000, 1.0), tp));  // the same device sample again
+  EXPECT_TRUE(rec.add(sample(0.001, 0.05), tp));
+  EXPECT_FALSE(tp.contact);
+  EXPECT_FALSE(rec.add(sample(0.0005, 1.0), tp));  // backwards
+  EXPECT_TRUE(rec.add(sample(0.002, 2.0), tp));
+  EXPECT_FALSE(rec.full());
+  EXPECT_TRUE(rec.add(sample(0.003, 3.0), tp));
+  EXPECT_TRUE(rec.full());
+  EXPECT_FALSE(rec.add(sample(0.004, 3.0), tp));  // full
+  EXPECT_EQ(rec.skipped(), 1u);
+  EXPECT_EQ(rec.contact_rows(), 3u);
+  EXPECT_DOUBLE_EQ(rec.seconds(), 0.003);
+  const Recording r = rec.take();
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_EQ(r.t, (std::vector<double>{0.000, 0.001, 0.002, 0.003}));
+  EXPECT_NEAR(r.f[2].z(), 2.0, 1e-12);
+  EXPECT_NEAR(r.p[3].x(), 3.0, 1e-12);
+  EXPECT_EQ(rec.seconds(), 0.0);
+}

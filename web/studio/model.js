@@ -104,8 +104,12 @@ export function createModelView({ $, S, send }) {
     switch (m.type) {
       case 'coverage':
         M.coverage = m; dirty = true;
-        $('mrecinfo').textContent = `${m.operator}: ${m.t.toFixed(1)} of ${m.seconds} s simulated, ${m.samples} contact samples, ${m.cells.length} cells visited, ${m.gaps.length} gaps`;
-        if (m.full && M.recording && m.operator === 'explore') send({ type: 'model_stop' });
+        if (!M.object && m.cells.length) {  // a bridged device: no object, the frame fits the cells
+          const xs = m.cells.map((c) => c[0]), ys = m.cells.map((c) => c[1]), pad = 2 * m.cell_mm;
+          box = { x0: Math.min(...xs) - pad, x1: Math.max(...xs) + pad, y0: Math.min(...ys) - pad, y1: Math.max(...ys) + pad };
+        }
+        $('mrecinfo').textContent = `${m.operator}: ${m.t.toFixed(1)} of ${m.seconds} s ${m.operator === 'device' ? 'device time' : 'simulated'}, ${m.samples} contact samples, ${m.cells.length} cells visited, ${m.gaps.length} gaps`;
+        if (m.full && M.recording && (m.operator === 'explore' || m.operator === 'device')) send({ type: 'model_stop' });
         return true;
       case 'compare':
         M.rmse = m.rmse; M.n = m.n; M.hasModel = m.has_model;
@@ -133,7 +137,7 @@ export function createModelView({ $, S, send }) {
         if (m.request === 'model_record') { M.recording = true; M.coverage = null; dirty = true; }
         if (m.request === 'model_stop') {
           M.recording = false; M.recorded = m;
-          $('mrecinfo').textContent = m.rows ? `wrote ${m.path} and ${m.truth}: ${m.rows} rows (${m.contact_rows} in contact), ${m.seconds.toFixed(1)} s` : 'nothing recorded';
+          $('mrecinfo').textContent = m.rows ? `wrote ${m.path}${m.truth ? ' and ' + m.truth : ' (no truth: a bridged device)'}: ${m.rows} rows (${m.contact_rows} in contact), ${m.seconds.toFixed(1)} s` : 'nothing recorded';
           if (m.rows) $('mtrainrec').value = m.path;
         }
         if (m.request === 'model_source' || m.request === 'model_blind' || m.request === 'model_answer') {

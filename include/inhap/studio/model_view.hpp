@@ -10,6 +10,13 @@
 //    position) and the trained model (haptics::DataDrivenRenderer) both stepped every tick on
 //    the same probe path; the active one's force is commanded, both leave through a ring for the
 //    page's plot and the running RMSE.
+// With a bridged device (--device udp) there is no lab truth and no lab object in the studio:
+//  - ObservedRecording: the recording is taken from what the servo loop observes (its observer
+//    ring, drained by the streamer thread): t, the probe position and the device's sensed force
+//    compensated causally (as `inhap serve --record` writes it), no truth.
+//  - CompareRenderer in sensed mode: the "object" is the device's own sensed force (compensated,
+//    zero force commanded); the model is stepped on the same path and its force commanded when
+//    selected.
 // Units: mm, N, s.
 #pragma once
 
@@ -19,8 +26,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "inhap/contact/compensation.hpp"
+#include "inhap/core/csv.hpp"
 #include "inhap/core/device.hpp"
 #include "inhap/haptics/renderers.hpp"
+#include "inhap/haptics/servo_loop.hpp"
 #include "inhap/haptics/spsc_ring.hpp"
 #include "inhap/lab/operators.hpp"
 #include "inhap/lab/recorder.hpp"
@@ -73,6 +83,37 @@ class RecordingDevice final : public Device {
   std::atomic<double> logged_s_{0};
 };
 
+/// A bridged device's sensed (compensated) force above which the probe counts as in contact for
+/// the live coverage map, the recording's contact count and the RMSE, N.
+inline constexpr double kSensedContactN = 0.1;
+
+/// A bridged device's recording from the servo loop's observer ring (the streamer thread; the
+/// servo step only pushes to the ring). One row per new device sample (a tick that repeats the
+/// last device time is not a measurement; one whose time runs backwards, a new device session,
+/// is counted in skipped()), up to `seconds` of device time.
+class ObservedRecording {
+ public:
+  void start(const CompensatorConfig& config, double seconds);
+  /// Takes the sample when it is new and the recording not full; `point` is then the coverage
+  /// map's point (the probe centre and the compensated force, contact above kSensedContactN).
+  bool add(const haptics::LoopSample& s, TickPoint& point);
+  bool full() const { return full_; }
+  double seconds() const { return rec_.size() ? rec_.t.back() - rec_.t.front() : 0.0; }
+  std::size_t skipped() const { return skipped_; }
+  /// Rows whose compensated force is above kSensedContactN.
+  std::size_t contact_rows() const { return contact_; }
+  /// The recording (t s, p mm, f N); leaves this one empty.
+  Recording take();
+
+ private:
+  CompensatorConfig config_;
+  CompensatorState state_;
+  Recording rec_;
+  double seconds_ = 0;
+  std::size_t skipped_ = 0, contact_ = 0;
+  bool full_ = false;
+};
+
 /// The A/B pair stepped on one probe path.
 struct ComparePoint {
   double t = 0;
@@ -88,6 +129,10 @@ class CompareRenderer final : public haptics::Renderer {
   CompareRenderer(const lab::SoftObject& object, double probe_radius,
                   const haptics::DataDrivenModel* model, const lab::SimDevice* device,
                   double force_limit_n);
+  /// Sensed mode (a bridged device): the object is the device's sensed force, compensated
+  /// causally with `config`; "object" commands zero force.
+  CompareRenderer(const CompensatorConfig& config, const haptics::DataDrivenModel* model,
+                  double force_limit_n);
   haptics::ServoOutput step(const haptics::ServoInput& input) noexcept override;
   void reset() noexcept override;
   const char* name() const noexcept override { return "compare"; }
@@ -98,10 +143,12 @@ class CompareRenderer final : public haptics::Renderer {
   Ring& ring() { return ring_; }
 
  private:
-  const lab::SoftObject& object_;
-  double radius_, limit_;
+  const lab::SoftObject* object_ = nullptr;  ///< null: sensed mode
+  double radius_ = 0, limit_;
+  CompensatorConfig comp_;
+  CompensatorState comp_state_;
   std::unique_ptr<haptics::DataDrivenRenderer> model_;
-  const lab::SimDevice* device_;
+  const lab::SimDevice* device_ = nullptr;
   lab::ContactState contact_;
   double last_t_ = -1;
   std::atomic<bool> use_model_{false};

@@ -219,6 +219,8 @@ class Session {
   std::string do_model_answer(const Message& m);
   std::string do_model_stats();
   void build_model_rig(Rig& rig, const std::string& mode);
+  void build_bridged_model_rig(Rig& rig, const std::string& mode);
+  std::string stop_observed_recording();
   void stream_model(Rig& rig, bool flush);
   /// The proxy of the training: "palpation" (the Palpation view's yield surfaces and shape when
   /// fitted, else the lab scene palpated as `inhap sys palpate`; the recording's proxy then by
