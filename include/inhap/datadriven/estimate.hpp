@@ -17,8 +17,9 @@
 // undeformed surface there. A last pass takes each sample's normal force and depth along the
 // local normal of that surface (on a slope tilted by t the depth along a is the normal depth /
 // cos t), so b is in normal depth as the proxy estimator measures it. Cells without enough
-// samples or force spread are filled from their
-// neighbours (harmonic fill), then the heights are smoothed (3 x 3 mean, `smooth_passes`). The
+// samples or force spread are filled front by front, each with the plane through the fitted
+// cells within 3 cells (a curved surface's slope carries on past the data), then the heights
+// are smoothed (3 x 3 mean, `smooth_passes`). The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
 //
 // Friction. With the surface, a sliding-yield-surface model with an isotropic Coulomb cone at
