@@ -24,6 +24,7 @@
 #include "inhap/eval/lab_device.hpp"
 #include "inhap/studio/security.hpp"
 #include "inhap/studio/session.hpp"
+#include "support/broadcasts.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace inhap;
@@ -47,7 +48,7 @@ std::uint16_t free_udp_port() {
 
 // The lab device behind the bridge (its own thread), and a studio session on udp:PORT over the
 // folder `root`, its broadcasts kept for waiting on.
-struct Bridged {
+struct Bridged : test::Broadcasts {
   explicit Bridged(const fs::path& root) : ws(root) {
     port = free_udp_port();
     eval::LabDeviceOptions o;
@@ -68,11 +69,7 @@ struct Bridged {
     StudioOptions so;
     so.device = "udp:" + std::to_string(port);
     so.seed = 1;
-    session = std::make_unique<Session>(so, ws, [this](const std::string& m) {
-      std::lock_guard l(mu);
-      msgs.push_back(nlohmann::json::parse(m, nullptr, false));
-      cv.notify_all();
-    });
+    session = std::make_unique<Session>(so, ws, [this](const std::string& m) { add(m); });
     session->start(60);
   }
   ~Bridged() {
@@ -82,33 +79,11 @@ struct Bridged {
   nlohmann::json send(const nlohmann::json& m) {
     return nlohmann::json::parse(session->handle(m.dump()), nullptr, false);
   }
-  template <class Pred>
-  nlohmann::json wait(const std::string& type, double s, Pred pred) {
-    std::unique_lock l(mu);
-    nlohmann::json found;
-    cv.wait_for(l, std::chrono::duration<double>(s), [&] {
-      for (std::size_t i = seen; i < msgs.size(); ++i)
-        if (msgs[i].is_object() && msgs[i].value("type", "") == type && pred(msgs[i])) {
-          found = msgs[i];
-          seen = i + 1;
-          return true;
-        }
-      return false;
-    });
-    return found;
-  }
-  nlohmann::json wait(const std::string& type, double s) {
-    return wait(type, s, [](const nlohmann::json&) { return true; });
-  }
   Workspace ws;
   std::uint16_t port = 0;
   std::thread device;
   eval::LabDeviceResult result;
   std::string device_error;
-  std::mutex mu;
-  std::condition_variable cv;
-  std::vector<nlohmann::json> msgs;
-  std::size_t seen = 0;
   std::unique_ptr<Session> session;
 };
 

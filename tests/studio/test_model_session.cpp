@@ -21,6 +21,7 @@
 #include "inhap/lab/sim_device.hpp"
 #include "inhap/studio/security.hpp"
 #include "inhap/studio/session.hpp"
+#include "support/broadcasts.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace inhap;
@@ -30,13 +31,10 @@ namespace fs = std::filesystem;
 namespace {
 
 // A session on a lab scene over the folder `root`, its broadcasts kept for waiting on.
-struct Lab {
+struct Lab : test::Broadcasts {
   Lab(const fs::path& root, const std::string& scene, int fail_training_file = 0)
-      : ws(root), session(options(scene, fail_training_file), ws, [this](const std::string& m) {
-          std::lock_guard l(mu);
-          msgs.push_back(nlohmann::json::parse(m, nullptr, false));
-          cv.notify_all();
-        }) {
+      : ws(root),
+        session(options(scene, fail_training_file), ws, [this](const std::string& m) { add(m); }) {
     session.start();
   }
   static StudioOptions options(const std::string& scene, int fail) {
@@ -49,25 +47,6 @@ struct Lab {
   }
   nlohmann::json send(const nlohmann::json& m) {
     return nlohmann::json::parse(session.handle(m.dump()), nullptr, false);
-  }
-  /// The next broadcast of type `type` satisfying pred, waiting up to `s` seconds (null if none).
-  template <class Pred>
-  nlohmann::json wait(const std::string& type, double s, Pred pred) {
-    std::unique_lock l(mu);
-    nlohmann::json found;
-    cv.wait_for(l, std::chrono::duration<double>(s), [&] {
-      for (std::size_t i = seen; i < msgs.size(); ++i)
-        if (msgs[i].is_object() && msgs[i].value("type", "") == type && pred(msgs[i])) {
-          found = msgs[i];
-          seen = i + 1;
-          return true;
-        }
-      return false;
-    });
-    return found;
-  }
-  nlohmann::json wait(const std::string& type, double s) {
-    return wait(type, s, [](const nlohmann::json&) { return true; });
   }
   /// The Model view, a recording of `seconds` simulated s with the explore operator in rec.csv.
   void record(double seconds) {
@@ -90,10 +69,6 @@ struct Lab {
     return wait("trained", 600);
   }
   Workspace ws;
-  std::mutex mu;
-  std::condition_variable cv;
-  std::vector<nlohmann::json> msgs;
-  std::size_t seen = 0;
   Session session;
 };
 
