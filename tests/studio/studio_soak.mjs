@@ -147,8 +147,9 @@ try {
   normal.from = Date.now();
   const loads = [];
   const end = Date.now() + soakS * 1000;
-  while (Date.now() < end) {
-    await sleep(Math.min(5000, Math.max(0, end - Date.now())));
+  // A page load every 5 s on a fixed clock (a slow load does not push the next one back).
+  for (let tick = 1; Date.now() < end; ++tick) {
+    await sleep(Math.max(0, Math.min(normal.from + tick * 5000, end) - Date.now()));
     if (Date.now() >= end) break;
     if (!kLoads) continue;
     const l = await pageLoad(base, token);
