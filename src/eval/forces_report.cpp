@@ -27,14 +27,19 @@ nlohmann::ordered_json forces_report_head(const std::string& physics, const std:
   using json = nlohmann::ordered_json;
   json out;
   out["units"] = {{"force", "N"}, {"time", "s"}, {"step", "us"}};
-  const bool est = proxy == "estimated";
   out["physics"] = physics;
-  out["proxy_source"] = est ? "estimated:sys" : "truth";
-  out["contact_source"] = est ? "estimated:geometric" : "truth";
+  out["proxy_source"] = proxy == "estimated"   ? "estimated:sys"
+                        : proxy == "recording" ? "estimated:recording"
+                                               : "truth";
+  out["contact_source"] = proxy == "estimated"   ? "estimated:geometric"
+                          : proxy == "recording" ? "estimated:surface"
+                                                 : "truth";
   out["note"] =
       "estimated: q, the normal at q and contact from the friction module's proxy estimator "
       "(sliding yield surfaces of a palpation of the scene, geometric contact with the palpated "
-      "shape mesh); truth: the virtual lab's true proxy (anchor ax,ay,az) and contact flag; "
+      "shape mesh); recording: the same estimator with the surface, normals and friction "
+      "estimated from the training recording alone (no palpation, no mesh); truth: the virtual "
+      "lab's true proxy (anchor ax,ay,az) and contact flag; "
       "errors against the measured force on the truly-in-contact test samples; no_proxy = the "
       "same model trained on (p, pdot) only (q = p); onset_proxy = q held at the contact-onset "
       "position (u = p - p_c "

@@ -43,5 +43,23 @@ TEST(CliEvalForces, QuickReportHasAllFieldsAndTheProxyHelpsOnSliding) {
   EXPECT_LT(sl["re"]["median"].get<double>(), 0.5 * sl["no_proxy_re"]["median"].get<double>());
 }
 
+// `--proxy recording` estimates the proxy as `model train` does without proxy columns, and
+// trains as it does: no tangent mirror unless --tangent-mirror asks for it.
+TEST(CliEvalForces, TheRecordingsProxyTrainsAsModelTrainDoes) {
+  inhap::test::TempDir dir;
+  for (const bool mirror : {false, true}) {
+    const std::string out = dir.path(mirror ? "m.json" : "n.json"), log = dir.path("log.txt");
+    const std::string cmd = std::string(INHAP_CLI) +
+                            " eval forces --quick --scenes planar --rate 66 --proxy recording "
+                            "--no-baselines --json " +
+                            out + (mirror ? " --tangent-mirror" : "") + " > " + log + " 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << read_file(log);
+    const auto j = nlohmann::json::parse(read_file(out));
+    EXPECT_EQ(j["proxy_source"], "estimated:recording");
+    EXPECT_EQ(j["contact_source"], "estimated:surface");
+    EXPECT_EQ(j["objects"][0]["model"]["tangent_mirror"], mirror);
+  }
+}
+
 }  // namespace
 }  // namespace inhap::datadriven

@@ -24,6 +24,9 @@ TEST(ForcesReport, HeadSaysWhereTheProxyCameFrom) {
   const auto est = forces_report_head("builtin", "estimated");
   EXPECT_EQ(est["proxy_source"], "estimated:sys");
   EXPECT_EQ(est["contact_source"], "estimated:geometric");
+  const auto rec = forces_report_head("builtin", "recording");
+  EXPECT_EQ(rec["proxy_source"], "estimated:recording");
+  EXPECT_EQ(rec["contact_source"], "estimated:surface");
   const auto truth = forces_report_head("mujoco", "truth");
   EXPECT_EQ(truth["proxy_source"], "truth");
   EXPECT_EQ(truth["physics"], "mujoco");

@@ -160,11 +160,15 @@ void register_eval_forces(CLI::App& app) {
   cmd->add_flag("--quick", o->lab.quick,
                 "Recordings 2x shorter (a smoke test, not the evaluation)");
   cmd->callback([o, cmd] {
+    auto given = [cmd](const std::string& flag) { return cmd->count(flag) > 0; };
     if (o->design == "thesis") {  // the thesis' settings unless given
-      auto given = [cmd](const std::string& flag) { return cmd->count(flag) > 0; };
       if (!given("--features")) o->features = "ue_q_v";
       apply_thesis_settings(o->lab.params, given);
     }
+    // An estimated proxy trains as `model train` does without proxy columns: no tangent mirror
+    // unless asked for (docs/real-recordings.md).
+    if (o->lab.proxy == "recording" && !given("--tangent-mirror"))
+      o->lab.params.tangent_mirror = false;
     run_eval_forces(*o);
   });
 }
