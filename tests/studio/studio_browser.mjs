@@ -70,8 +70,10 @@ check(await get(url, { Origin: 'http://evil.example' }) === 403, 'GET with a for
 check(await get(url) === 200, 'GET / with the token -> 200');
 
 // --- the browser ---------------------------------------------------------------------------
+// protocolTimeout: one DevTools call (a long waitForFunction included) may take as long as the
+// longest wait below; puppeteer's default would end it after 180 s.
 const browser = await puppeteer.launch({
-  executablePath: '/usr/bin/chromium', headless: true,
+  executablePath: '/usr/bin/chromium', headless: true, protocolTimeout: T(600000),
   args: ['--no-sandbox', '--disable-gpu', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
     '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync',
     '--disable-extensions', '--disable-background-timer-throttling', '--disable-renderer-backgrounding'],

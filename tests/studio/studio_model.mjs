@@ -43,8 +43,10 @@ const url = await new Promise((resolve, reject) => {
   setTimeout(() => reject(new Error(`no URL within ${T(30)} s: ` + stderr)), T(30000));
 });
 
+// protocolTimeout: one DevTools call (a long waitForFunction included) may take as long as the
+// longest wait below; puppeteer's default would end it after 180 s.
 const browser = await puppeteer.launch({
-  executablePath: '/usr/bin/chromium', headless: true,
+  executablePath: '/usr/bin/chromium', headless: true, protocolTimeout: T(600000),
   args: ['--no-sandbox', '--disable-gpu', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
     '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync',
     '--disable-extensions', '--disable-background-timer-throttling', '--disable-renderer-backgrounding'],
