@@ -24,5 +24,10 @@ function(inhap_unity)
   foreach(t IN LISTS ARGN)
     set_target_properties(${t} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH
                                           UNITY_BUILD_BATCH_SIZE ${INHAP_UNITY_BATCH_SIZE})
+    # GCC warns when a class with external linkage defined outside the main file has a member
+    # of a type from an anonymous namespace (meant for headers); in a batch every source is
+    # "outside the main file", so a source's private Impl holding its file-local types would
+    # warn although it is still defined in one translation unit only.
+    target_compile_options(${t} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-subobject-linkage>)
   endforeach()
 endfunction()
