@@ -1,4 +1,4 @@
-# Precompiled headers (INHAP_PCH, default OFF): the heavy, stable third-party and standard headers
+# Precompiled headers (INHAP_PCH, default ON): the heavy, stable third-party and standard headers
 # that most translation units parse (Eigen's Core, nlohmann/json, fmt, CLI11, GoogleTest and the
 # standard library), never the project's own headers (they change) and never CGAL (only five
 # translation units use it; a PCH of it would slow every other unit down). GCC reads a .gch in a

@@ -65,4 +65,4 @@ void progress(const std::string& what, double fraction, double eta_s);
 #define INHAP_CONCAT2(a, b) a##b
 #define INHAP_CONCAT(a, b) INHAP_CONCAT2(a, b)
 #define INHAP_COMMAND(order, name, fn) \
-  static ::inhap::cli::CommandRegistrar INHAP_CONCAT(inhap_cmd_, __LINE__)(order, name, fn)
+  static ::inhap::cli::CommandRegistrar INHAP_CONCAT(inhap_cmd_, __COUNTER__)(order, name, fn)

@@ -17,12 +17,12 @@ namespace inhap {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
+std::string_view csv_trim(std::string_view s) {
   return text::trim_view(s);
 }
 
 bool blank(std::string_view s) {
-  return trim(s).empty();
+  return csv_trim(s).empty();
 }
 
 std::string join(const std::vector<std::string>& names) {
@@ -34,7 +34,7 @@ std::string join(const std::vector<std::string>& names) {
 }  // namespace
 
 bool parse_double(std::string_view token, double& out) {
-  token = trim(token);
+  token = csv_trim(token);
   if (token.empty()) return false;
   if (token.front() == '+') token.remove_prefix(1);
   const char* end = token.data() + token.size();
@@ -76,7 +76,7 @@ CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
     if (!read_line())
       throw ParseError(path_, line_ ? line_ : 1,
                        "empty file: expected a header row of column names");
-    std::string_view t = trim(current_);
+    std::string_view t = csv_trim(current_);
     if (t.empty() || t.front() == '#') continue;
     break;
   }
@@ -84,7 +84,7 @@ CsvReader::CsvReader(std::string path) : path_(std::move(path)) {
   std::string_view rest = current_;
   while (true) {
     std::size_t comma = rest.find(',');
-    std::string_view field = trim(rest.substr(0, comma));
+    std::string_view field = csv_trim(rest.substr(0, comma));
     if (field.empty())
       throw ParseError(path_, line_,
                        fmt::format("empty column name in header (column {})", header_.size() + 1));
@@ -140,7 +140,7 @@ std::size_t CsvReader::require(std::string_view name) const {
 bool CsvReader::next() {
   do {
     if (!read_line()) return false;
-  } while (blank(current_) || trim(current_).front() == '#');
+  } while (blank(current_) || csv_trim(current_).front() == '#');
   std::string_view rest = current_;
   std::size_t col = 0;
   while (true) {
@@ -153,7 +153,7 @@ bool CsvReader::next() {
     if (!parse_double(field, values_[col]))
       throw ParseError(path_, line_,
                        fmt::format("column '{}': expected a number, got {}", header_[col],
-                                   quote_token(trim(field))));
+                                   quote_token(csv_trim(field))));
     ++col;
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);

@@ -26,7 +26,7 @@ double gamma_candidate(int k) {
 }
 constexpr double kLevelsN[] = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};  // f_N levels of the cone sys
 
-double median(std::vector<double> v) {
+double estimate_median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
@@ -323,7 +323,7 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
       CellFit f;
       if (fit_cell(b, s.gamma, prm, f)) bs.push_back(f.b);
     }
-  const double b0 = median(bs);
+  const double b0 = estimate_median(bs);
   bs.clear();
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
@@ -343,7 +343,7 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
                                  "at least {} N, found none (cells of {} mm)",
                                  prm.min_force_spread_n, prm.cell_mm));
   s.cells_filled = std::size_t(W) * H - s.cells_fitted;
-  s.b_median = median(bs);
+  s.b_median = estimate_median(bs);
   fill_and_smooth(s.height, std::move(known), prm.smooth_passes);
   return s;
 }

@@ -30,7 +30,7 @@ struct Column {
   SparsaResult res;
 };
 
-double soft(double u, double t) {
+double sparsa_soft(double u, double t) {
   return u > t ? u - t : (u < -t ? u + t : 0.0);
 }
 
@@ -38,7 +38,7 @@ int count_nonzeros(const Eigen::VectorXd& x) {
   return static_cast<int>((x.array() != 0.0).count());
 }
 
-std::vector<int> top_support(const Eigen::VectorXd& x, int k) {
+std::vector<int> sparsa_top_support(const Eigen::VectorXd& x, int k) {
   std::vector<int> idx;
   for (Eigen::Index i = 0; i < x.size(); ++i)
     if (x[i] != 0.0) idx.push_back(static_cast<int>(i));
@@ -81,7 +81,7 @@ void iterate(const Eigen::MatrixXd& a, Column& c, const Eigen::VectorXd& g, cons
     nz.clear();
     dx2 = 0;
     for (Eigen::Index j = 0; j < n; ++j) {
-      xn[j] = soft(c.x[j] - g[j] * inv, thr);
+      xn[j] = sparsa_soft(c.x[j] - g[j] * inv, thr);
       const double d = xn[j] - c.x[j];
       if (d != 0.0) {
         nz.push_back(static_cast<int>(j));
@@ -177,7 +177,7 @@ std::vector<SparsaResult> sparsa_multi(const Eigen::MatrixXd& a, const Eigen::Ma
   std::vector<SparsaResult> out;
   for (auto& c : cols) {
     c.res.w = std::move(c.x);
-    c.res.support = top_support(c.res.w, p.max_nonzeros);
+    c.res.support = sparsa_top_support(c.res.w, p.max_nonzeros);
     c.res.objective = 0.5 * c.r.squaredNorm() + c.target * c.res.w.lpNorm<1>();
     out.push_back(std::move(c.res));
   }

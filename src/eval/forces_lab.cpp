@@ -72,7 +72,7 @@ ProxyTrack truth_track(const lab::Scene& scene, const lab::LabRecording& lr) {
 }
 
 /// Proxy q, normal at q and geometric contact from the friction module's estimator.
-ProxyTrack estimated_track(const ScenePalpation& pal, const Recording& rec) {
+ProxyTrack palpation_track(const ScenePalpation& pal, const Recording& rec) {
   const friction::ProxyColumns c =
       friction::proxy_track(friction::ProxyModel{&pal.sys, pal.shape.get()}, rec);
   ProxyTrack t;
@@ -347,8 +347,8 @@ ProxyTrack make_tracks(ForceLabResult& d, const lab::Scene& scene, const ForceLa
     const ScenePalpation pal = palpate_scene(po);
     d.palpation_s = pal.wall_s;
     d.reference_points = pal.points.size();
-    d.train_track = estimated_track(pal, d.train.rec);
-    d.test_track = estimated_track(pal, d.test.rec);
+    d.train_track = palpation_track(pal, d.train.rec);
+    d.test_track = palpation_track(pal, d.test.rec);
     compare_with_truth(d, test_truth);
   }
   return test_truth;

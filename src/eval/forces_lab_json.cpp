@@ -9,23 +9,23 @@ namespace inhap::eval {
 namespace {
 
 using namespace inhap::datadriven;
-using json = nlohmann::ordered_json;
+using ojson = nlohmann::ordered_json;
 
-json xyz(const std::array<double, 3>& v) {
+ojson xyz(const std::array<double, 3>& v) {
   return {{"x", v[0]}, {"y", v[1]}, {"z", v[2]}};
 }
-json mean_median(double mean, double median) {
+ojson mean_median(double mean, double median) {
   return {{"mean", mean}, {"median", median}};
 }
 
 /// Exponent, fitted samples and grid size of a prior's map (null when the prior is off).
-json map_summary(const datadriven::StiffnessPrior& m) {
+ojson map_summary(const datadriven::StiffnessPrior& m) {
   if (m.empty()) return nullptr;
   return {{"exponent", m.exponent}, {"fitted_samples", m.fitted_samples}, {"dims", m.dims}};
 }
 
 /// Training vs test ranges (ForceSupport).
-json support_json(const ForceSupport& su) {
+ojson support_json(const ForceSupport& su) {
   return {
       {"definition",
        "scored test samples with a normalised feature outside its bin's training range [min, "
@@ -50,7 +50,7 @@ json support_json(const ForceSupport& su) {
 }
 
 /// The settings and priors of a trained model.
-json model_json(const ForceModel& m, const ForceModelProvenance& pv) {
+ojson model_json(const ForceModel& m, const ForceModelProvenance& pv) {
   const TrainParams& p = pv.params;
   return {{"design", to_string(p.design)},
           {"features", to_string(p.features)},
@@ -72,13 +72,13 @@ json model_json(const ForceModel& m, const ForceModelProvenance& pv) {
           {"support", pv.stats.support}};
 }
 
-json object_json(const ForceLabResult& d) {
+ojson object_json(const ForceLabResult& d) {
   const ForceVariant& v = d.proxy;
   const ForceVariant& v0 = d.no_proxy;
   const ForceVariant& v1 = d.onset;
   const ForceErrors& cov = d.covered;
   const std::vector<double>& us = v.replay.step_us;
-  json j;
+  ojson j;
   j["name"] = d.name;
   j["train_samples"] = d.train.rec.size();
   j["test_samples"] = d.test.rec.size();
@@ -115,22 +115,22 @@ json object_json(const ForceLabResult& d) {
   j["onset_proxy_rmse_n"] = xyz(v1.all.rmse);
   j["no_proxy_train_s"] = v0.provenance.stats.seconds;
   j["model"] = model_json(v.model, v.provenance);
-  j["errors"] = json::parse(force_errors_json(v.all));
-  if (v0.all.n > 0) j["no_proxy_errors"] = json::parse(force_errors_json(v0.all));
+  j["errors"] = ojson::parse(force_errors_json(v.all));
+  if (v0.all.n > 0) j["no_proxy_errors"] = ojson::parse(force_errors_json(v0.all));
   return j;
 }
 
 }  // namespace
 
 std::string force_lab_json(const ForceLabResult& d) {
-  json j = object_json(d);
+  ojson j = object_json(d);
   // Training never clips a target (forces above the modeling range are kept and counted).
   j["clipped_training_samples"] = 0;
   j["training_samples_above_range"] = d.proxy.provenance.stats.above_range;
   const ForceCoverage cov = training_coverage(d);
   j["coverage"] = cov.outside;
   // Where the training run left the largest unvisited areas (x, y projection): explore there.
-  json gaps = json::array();
+  ojson gaps = ojson::array();
   for (const CoverageGap& g : cov.gaps)
     gaps.push_back({{"x_mm", g.x_mm},
                     {"y_mm", g.y_mm},

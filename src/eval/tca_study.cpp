@@ -19,7 +19,7 @@ namespace inhap::eval {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
+double tca_seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -48,7 +48,7 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
         const long d = ++done;
         if (!o.progress) continue;
         std::lock_guard lock(progress_mutex);
-        const double el = seconds_since(start);
+        const double el = tca_seconds_since(start);
         o.progress(fmt::format("{} of {} trials", d, total), double(d) / double(total),
                    d < total ? el / double(d) * double(total - d) : 0.0);
       }
@@ -60,7 +60,7 @@ TcaStudyResult run_tca_study(const TcaStudyOptions& o) {
   for (auto& t : pool) t.join();
   for (auto& v : per) r.trials.insert(r.trials.end(), v.begin(), v.end());
   r.summary = rendering::summarize(r.trials);
-  r.study_s = seconds_since(start);
+  r.study_s = tca_seconds_since(start);
   for (const auto& t : r.trials) r.incomplete += !t.session.completed;
   return r;
 }

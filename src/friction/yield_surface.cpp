@@ -11,7 +11,7 @@
 namespace inhap::friction {
 
 namespace {
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kYieldTwoPi = 2.0 * std::numbers::pi;
 }
 
 YieldSurface YieldSurface::make(std::span<const double> angles, int levels,
@@ -29,7 +29,7 @@ YieldSurface YieldSurface::make(std::span<const double> angles, int levels,
   s.k_ = k;
   s.l_ = levels;
   for (int i = 0; i < k; ++i) {
-    if (!(angles[i] >= 0.0 && angles[i] < kTwoPi) || (i > 0 && !(angles[i] > angles[i - 1])))
+    if (!(angles[i] >= 0.0 && angles[i] < kYieldTwoPi) || (i > 0 && !(angles[i] > angles[i - 1])))
       throw Error(fmt::format(
           "yield surface: expected increasing angles in [0, 2 pi), got {} at {}", angles[i], i));
     s.angle_[i] = angles[i];
@@ -66,13 +66,13 @@ double YieldSurface::direction_radius(int k, double lv) const noexcept {
 double YieldSurface::radius_at(double lv, double theta) const noexcept {
   if (k_ == 0) return 0.0;
   if (k_ == 1) return direction_radius(0, lv);
-  double t = std::fmod(theta, kTwoPi);
-  if (t < 0) t += kTwoPi;
+  double t = std::fmod(theta, kYieldTwoPi);
+  if (t < 0) t += kYieldTwoPi;
   int a = k_ - 1, b = 0;  // sector [angle_[a], angle_[b]] (wrapping by default)
-  double ta = angle_[k_ - 1], tb = angle_[0] + kTwoPi;
+  double ta = angle_[k_ - 1], tb = angle_[0] + kYieldTwoPi;
   if (t < angle_[0]) {
-    ta -= kTwoPi;
-    tb -= kTwoPi;
+    ta -= kYieldTwoPi;
+    tb -= kYieldTwoPi;
   } else {
     for (int i = 0; i + 1 < k_; ++i)
       if (t < angle_[i + 1]) {
@@ -160,10 +160,10 @@ TriMesh YieldSurface::to_mesh(int subdivisions) const {
   for (int j = 0; j < l_; ++j)
     for (int i = 0; i < k_; ++i) {
       const int i1 = (i + 1) % k_;
-      const double a0 = angle_[i], a1 = i1 == 0 ? angle_[0] + kTwoPi : angle_[i1];
+      const double a0 = angle_[i], a1 = i1 == 0 ? angle_[0] + kYieldTwoPi : angle_[i1];
       for (int s = 0; s < sub; ++s) {
         const double w = static_cast<double>(s) / sub;
-        const double a = (1 - w) * a0 + w * (k_ == 1 ? a0 + kTwoPi : a1);
+        const double a = (1 - w) * a0 + w * (k_ == 1 ? a0 + kYieldTwoPi : a1);
         const double lv = (1 - w) * level_[j][i] + w * level_[j][i1];
         const double r = (1 - w) * radius_[j][i] + w * radius_[j][i1];
         m.positions.emplace_back(r * std::cos(a), r * std::sin(a), lv);

@@ -12,7 +12,7 @@
 namespace inhap::detail {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kObbInf = std::numeric_limits<double>::infinity();
 
 // Vertex moments of a subtree: count, sum, sum of outer products.
 struct Moments {
@@ -86,7 +86,7 @@ std::vector<BvhObb> build_obbs(const BvhBuild& bvh, const std::vector<Vec3>& tri
     BvhObb& o = out[i];
     principal_frame(mom[i], o.q);
     const Mat3 a = frame_axes(o.q);
-    Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+    Vec3 lo = Vec3::Constant(kObbInf), hi = Vec3::Constant(-kObbInf);
     for (std::int32_t s = 3 * begin[i]; s < 3 * end[i]; ++s) {
       const Vec3& v = tri_vertices[s];
       const Vec3 x = a * v;

@@ -21,7 +21,7 @@ using namespace ply_detail;
 
 namespace {
 
-bool is_space(char c) {
+bool ply_is_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
@@ -208,14 +208,14 @@ class AsciiSource {
     line_end_ = end;
     pos_ = nl == std::string_view::npos ? d_.size() : nl + 1;
     ++line_no_;
-    while (cur_ < line_end_ && is_space(d_[cur_])) ++cur_;
+    while (cur_ < line_end_ && ply_is_space(d_[cur_])) ++cur_;
     return cur_ < line_end_;
   }
 
   std::string_view next_token() {
-    while (cur_ < line_end_ && is_space(d_[cur_])) ++cur_;
+    while (cur_ < line_end_ && ply_is_space(d_[cur_])) ++cur_;
     const std::size_t start = cur_;
-    while (cur_ < line_end_ && !is_space(d_[cur_])) ++cur_;
+    while (cur_ < line_end_ && !ply_is_space(d_[cur_])) ++cur_;
     return d_.substr(start, cur_ - start);
   }
 

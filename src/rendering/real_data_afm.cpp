@@ -83,7 +83,7 @@ std::vector<double> feature_distance(const std::vector<char>& feature, int n, do
   return d;
 }
 
-double raised_cosine(double r, double radius) {
+double afm_raised_cosine(double r, double radius) {
   return r >= radius ? 0.0 : 0.5 * (1.0 + std::cos(std::numbers::pi * r / radius));
 }
 
@@ -171,7 +171,7 @@ RealDataset load_afm(const std::string& top_path, const RealDataOptions& o) {
   for (std::size_t i = 0; i < k.values.size(); ++i)
     k.values[i] = feature[i]
                       ? o.afm_k_feature
-                      : o.k_max - (o.k_max - o.afm_k_halo) * raised_cosine(d[i], o.afm_halo_mm);
+                      : o.k_max - (o.k_max - o.afm_k_halo) * afm_raised_cosine(d[i], o.afm_halo_mm);
   for (double& v : k.values) v = std::max(v, o.k_floor);
 
   RealDataset ds;

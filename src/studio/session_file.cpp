@@ -10,7 +10,7 @@
 namespace inhap::studio {
 namespace {
 
-nlohmann::json vec(const Vec3& p) {
+nlohmann::json session_vec(const Vec3& p) {
   return nlohmann::json::array({p.x(), p.y(), p.z()});
 }
 
@@ -36,9 +36,9 @@ bool flag(const nlohmann::json& e, const char* what, const std::string& name) {
 
 nlohmann::json sample_json(const Sample& s) {
   return {{"id", s.id},
-          {"point", vec(s.point)},
-          {"threshold", vec(s.threshold)},
-          {"direction", vec(s.direction)},
+          {"point", session_vec(s.point)},
+          {"threshold", session_vec(s.threshold)},
+          {"direction", session_vec(s.direction)},
           {"t", s.t_contact},
           {"peak_force", s.peak_force},
           {"estimated", s.estimated}};

@@ -10,7 +10,7 @@
 
 using namespace inhap;
 
-namespace {
+namespace test_lab_contacts {
 
 lab::LabRecording tapping(const std::string& scene, double seconds, std::uint64_t seed) {
   lab::RecordSpec spec;
@@ -45,8 +45,6 @@ std::vector<double> errors(const lab::LabRecording& rec, const ContactOptions& o
   }
   return e;
 }
-
-}  // namespace
 
 TEST(LabContacts, EstimationBeatsThresholdingOnSoftObjects) {
   for (const std::string scene : {"sponge", "silicone-hemisphere"}) {
@@ -86,3 +84,4 @@ TEST(LabContacts, FreeMotionGivesNoContact) {
   ASSERT_FALSE(r.notes.empty());
   EXPECT_NE(r.notes.back().find("no contact found"), std::string::npos);
 }
+}  // namespace test_lab_contacts

@@ -10,7 +10,7 @@
 #include "support/temp_dir.hpp"
 
 namespace inhap::datadriven {
-namespace {
+namespace test_cli_model {
 
 int run(const std::string& args, const std::string& log) {
   const std::string cmd = std::string(INHAP_CLI) + " " + args + " > " + log + " 2>&1";
@@ -178,5 +178,5 @@ TEST(CliModel, AnUntouchedRecordingWithoutProxyColumnsIsAnError) {
   EXPECT_NE(read_file(log).find("version"), std::string::npos) << read_file(log);
 }
 
-}  // namespace
+}  // namespace test_cli_model
 }  // namespace inhap::datadriven

@@ -21,7 +21,7 @@ struct Trials {
   inhap::test::TempDir dir;
   std::string train = dir.path("t1.csv"), test = dir.path("t2.csv");
   Trials() {
-    test::PalpationRig rig;
+    inhap::test::PalpationRig rig;
     write_recording(train, rig.record(120.0));
     rig.seed = 2;
     rig.point += 0.2 * rig.frame().n;  // the second trial: the phantom a little higher

@@ -38,7 +38,7 @@ TEST(ForceEnvelope, CapIsTheLargestForceOneDepthStepDeeperPlusTheStatedMargin) {
 // estimate trains on), the world-frame preset: the very first sample of a replay (no velocity
 // history) and every other one must stay within what the data showed near that state.
 TEST(ForceEnvelope, ALowRateReplayRendersNoForceAboveWhatTheDataShowed) {
-  test::PalpationRig rig;
+  inhap::test::PalpationRig rig;
   rig.k_inclusion = rig.k;  // forces of 0.2-2.5 N, as on the real rig
   const Recording train = rig.record(90.0);
   rig.seed = 2;
@@ -79,7 +79,7 @@ TEST(ForceEnvelope, ALowRateReplayRendersNoForceAboveWhatTheDataShowed) {
 }
 
 TEST(ForceEnvelope, SurvivesTheModelFileBitIdentical) {
-  test::PalpationRig rig;
+  inhap::test::PalpationRig rig;
   const Recording rec = rig.record(40.0);
   std::vector<char> contact(rec.size(), 1);
   FoawParams foaw;

@@ -14,7 +14,7 @@
 #include "support/palpation_rig.hpp"
 
 namespace inhap::datadriven {
-namespace {
+namespace test_estimate {
 
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
@@ -25,7 +25,7 @@ struct Errors {
   double surface_mm, normal_deg, mu_rel;
 };
 
-Errors estimate_errors(const test::PalpationRig& rig, double seconds) {
+Errors estimate_errors(const inhap::test::PalpationRig& rig, double seconds) {
   const Recording rec = rig.record(seconds);
   const RecordingEstimate e = estimate_recording(rec, {}, "rig.csv");
   const friction::MeshSurface shape(e.mesh, 0.0);
@@ -45,7 +45,7 @@ Errors estimate_errors(const test::PalpationRig& rig, double seconds) {
 
 TEST(RecordingEstimate, SurfaceNormalsAndFrictionOfAPalpationRigAtRealRigRates) {
   for (double rate : {66.0, 200.0, 1000.0}) {
-    test::PalpationRig rig;
+    inhap::test::PalpationRig rig;
     rig.rate_hz = rate;
     const Errors err = estimate_errors(rig, rate > 500 ? 40.0 : 120.0);
     SCOPED_TRACE(rate);
@@ -71,7 +71,7 @@ TEST(RecordingEstimate, AFlatRecordingWithoutContactIsRefusedNamingTheFile) {
 }
 
 TEST(RecordingEstimate, ThePushAxisAndDepthLawFollowTheData) {
-  test::PalpationRig rig;
+  inhap::test::PalpationRig rig;
   const Recording rec = rig.record(60.0);
   const SurfaceEstimate s = estimate_surface(rec, {}, "rig.csv");
   // The mean force leans towards -t0 by the friction of the sweeps (which cancel) only: the
@@ -89,7 +89,7 @@ TEST(RecordingEstimate, ThePushAxisAndDepthLawFollowTheData) {
 // silicone), and one fitted on the lighter forces alone cannot tell 1/2 from 2/3.
 TEST(RecordingEstimate, AHertzianMaterialsSurfaceIsFoundWithoutABias) {
   for (double rate : {66.0, 1000.0}) {
-    test::PalpationRig rig;
+    inhap::test::PalpationRig rig;
     // The lab's silicone: k = 0.33 N/mm^1.5, Hunt-Crossley damping 0.004 s/mm, pressed 0.2-4 mm.
     rig.exponent = 1.5;
     rig.k = 0.33, rig.k_inclusion = 0.6;
@@ -146,5 +146,5 @@ TEST(RecordingEstimate, ACurvedSurfacesSlopeCarriesOnPastThePressedRegion) {
   EXPECT_LT(median(deg), 12.0);
 }
 
-}  // namespace
+}  // namespace test_estimate
 }  // namespace inhap::datadriven

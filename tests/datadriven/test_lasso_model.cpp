@@ -8,7 +8,7 @@
 #include "inhap/datadriven/model_io.hpp"
 
 namespace inhap::datadriven {
-namespace {
+namespace test_lasso_model {
 
 TrainedForceModel trained(L1Solver solver) {
   TrainParams p = test::small_params();
@@ -60,5 +60,5 @@ TEST(LassoModel, FileKeepsTheStatisticsAndOldFilesLoad) {
   EXPECT_EQ(old.model.bins.size(), m.model.bins.size());
 }
 
-}  // namespace
+}  // namespace test_lasso_model
 }  // namespace inhap::datadriven

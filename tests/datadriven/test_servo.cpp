@@ -12,7 +12,7 @@
 #include "support/alloc_counter.hpp"
 
 namespace inhap::datadriven {
-namespace {
+namespace test_servo {
 
 const ForceModel& model() {
   static const ForceModel m = [] {
@@ -107,5 +107,5 @@ TEST(Servo, EntryProxyHoldsTheContactOnsetPoint) {
   EXPECT_EQ(entry_proxy(s, Vec3(6, 2, 0), true), Vec3(6, 2, 0));
 }
 
-}  // namespace
+}  // namespace test_servo
 }  // namespace inhap::datadriven

@@ -14,7 +14,7 @@
 #include "inhap/datadriven/stiffness_prior.hpp"
 
 namespace inhap::datadriven {
-namespace {
+namespace test_stiffness_prior {
 
 const Vec3 kSoft(5.0, -4.0, 0.0);  // centre of the soft spot
 
@@ -142,5 +142,5 @@ TEST(StiffnessPrior, NeedsLocalFeatures) {
   EXPECT_THROW(p.validate(), Error);
 }
 
-}  // namespace
+}  // namespace test_stiffness_prior
 }  // namespace inhap::datadriven

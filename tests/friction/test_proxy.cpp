@@ -13,7 +13,7 @@
 #include "support/alloc_counter.hpp"
 
 namespace inhap::friction {
-namespace {
+namespace test_proxy {
 
 constexpr double kMu = 0.5, kKn = 1.0, kKt = 0.8;
 
@@ -322,5 +322,5 @@ TEST(ProxyTrack, SameAsProxyStepByHandWithNormalAndCounts) {
   EXPECT_EQ(c.q.back(), rec.p.back());  // out of contact the proxy is p
 }
 
-}  // namespace
+}  // namespace test_proxy
 }  // namespace inhap::friction

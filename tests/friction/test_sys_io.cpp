@@ -15,7 +15,7 @@
 #include "support/temp_dir.hpp"
 
 namespace inhap::friction {
-namespace {
+namespace test_sys_io {
 
 // mu grows linearly with x: 0.3 at x = -20, 0.6 at x = 20.
 double mu_at(const Vec3& x) {
@@ -168,5 +168,5 @@ TEST(SysCli, FitAndTable) {
   EXPECT_NE(r.out.find("inhap: error:"), std::string::npos) << r.out;
 }
 
-}  // namespace
+}  // namespace test_sys_io
 }  // namespace inhap::friction

@@ -21,7 +21,7 @@
 
 using namespace inhap;
 
-namespace {
+namespace test_mesh_index {
 
 // --- independent references ------------------------------------------------------------------
 struct RefHit {
@@ -128,7 +128,6 @@ Vec3 random_point(Rng& rng, const TriMesh& m, int i) {
   }
   return random_in(rng, box.min - 0.3 * box.size(), box.max + 0.3 * box.size());
 }
-}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // The index's storage honours its element types' alignment (its records are 64- and 128-byte
@@ -516,3 +515,4 @@ TEST(MeshIndex, ConcurrentQueriesAgree) {
   EXPECT_EQ(r1, serial);
   EXPECT_EQ(r2, serial);
 }
+}  // namespace test_mesh_index

@@ -21,7 +21,7 @@
 
 using namespace inhap;
 
-namespace {
+namespace test_mesh_index_bounds {
 
 using test::brute_force_d2;
 using test::bumpy;
@@ -67,7 +67,6 @@ std::pair<detail::BvhBuild, std::vector<detail::BvhObb>> build_with_obbs(const T
   std::vector<detail::BvhObb> obb = detail::build_obbs(bvh, verts);
   return {std::move(bvh), std::move(obb)};
 }
-}  // namespace
 
 // Every node's oriented box bounds the distance to every triangle below it from below.
 TEST(MeshIndexBounds, OrientedBoxesAreLowerBounds) {
@@ -183,3 +182,4 @@ TEST(MeshIndexBounds, ClosestPointExactOnHardCases) {
         c.name, on_surface, stats.nodes / 3000.0, stats.triangles / 3000.0, stats.exact / 3000.0);
   }
 }
+}  // namespace test_mesh_index_bounds

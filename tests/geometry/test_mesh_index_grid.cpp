@@ -20,7 +20,7 @@
 
 using namespace inhap;
 
-namespace {
+namespace test_mesh_index_grid {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -88,8 +88,6 @@ std::vector<Vec3> query_points(const TriMesh& m, const MeshIndex::SeedGridInfo& 
   }
   return pts;
 }
-
-}  // namespace
 
 TEST(MeshIndexGrid, PrismBoundIsALowerBoundAndExactAboveTheInterior) {
   for (const auto& c : grid_cases()) {
@@ -273,3 +271,4 @@ TEST(MeshIndexGrid, OptionsAreChecked) {
   EXPECT_GT(big.seed_grid_info().covered, 0);
   EXPECT_GT(big.memory_bytes(), MeshIndex(m, grid_options(0)).memory_bytes());
 }
+}  // namespace test_mesh_index_grid

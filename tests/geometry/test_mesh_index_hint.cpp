@@ -14,7 +14,7 @@
 
 using namespace inhap;
 
-namespace {
+namespace test_mesh_index_hint {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -34,8 +34,6 @@ double tri_d2(const TriMesh& m, std::int32_t f, const Vec3& p) {
 double bumpy(double x, double y) {
   return 0.4 * std::sin(1.1 * x) * std::cos(0.7 * y);
 }
-
-}  // namespace
 
 TEST(MeshIndexHint, AnyHintGivesTheBruteForceAnswer) {
   const TriMesh meshes[] = {test::make_torus(20, 6, 60, 30), test::random_soup(1500, 3),
@@ -109,3 +107,4 @@ TEST(MeshIndexHint, PreviousTickHintSavesWork) {
   EXPECT_LT(static_cast<double>(warm.nodes + warm.exact), 0.92 * (cold.nodes + cold.exact));
   EXPECT_LT(warm.exact, 0.85 * cold.exact);
 }
+}  // namespace test_mesh_index_hint

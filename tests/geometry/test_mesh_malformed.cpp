@@ -13,7 +13,7 @@
 using namespace inhap;
 using inhap::test::Bytes;
 
-namespace {
+namespace test_mesh_malformed {
 
 struct Case {
   std::string name;
@@ -284,4 +284,4 @@ TEST(MeshFuzz, SeededMutationsEitherReadValidMeshesOrThrowInhapError) {
   std::printf("fuzz: %d read fine, %d rejected with inhap::Error\n", ok, errors);
 }
 
-}  // namespace
+}  // namespace test_mesh_malformed

@@ -23,7 +23,7 @@
 #include "support/temp_dir.hpp"
 
 namespace inhap {
-namespace {
+namespace test_readers {
 
 /// The message of the ParseError/Error `fn` throws ("" and a test failure if none).
 template <class Fn>
@@ -174,5 +174,5 @@ TEST(Readers, SceneWithAbsurdCoordinatesIsRejected) {
   EXPECT_TRUE(has(w, "bad.json") && has(w, "region.center")) << w;
 }
 
-}  // namespace
+}  // namespace test_readers
 }  // namespace inhap

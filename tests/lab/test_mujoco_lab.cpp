@@ -12,7 +12,7 @@
 #include "inhap/lab/scene.hpp"
 
 namespace inhap::lab {
-namespace {
+namespace test_mujoco_lab {
 
 constexpr double kR = 8.0, kTop = 25.0;
 
@@ -197,5 +197,5 @@ TEST(MujocoLab, RecordsTheDomeWithTruthAndRejectsShapesItCannotRepresent) {
   EXPECT_THROW(SimDevice(builtin_scene("ridged-silicone").object, dp), Error);
 }
 
-}  // namespace
+}  // namespace test_mujoco_lab
 }  // namespace inhap::lab

@@ -10,7 +10,7 @@
 #include "inhap/lab/soft_contact.hpp"
 
 namespace inhap::lab {
-namespace {
+namespace test_soft_contact {
 
 constexpr double R = 8.0;  // probe radius, mm
 constexpr double kTop = 25.0;
@@ -256,5 +256,5 @@ TEST(SoftContact, ProxySlippingRoundARimDoesNotTakeTheSideWithIt) {
   EXPECT_TRUE(st.in_contact);
 }
 
-}  // namespace
+}  // namespace test_soft_contact
 }  // namespace inhap::lab

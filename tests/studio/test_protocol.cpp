@@ -26,7 +26,7 @@
 using namespace inhap::studio;
 using nlohmann::json;
 
-namespace {
+namespace test_protocol {
 
 json reply(Session& s, const std::string& text) {
   return json::parse(s.handle(text));
@@ -42,8 +42,6 @@ std::string session_file(int n) {
                    {"direction", {0, 0, 1}}});
   return json{{"format", "inhap-studio-session"}, {"version", 1}, {"samples", pts}}.dump();
 }
-
-}  // namespace
 
 TEST(StudioProtocol, ParseRefusesMalformedFrames) {
   for (const char* bad : {"", "{", "[1,2]", "42", "\"x\"", "{\"kind\":\"hello\"}", "{\"type\":7}",
@@ -330,3 +328,4 @@ TEST(StudioSession, OpenSessionRefusesBadIdsAndFlags) {
     EXPECT_EQ(s.live_samples(), 3u);
   }
 }
+}  // namespace test_protocol

@@ -27,7 +27,7 @@ namespace {
 
 using namespace inhap::datadriven;
 using namespace inhap::eval;
-using json = nlohmann::ordered_json;
+using ojson = nlohmann::ordered_json;
 
 struct EvalForcesOptions {
   ForceLabOptions lab;  // seeds, params, keep, proxy, training run, baselines, quick (flags)
@@ -40,7 +40,7 @@ struct EvalForcesOptions {
   std::string physics = "builtin";
 };
 
-json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
+ojson evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   ForceLabOptions fo = o.lab;
   fo.scene = name;
   fo.params.design = design_from_string(o.design);
@@ -51,12 +51,12 @@ json evaluate_object(const EvalForcesOptions& o, const std::string& name) {
   fo.physics = lab::physics_from_string(o.physics);
   const ForceLabResult d = evaluate_forces_on_lab(fo);
   fmt::print("{}\n", force_lab_summary(d));
-  return json::parse(force_lab_json(d));
+  return ojson::parse(force_lab_json(d));
 }
 
 void run_eval_forces(const EvalForcesOptions& o) {
-  json out = forces_report_head(o.physics, o.lab.proxy);
-  out["objects"] = json::array();
+  ojson out = forces_report_head(o.physics, o.lab.proxy);
+  out["objects"] = ojson::array();
   for (const auto& s : o.scenes) out["objects"].push_back(evaluate_object(o, s));
   write_file_atomic(o.json_path, out.dump(1) + "\n");
   fmt::print("report -> {}\n", o.json_path);
