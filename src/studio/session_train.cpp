@@ -33,8 +33,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <thread>
 
 #include "inhap/core/atomic_file.hpp"
+#include "inhap/core/cancel.hpp"
 #include "inhap/datadriven/coverage.hpp"
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/eval/model_files.hpp"
@@ -80,6 +82,14 @@ class TrainingFiles {
     if (!handed_)
       for (const auto& f : staged_) std::remove(f->tmp.c_str());
     if (armed_) fault::fail_nth_write(0);
+  }
+  /// What a forked child has: the same temporaries' names, nothing staged yet; it removes
+  /// nothing when destroyed (the training thread of a sanitizer build: the parent stages the
+  /// names the training reports, or sweeps them).
+  struct Twin {};
+  TrainingFiles(const TrainingFiles& o, Twin)
+      : ws_(o.ws_), stem_(o.stem_), tmp_stem_(o.tmp_stem_), fail_nth_(o.fail_nth_) {
+    handed_ = true;
   }
   TrainingFiles(const TrainingFiles&) = delete;
   TrainingFiles& operator=(const TrainingFiles&) = delete;
@@ -357,6 +367,42 @@ nlohmann::json train_child(const Workspace& ws, const lab::Scene& scene, std::ui
   ::_exit(code);  // no destructors, no atexit: the parent's threads are not here
 }
 
+// Under AddressSanitizer the training runs in a thread of this process instead: GCC 12's ASan
+// allocator is not locked around fork(), so a forked child can wait for ever on an allocator
+// lock that another thread of the studio held at the fork (seen in the sanitizer suite:
+// StudioModelSession.TrainingFilesLandAllOrNone, the child blocked in asan_malloc).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kTrainInThread = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kTrainInThread = true;
+#else
+constexpr bool kTrainInThread = false;
+#endif
+#else
+constexpr bool kTrainInThread = false;
+#endif
+
+// The training thread of a sanitizer build: cancelled (through the library's cancel flag) and
+// joined when left, its pipe drained meanwhile (a full pipe would block its writes), before the
+// pipe's read end `fd` closes.
+struct TrainThread {
+  CancelFlag flag;
+  std::atomic<bool> done{false};
+  std::thread thread;
+  int fd = -1;
+  ~TrainThread() {
+    flag.request();
+    if (!thread.joinable()) return;
+    char b[4096];
+    while (!done) {
+      pollfd p{fd, POLLIN, 0};
+      if (::poll(&p, 1, 50) > 0 && ::read(fd, b, sizeof b) == 0) break;  // closed
+    }
+    thread.join();
+  }
+};
+
 // The parent's end of the child: killed and reaped when left early.
 struct Child {
   pid_t pid = -1;
@@ -421,14 +467,29 @@ void Session::train_worker(TrainJob job) {
     if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("training: cannot create a pipe");
     Child child;
     child.fd = fds[0];
-    const pid_t parent = ::getpid();
-    child.pid = ::fork();
-    if (child.pid == 0) {
-      ::close(fds[0]);
-      child_main(workspace_, scene_, options_.seed, cj, *tf, fds[1], parent);
+    TrainThread in_thread;  // declared after `child`: joined before the pipe closes
+    in_thread.fd = fds[0];
+    if (kTrainInThread) {
+      in_thread.thread = std::thread([&, fd = fds[1]] {
+        CancelScope scope(&in_thread.flag);
+        try {
+          TrainingFiles twin(*tf, TrainingFiles::Twin{});
+          write_all(fd, dump_safe(train_child(workspace_, scene_, options_.seed, cj, twin, fd)));
+        } catch (...) {
+        }
+        ::close(fd);
+        in_thread.done = true;
+      });
+    } else {
+      const pid_t parent = ::getpid();
+      child.pid = ::fork();
+      if (child.pid == 0) {
+        ::close(fds[0]);
+        child_main(workspace_, scene_, options_.seed, cj, *tf, fds[1], parent);
+      }
+      ::close(fds[1]);
+      if (child.pid < 0) throw Error("training: cannot start the training process");
     }
-    ::close(fds[1]);
-    if (child.pid < 0) throw Error("training: cannot start the training process");
     nlohmann::json result = relay(child, train_cancel_, broadcast_);
     child.reap();
     if (train_cancel_) throw Cancelled();
