@@ -14,8 +14,9 @@
 namespace inhap::cli {
 
 /// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior,
-/// --[no-]friction-cone and --solver cd|sparsa bound to `p`;
-/// `defaults` ends each help line, e.g. "default on" (the command sets the defaults in `p`).
+/// --[no-]friction-cone, --[no-]fallback, --[no-]isotropic-positions, --[no-]envelope and --solver
+/// cd|sparsa bound to `p`; `defaults` ends each help line, e.g. "default on" (the command sets the
+/// defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
                                      const std::string& defaults) {
   struct Flag {
@@ -39,6 +40,10 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
       {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},
+      {"isotropic-positions", &datadriven::TrainParams::isotropic_positions,
+       "Any features: standardise a position (mm) with one scale for its three coordinates, the "
+       "RMS of their spreads, not one per coordinate (a flat object's proxy height, spread "
+       "0.1 mm, would otherwise weigh as much as its 10 mm spread across; "},
       {"envelope", &datadriven::TrainParams::envelope,
        "Any features: cap every rendered |f| at the training data's largest |f| near the state "
        "(within an 8 mm cell of q and 0.5 mm of ||q - p|| deeper) x 1.25 + 0.25 N (on in every "

@@ -136,16 +136,38 @@ std::uint64_t bin_seed(std::uint64_t seed, int bin) {
   return z ^ (z >> 27);
 }
 
+// The feature groups that are positions in world axes (mm): p and q of (p, pdot, q), q of the
+// others.
+bool position_group(FeatureSet s, int g) {
+  return s == FeatureSet::kPositionVelocityProxy ? (g == 0 || g == 2) : g == 1;
+}
+
 void normalise(Eigen::MatrixXd& x, BinModel& bm, const TrainParams& prm) {
   const Eigen::Index n = x.rows();
   const double margin = prm.box_margin;
+  std::array<double, kFeatureDim> mean{}, sd{};
   for (int d = 0; d < kFeatureDim; ++d) {
-    const double mean = x.col(d).mean();
-    const double sd = std::sqrt((x.col(d).array() - mean).square().sum() / static_cast<double>(n));
     const auto ud = static_cast<std::size_t>(d);
-    bm.offset[ud] = mean;
-    bm.scale[ud] = (sd > 1e-12 ? sd : 1.0) / prm.feature_weights[ud / 3];
-    x.col(d) = (x.col(d).array() - mean) / bm.scale[ud];
+    mean[ud] = x.col(d).mean();
+    sd[ud] = std::sqrt((x.col(d).array() - mean[ud]).square().sum() / static_cast<double>(n));
+  }
+  // A position is standardised with one scale for its three coordinates (their RMS spread):
+  // a millimetre is as far along one axis as along another, and a coordinate the data hardly
+  // moves along (the height of a flat object's proxy, spread 0.1 mm) is not stretched into the
+  // distance that matters most.
+  if (prm.isotropic_positions)
+    for (int g = 0; g < 3; ++g) {
+      if (!position_group(prm.features, g)) continue;
+      const auto u = static_cast<std::size_t>(3 * g);
+      const double rms =
+          std::sqrt((sd[u] * sd[u] + sd[u + 1] * sd[u + 1] + sd[u + 2] * sd[u + 2]) / 3);
+      sd[u] = sd[u + 1] = sd[u + 2] = rms;
+    }
+  for (int d = 0; d < kFeatureDim; ++d) {
+    const auto ud = static_cast<std::size_t>(d);
+    bm.offset[ud] = mean[ud];
+    bm.scale[ud] = (sd[ud] > 1e-12 ? sd[ud] : 1.0) / prm.feature_weights[ud / 3];
+    x.col(d) = (x.col(d).array() - mean[ud]) / bm.scale[ud];
     const double lo = x.col(d).minCoeff(), hi = x.col(d).maxCoeff();
     bm.box_min[ud] = lo - margin * (hi - lo);
     bm.box_max[ud] = hi + margin * (hi - lo);

@@ -192,6 +192,7 @@ json train_json(const ForceModelProvenance& pv) {
           {"ridge", p.ridge},
           {"design", to_string(p.design)},
           {"feature_weights", p.feature_weights},
+          {"isotropic_positions", p.isotropic_positions},
           {"normalize_columns", p.normalize_columns},
           {"sparsa_stop", p.sparsa_stop == SparsaStop::kStep ? "step" : "objective"},
           {"sparsa_max_iterations", p.sparsa_iterations},
@@ -241,6 +242,9 @@ void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
     get("cg_tolerance", pv.params.cg_tolerance);
     get("ridge", pv.params.ridge);
     get("feature_weights", pv.params.feature_weights);
+    // Files written before this option standardised every coordinate on its own.
+    pv.params.isotropic_positions = false;
+    get("isotropic_positions", pv.params.isotropic_positions);
     get("normalize_columns", pv.params.normalize_columns);
     get("sparsa_max_iterations", pv.params.sparsa_iterations);
     // Files written before the solver choice were trained by SpaRSA.

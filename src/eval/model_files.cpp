@@ -107,6 +107,7 @@ void override_given(TrainParams& p, const TrainRequest& r) {
   if (given("--friction-cone")) p.friction_cone = g.friction_cone;
   if (given("--fallback")) p.fallback = g.fallback;
   if (given("--envelope")) p.envelope = g.envelope;
+  if (given("--isotropic-positions")) p.isotropic_positions = g.isotropic_positions;
   if (given("--fallback-near")) p.fallback_near_mm = g.fallback_near_mm;
   if (given("--fallback-far")) p.fallback_far_mm = g.fallback_far_mm;
   if (given("--solver")) p.solver = g.solver;

@@ -137,6 +137,10 @@ struct TrainParams {
   /// Weights of the three 3-D feature groups after standardisation (in FeatureSet order):
   /// distances see (x_d - mean_d) / sd_d * weight_group(d).
   std::array<double, 3> feature_weights{1.0, 3.0, 0.5};
+  /// Positions (q; p and q of p_v_q) standardised with one scale for their three coordinates
+  /// (the RMS of their spreads) instead of one per coordinate. Off: per coordinate (files
+  /// written before this option).
+  bool isotropic_positions = true;
   double box_margin = 0.5;  ///< clamping box = training range +- margin * range (per dim)
   /// Half-width (mm of ||q - p||) of the band around each bin edge in which the two bins'
   /// forces are blended (smoothstep weights), so the rendered force has no jump at the edge.
