@@ -4,10 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <type_traits>
+#include <vector>
 
 #include "inhap/core/atomic_file.hpp"
 #include "inhap/core/device.hpp"
@@ -226,10 +229,51 @@ json train_json(const ForceModelProvenance& pv) {
           {"max_force_n", st.max_force_n}};
 }
 
+template <class T>
+struct IsStdArray : std::false_type {};
+template <class T, std::size_t N>
+struct IsStdArray<std::array<T, N>> : std::true_type {};
+template <class T>
+struct IsStdVector : std::false_type {};
+template <class T>
+struct IsStdVector<std::vector<T>> : std::true_type {};
+
+// `j` into `dst` (a number, a bool or arrays of them), checked first where nlohmann's plain cast
+// is undefined: a float outside an integer member's range (3e69 for a count) or with a fraction.
+// Throws inhap::Error (json::type_error for a wrong type).
+template <class T>
+void read_value(const json& j, T& dst) {
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    if (j.is_number_float()) {
+      const double d = j.get<double>(), top = std::ldexp(1.0, std::numeric_limits<T>::digits);
+      const double bottom = std::is_signed_v<T> ? -top : 0.0;
+      if (!(d >= bottom && d < top && d == std::trunc(d)))
+        throw Error(fmt::format("expected an integer in range, got {}", d));
+    }
+    dst = j.get<T>();
+  } else if constexpr (IsStdArray<T>::value || IsStdVector<T>::value) {
+    if (!j.is_array()) throw Error(fmt::format("expected an array, got {}", j.type_name()));
+    if constexpr (IsStdArray<T>::value) {
+      if (j.size() != dst.size())
+        throw Error(fmt::format("expected {} values, got {}", dst.size(), j.size()));
+    } else {
+      dst.resize(j.size());
+    }
+    for (std::size_t i = 0; i < j.size(); ++i) read_value(j[i], dst[i]);
+  } else {
+    dst = j.get<T>();
+  }
+}
+
 // Reads the "train" object `t` into the provenance (every key optional: older files lack some).
 void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
   auto get = [&](const char* k, auto& dst) {
-    if (t.contains(k)) dst = t[k].get<std::decay_t<decltype(dst)>>();
+    if (!t.contains(k)) return;
+    try {
+      read_value(t[k], dst);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", k, e.what()));
+    }
   };
   try {
     get("bins", pv.params.bins);

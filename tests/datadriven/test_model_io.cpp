@@ -1,5 +1,6 @@
 // Model files: bit-identical forces after save -> load, and every kind of bad file rejected
 // with a message naming the file and what was expected.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -108,6 +109,16 @@ TEST(ModelIo, RejectsBadFilesNamingWhatIsWrong) {
   replace(s, "\"foaw\": {", "\"foaw\": {\"x\": 1,");
   replace(s, "\"dt_s\"", "\"dt\"");
   EXPECT_NE(expect_parse_error(s, path).find("foaw: expected member 'dt_s'"), std::string::npos);
+
+  // Training statistics: a float where an integer is kept, beyond the integer's range (a plain
+  // conversion is undefined behaviour: found by fuzz_model) or with a fraction.
+  for (const char* v : {"3e69", "-3e69", "1.5"}) {
+    s = good;
+    replace(s, "\"support\": [", fmt::format("\"support\": [[{}, 1, 1],", v));
+    EXPECT_NE(expect_parse_error(s, path).find("train: support: expected an integer in range"),
+              std::string::npos)
+        << v;
+  }
 
   // Syntax error: the message has the line of the break.
   s = good;
