@@ -82,7 +82,7 @@ try {
   // 2. Servo statistics without training (fresh loop, 8 s), then train with a fresh loop beside it.
   const stats = async () => {
     const n = await page.evaluate(() => { window.studio.send({ type: 'model_stats' }); return window.studio.model.stats.length; });
-    await page.waitForFunction((k) => window.studio.model.stats.length > k, { timeout: T(10000) }, n);
+    await page.waitForFunction((k) => window.studio.model.stats.length > k, { timeout: T(30000) }, n);
     return page.evaluate(() => window.studio.model.stats[window.studio.model.stats.length - 1]);
   };
   await stats();  // restarts the loop: the next figures cover only the stretch after it
