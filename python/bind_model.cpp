@@ -54,6 +54,7 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
                                        "stiffness_prior",
                                        "shear_prior",
                                        "friction_cone",
+                                       "sliding_floor",
                                        "fallback",
                                        "fallback_near",
                                        "fallback_far",
@@ -96,6 +97,7 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
   take_switch(kw, "stiffness_prior", "--stiffness-prior", p.stiffness_prior, q);
   take_switch(kw, "shear_prior", "--shear-prior", p.shear_prior, q);
   take_switch(kw, "friction_cone", "--friction-cone", p.friction_cone, q);
+  take_switch(kw, "sliding_floor", "--sliding-floor", p.sliding_floor, q);
   take_switch(kw, "fallback", "--fallback", p.fallback, q);
   take(kw, "fallback_near", "--fallback-near", p.fallback_near_mm, q);
   take(kw, "fallback_far", "--fallback-far", p.fallback_far_mm, q);
@@ -400,7 +402,10 @@ render_force_model use them without files.)doc")
            pyb::arg("n") = pyb::none(),
            "Model force (N, (N, 3)) for probe positions p (mm), velocities v (mm/s), proxies q "
            "(mm) and, for local-frame models, outward normals n at q; float64 (N, 3) C-order "
-           "arrays used in place. Non-finite input gives zero force.")
+           "arrays used in place. Non-finite input gives zero force. Each row is evaluated on "
+           "its own, so the sliding floor (which needs the proxy's previous tick) is not "
+           "applied; the model's render/eval and inhap.Renderer.replay run the servo step, "
+           "which applies it.")
       .def_readonly("notes", &PyForceModel::notes, "What training said (as the CLI's stderr)")
       .def_readonly("path", &PyForceModel::path,
                     "The model file it was read from or saved to ('' in memory)")
@@ -433,8 +438,8 @@ Trains a model as `inhap model train` does, from a recording CSV (path) or an in
 in memory (used in place; t s, p mm, f N unless time_unit/length_unit say otherwise): preset
 'best' by default ('world', 'thesis'); every keyword given overrides the preset like the flag
 of the same name (bins, centers, nonzeros, lambda_ratio, seed, design, features, tail,
-tangent_mirror, stiffness_prior, shear_prior, friction_cone, fallback, fallback_near mm,
-fallback_far mm, solver 'cd'|'sparsa', feature_weights (3), bin_blend mm, threads,
+tangent_mirror, stiffness_prior, shear_prior, friction_cone, sliding_floor, fallback,
+fallback_near mm, fallback_far mm, solver 'cd'|'sparsa', feature_weights (3), bin_blend mm, threads,
 modeling_range N, above_range 'keep'|'exclude', foaw_window samples, foaw_noise mm,
 velocity_window s, force_limit N, proxy_prefix, contact_column, contact_threshold N, time_unit
 's'|'ms', length_unit 'mm'|'m', mesh, sys). With proxy columns qx,qy,qz (mm) and a contact

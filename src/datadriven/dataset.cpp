@@ -90,6 +90,8 @@ TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
   TrainingSet s;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     if (!proxy.contact[i]) continue;
+    s.sliding.push_back(i > 0 && proxy.contact[i - 1] &&
+                        (proxy.q[i] - proxy.q[i - 1]).norm() > kSlidingStepMm);
     s.p.push_back(rec.p[i]);
     s.v.push_back(v[i]);
     s.q.push_back(proxy.q[i]);

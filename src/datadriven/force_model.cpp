@@ -27,6 +27,7 @@ namespace inhap::datadriven {
 using detail::fit_fallback;
 using detail::fit_friction_cone;
 using detail::fit_priors;
+using detail::fit_sliding_floor;
 
 const char* to_string(FeatureSet f) {
   if (f == FeatureSet::kLocalFrame) return "local";
@@ -75,6 +76,8 @@ void TrainParams::validate() const {
   if (!(ridge >= 0)) throw Error(fmt::format("expected a ridge >= 0, got {}", ridge));
   if (friction_cone && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the friction-cone guard (it needs the normal)");
+  if (sliding_floor && features != FeatureSet::kLocalFrame)
+    throw Error("expected local-frame features with the sliding floor (it needs the normal)");
   if (stiffness_prior && features != FeatureSet::kLocalFrame)
     throw Error("expected local-frame features with the stiffness prior (it needs the normal)");
   if (stiffness_prior) stiffness.validate();
@@ -411,6 +414,7 @@ TrainedForceModel train_kept(const TrainingSet& data, const TrainParams& params,
   if (params.features == FeatureSet::kLocalFrame) {
     if (params.stiffness_prior || params.shear_prior) fit_priors(data, params, model, base);
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
+    if (params.sliding_floor) fit_sliding_floor(data, model);
     if (params.fallback) model.fallback = fit_fallback(data, params, model.prior);
   }
   if (params.envelope) model.envelope = make_force_envelope(data.q, data.p, data.f);
@@ -472,9 +476,10 @@ TrainedForceModel train_with_provenance(const TrainingSet& data, const TrainPara
   TrainedForceModel trained;
   if (params.above_range == AboveRange::kExclude && n_above > 0 && consistent) {
     TrainingSet kept;
-    const bool normals = !data.n.empty();
+    const bool normals = !data.n.empty(), slid = data.sliding.size() == n;
     for (std::size_t i = 0; i < n; ++i) {
       if (above[i]) continue;
+      if (slid) kept.sliding.push_back(data.sliding[i]);
       kept.p.push_back(data.p[i]);
       kept.v.push_back(data.v[i]);
       kept.q.push_back(data.q[i]);

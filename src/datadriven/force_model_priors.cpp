@@ -53,6 +53,42 @@ double fit_friction_cone(const TrainingSet& data) {
   return ratio[static_cast<std::size_t>(k)];
 }
 
+void fit_sliding_floor(const TrainingSet& data, ForceModel& model) {
+  model.sliding_mu = model.sliding_b = 0;
+  if (data.sliding.size() != data.size() || data.v.size() != data.size()) return;
+  std::vector<double> fn, ft, vt;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    if (!data.sliding[i]) continue;
+    const Vec3 nn = surface_frame(data.n.empty() ? Vec3::UnitZ() : data.n[i]).n;
+    const double n_force = nn.dot(data.f[i]);
+    if (!(n_force >= 1.0)) continue;
+    fn.push_back(n_force);
+    ft.push_back((data.f[i] - n_force * nn).norm());
+    vt.push_back((data.v[i] - nn.dot(data.v[i]) * nn).norm());
+  }
+  const std::size_t m = fn.size();
+  if (m < 20) return;
+  // |f_t| = mu f_n + b |v_t| by least squares (normal equations), b kept >= 0.
+  double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    aa += fn[i] * fn[i], ab += fn[i] * vt[i], bb += vt[i] * vt[i];
+    ay += fn[i] * ft[i], by += vt[i] * ft[i];
+  }
+  const double det = aa * bb - ab * ab;
+  double b = det > 1e-12 * aa * bb ? (aa * by - ab * ay) / det : 0.0;
+  if (!(b > 0) || !std::isfinite(b)) b = 0;
+  // mu robustly: a low quantile of what the viscous part leaves (a floor that 3/4 of the sliding
+  // samples reach; false "sliding" flags pull less).
+  std::vector<double> ratio(m);
+  for (std::size_t i = 0; i < m; ++i) ratio[i] = (ft[i] - b * vt[i]) / fn[i];
+  const auto k = static_cast<std::ptrdiff_t>(kSlidingFloorQuantile * static_cast<double>(m - 1));
+  std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
+  const double mu = ratio[static_cast<std::size_t>(k)];
+  if (!(mu > 0) || !std::isfinite(mu)) return;
+  model.sliding_mu = mu;
+  model.sliding_b = b;
+}
+
 Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
                       const StiffnessPrior& prior) {
   const std::size_t n = data.size();

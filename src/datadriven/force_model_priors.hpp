@@ -31,6 +31,15 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
 /// with fewer than 10 such samples).
 double fit_friction_cone(const TrainingSet& data);
 
+/// Quantile of (|f_t| - b_s |v_t|) / f_n over the sliding samples that sets mu_s.
+inline constexpr double kSlidingFloorQuantile = 0.25;
+
+/// mu_s and b_s of TrainParams::sliding_floor into model.sliding_mu, model.sliding_b (both 0
+/// with fewer than 20 sliding samples pressed with f_n >= 1 N or without TrainingSet::sliding):
+/// b_s >= 0 by least squares of |f_t| = mu f_n + b |v_t|, then mu_s = the kSlidingFloorQuantile
+/// quantile of (|f_t| - b_s |v_t|) / f_n.
+void fit_sliding_floor(const TrainingSet& data, ForceModel& model);
+
 /// The recording's depth-force law and the training proxies' support (fallback.hpp). With a
 /// stiffness prior the law is fitted to f_n / k(q) (k(q) = the prior's local stiffness) and
 /// rendered times k(q): the shape of the depth-force law is the data's own, its local scale

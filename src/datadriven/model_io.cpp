@@ -208,6 +208,7 @@ json train_json(const ForceModelProvenance& pv) {
           {"stiffness_prior", p.stiffness_prior},
           {"shear_prior", p.shear_prior},
           {"friction_cone", p.friction_cone},
+          {"sliding_floor", p.sliding_floor},
           {"fallback", p.fallback},
           {"envelope", p.envelope},
           {"fallback_near_mm", p.fallback_near_mm},
@@ -308,6 +309,7 @@ void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
     if (t.contains("stiffness_prior")) pv.params.stiffness_prior = t["stiffness_prior"].get<bool>();
     if (t.contains("shear_prior")) pv.params.shear_prior = t["shear_prior"].get<bool>();
     if (t.contains("friction_cone")) pv.params.friction_cone = t["friction_cone"].get<bool>();
+    if (t.contains("sliding_floor")) pv.params.sliding_floor = t["sliding_floor"].get<bool>();
     if (t.contains("fallback")) pv.params.fallback = t["fallback"].get<bool>();
     if (t.contains("envelope")) pv.params.envelope = t["envelope"].get<bool>();
     get("fallback_near_mm", pv.params.fallback_near_mm);
@@ -436,6 +438,7 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
   j["force_limit_n"] = m.force_limit_n;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
   if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
+  if (m.sliding_mu > 0) j["sliding_floor"] = {{"mu", m.sliding_mu}, {"b_n_s_per_mm", m.sliding_b}};
   j["foaw"] = {{"dt_s", m.foaw.dt_s},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound_mm}};
@@ -537,6 +540,13 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
     m.friction_cone = r.num(j["friction_cone"], "friction_cone");
     if (!(m.friction_cone >= 0)) r.fail("friction_cone", "expected >= 0");
   }
+  if (j.contains("sliding_floor")) {
+    const json& sf = j["sliding_floor"];
+    m.sliding_mu = r.num(r.need(sf, "mu", "sliding_floor"), "sliding_floor/mu");
+    m.sliding_b = r.num(r.need(sf, "b_n_s_per_mm", "sliding_floor"), "sliding_floor/b_n_s_per_mm");
+    if (!(m.sliding_mu > 0)) r.fail("sliding_floor/mu", "expected > 0");
+    if (!(m.sliding_b >= 0)) r.fail("sliding_floor/b_n_s_per_mm", "expected >= 0");
+  }
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt_s = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(
@@ -609,6 +619,8 @@ void validate_model(const ForceModel& m, const std::string& where) {
   if (m.bins.empty()) fail("bins: expected at least one bin, got none");
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");
+  if (m.sliding_mu > 0 && m.features != FeatureSet::kLocalFrame)
+    fail("sliding_floor: expected local-frame features (the floor is about the normal)");
   for (const auto& [map, name] :
        {std::pair{&m.prior, "stiffness_prior"}, {&m.shear, "shear_prior"}}) {
     if (map->log_k.empty()) continue;

@@ -32,14 +32,17 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     return Vec3::Zero();
   }
   state.velocity = foaw_step(model.foaw, state.foaw, p);
+  state.sliding = contact && state.contact && (q - state.q).norm() > kSlidingStepMm;
   state.contact = contact;
+  if (contact) state.q = q;
   if (!contact || model.bins.empty()) {
     state.bin = -1;
     state.force.setZero();
     return state.force;
   }
   state.bin = model.bin_of((q - p).norm());
-  state.force = model_force(model, p, state.velocity, q, normal);  // finite and clamped
+  state.force =
+      model_force(model, p, state.velocity, q, normal, state.sliding);  // finite and clamped
   return state.force;
 }
 

@@ -465,6 +465,7 @@ void apply_thesis_settings(TrainParams& p, const std::function<bool(const std::s
   if (!given("--stiffness-prior")) p.stiffness_prior = false;
   if (!given("--shear-prior")) p.shear_prior = false;
   if (!given("--friction-cone")) p.friction_cone = false;
+  if (!given("--sliding-floor")) p.sliding_floor = false;
 }
 
 }  // namespace inhap::eval

@@ -66,6 +66,7 @@ ojson model_json(const ForceModel& m, const ForceModelProvenance& pv) {
           {"stiffness_prior", map_summary(m.prior)},
           {"shear_prior", map_summary(m.shear)},
           {"friction_cone", m.friction_cone},
+          {"sliding_floor", {{"mu", m.sliding_mu}, {"b_n_s_per_mm", m.sliding_b}}},
           {"bin_blend_mm", m.bin_blend},
           {"seed", p.seed},
           {"edges_mm", m.edges},

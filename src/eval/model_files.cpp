@@ -105,6 +105,7 @@ void override_given(TrainParams& p, const TrainRequest& r) {
   if (given("--stiffness-prior")) p.stiffness_prior = g.stiffness_prior;
   if (given("--shear-prior")) p.shear_prior = g.shear_prior;
   if (given("--friction-cone")) p.friction_cone = g.friction_cone;
+  if (given("--sliding-floor")) p.sliding_floor = g.sliding_floor;
   if (given("--fallback")) p.fallback = g.fallback;
   if (given("--envelope")) p.envelope = g.envelope;
   if (given("--isotropic-positions")) p.isotropic_positions = g.isotropic_positions;
@@ -120,6 +121,7 @@ void override_given(TrainParams& p, const TrainRequest& r) {
     if (!given("--stiffness-prior")) p.stiffness_prior = false;
     if (!given("--shear-prior")) p.shear_prior = false;
     if (!given("--friction-cone")) p.friction_cone = false;
+    if (!given("--sliding-floor")) p.sliding_floor = false;
     if (!given("--fallback")) p.fallback = false;
   }
 }

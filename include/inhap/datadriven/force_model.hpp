@@ -81,12 +81,19 @@ inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Ve
 }
 
 /// In-contact training samples (all vectors the same length).
+/// A proxy that moved by more than this since the previous tick in contact is sliding, mm (the
+/// proxy estimator leaves q exactly where it was while the probe sticks).
+inline constexpr double kSlidingStepMm = 1e-6;
+
 struct TrainingSet {
   std::vector<Vec3> p;  ///< probe centre, mm
   std::vector<Vec3> v;  ///< probe velocity (FOAW), mm/s
   std::vector<Vec3> q;  ///< proxy, mm
   std::vector<Vec3> f;  ///< measured force, N
   std::vector<Vec3> n;  ///< outward surface normal at q (empty: +z; used by kLocalFrame)
+  /// 1 where the proxy moved by more than kSlidingStepMm since the previous in-contact sample
+  /// (the proxy slid: the sample is at the friction limit); empty: not known.
+  std::vector<char> sliding;
   std::size_t size() const { return p.size(); }
 };
 
@@ -170,6 +177,15 @@ struct TrainParams {
   /// training samples pressed with f_n >= 1 N (a guard against the RBFs' extrapolation of
   /// tangential force).
   bool friction_cone = false;
+  /// Local-frame features only: while the proxy slides (it moved since the previous tick in
+  /// contact, TrainingSet::sliding) render at least the sliding friction, |f_t| >= mu_s f_n +
+  /// b_s |v_t| along the proxy's tangential lag q - p (v_t = tangential probe velocity, mm/s):
+  /// Coulomb friction plus a viscous part, fitted to the training samples whose proxy slid,
+  /// pressed with f_n >= 1 N (b_s by least squares, then mu_s the lower quartile of (|f_t| -
+  /// b_s |v_t|) / f_n; at least 20 samples, else no floor). The RBFs regress a sliding sample's
+  /// tangential force towards its neighbours' (which stick and pull less); a proxy on its yield
+  /// surface says the probe is at the friction limit.
+  bool sliding_floor = false;
   /// Local-frame features only: outside the training support blend towards the recording's own
   /// depth-force law (fallback.hpp): the model as trained within fallback_near_mm of a training
   /// proxy, the monotone law f_n(d) (times the stiffness prior's local k(q) when there is one,
@@ -254,6 +270,8 @@ struct ForceModel {
   StiffnessPrior prior;  ///< local stiffness prior (empty: none), added along n to the RBF force
   StiffnessPrior shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
+  double sliding_mu = 0;     ///< mu_s of TrainParams::sliding_floor (0: no floor)
+  double sliding_b = 0;      ///< b_s of TrainParams::sliding_floor, N s/mm
   Fallback fallback;         ///< outside the training support (empty: none)
   ForceEnvelope envelope;    ///< cap on |f| from the training data (empty: none)
 
@@ -308,9 +326,10 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
 /// the three expansions, clamp the magnitude to force_limit_n. Non-finite input gives zero.
 /// Servo-safe: no allocation, no exceptions.
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
-/// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame).
+/// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame) and whether
+/// the proxy is sliding (TrainParams::sliding_floor).
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                 const Vec3& normal);
+                 const Vec3& normal, bool sliding = false);
 
 /// Where an input lies relative to the training data of its bin (a diagnostic, not for the
 /// servo loop).
