@@ -90,8 +90,9 @@ TrainingSet make_training_set(const Recording& rec, const ProxyTrack& proxy,
   TrainingSet s;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     if (!proxy.contact[i]) continue;
-    s.sliding.push_back(i > 0 && proxy.contact[i - 1] &&
-                        (proxy.q[i] - proxy.q[i - 1]).norm() > kSlidingStepMm);
+    const double moved = i > 0 && proxy.contact[i - 1] ? (proxy.q[i] - proxy.q[i - 1]).norm() : 0.0;
+    const double dt = i > 0 && rec.t[i] > rec.t[i - 1] ? rec.t[i] - rec.t[i - 1] : foaw.dt_s;
+    s.slip.push_back(moved > kSlidingStepMm ? moved / dt : 0.0);
     s.p.push_back(rec.p[i]);
     s.v.push_back(v[i]);
     s.q.push_back(proxy.q[i]);

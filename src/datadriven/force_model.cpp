@@ -476,10 +476,10 @@ TrainedForceModel train_with_provenance(const TrainingSet& data, const TrainPara
   TrainedForceModel trained;
   if (params.above_range == AboveRange::kExclude && n_above > 0 && consistent) {
     TrainingSet kept;
-    const bool normals = !data.n.empty(), slid = data.sliding.size() == n;
+    const bool normals = !data.n.empty(), slid = data.slip.size() == n;
     for (std::size_t i = 0; i < n; ++i) {
       if (above[i]) continue;
-      if (slid) kept.sliding.push_back(data.sliding[i]);
+      if (slid) kept.slip.push_back(data.slip[i]);
       kept.p.push_back(data.p[i]);
       kept.v.push_back(data.v[i]);
       kept.q.push_back(data.q[i]);

@@ -55,32 +55,32 @@ double fit_friction_cone(const TrainingSet& data) {
 
 void fit_sliding_floor(const TrainingSet& data, ForceModel& model) {
   model.sliding_mu = model.sliding_b = 0;
-  if (data.sliding.size() != data.size() || data.v.size() != data.size()) return;
-  std::vector<double> fn, ft, vt;
+  if (data.slip.size() != data.size()) return;
+  std::vector<double> fn, ft, sp;
   for (std::size_t i = 0; i < data.size(); ++i) {
-    if (!data.sliding[i]) continue;
+    if (!(data.slip[i] > 0) || !std::isfinite(data.slip[i])) continue;
     const Vec3 nn = surface_frame(data.n.empty() ? Vec3::UnitZ() : data.n[i]).n;
     const double n_force = nn.dot(data.f[i]);
     if (!(n_force >= 1.0)) continue;
     fn.push_back(n_force);
     ft.push_back((data.f[i] - n_force * nn).norm());
-    vt.push_back((data.v[i] - nn.dot(data.v[i]) * nn).norm());
+    sp.push_back(data.slip[i]);
   }
   const std::size_t m = fn.size();
-  if (m < 20) return;
-  // |f_t| = mu f_n + b |v_t| by least squares (normal equations), b kept >= 0.
+  if (m < kSlidingFloorMinSamples) return;
+  // |f_t| = mu f_n + b s by least squares (normal equations); b kept >= 0.
   double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
   for (std::size_t i = 0; i < m; ++i) {
-    aa += fn[i] * fn[i], ab += fn[i] * vt[i], bb += vt[i] * vt[i];
-    ay += fn[i] * ft[i], by += vt[i] * ft[i];
+    aa += fn[i] * fn[i], ab += fn[i] * sp[i], bb += sp[i] * sp[i];
+    ay += fn[i] * ft[i], by += sp[i] * ft[i];
   }
   const double det = aa * bb - ab * ab;
   double b = det > 1e-12 * aa * bb ? (aa * by - ab * ay) / det : 0.0;
   if (!(b > 0) || !std::isfinite(b)) b = 0;
-  // mu robustly: a low quantile of what the viscous part leaves (a floor that 3/4 of the sliding
-  // samples reach; false "sliding" flags pull less).
+  // mu: a low quantile of what the viscous part leaves (a floor that 3/4 of the sliding samples
+  // reach; samples wrongly seen as sliding pull less).
   std::vector<double> ratio(m);
-  for (std::size_t i = 0; i < m; ++i) ratio[i] = (ft[i] - b * vt[i]) / fn[i];
+  for (std::size_t i = 0; i < m; ++i) ratio[i] = (ft[i] - b * sp[i]) / fn[i];
   const auto k = static_cast<std::ptrdiff_t>(kSlidingFloorQuantile * static_cast<double>(m - 1));
   std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
   const double mu = ratio[static_cast<std::size_t>(k)];

@@ -31,13 +31,13 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
 /// with fewer than 10 such samples).
 double fit_friction_cone(const TrainingSet& data);
 
-/// Quantile of (|f_t| - b_s |v_t|) / f_n over the sliding samples that sets mu_s.
+/// mu_s and b_s of TrainParams::sliding_floor into model.sliding_mu, model.sliding_b: over the
+/// samples whose proxy slid (TrainingSet::slip > 0) pressed with f_n >= 1 N, b_s >= 0 by least
+/// squares of |f_t| = mu f_n + b s, then mu_s = the kSlidingFloorQuantile quantile of (|f_t| -
+/// b_s s) / f_n. Both 0 with fewer than kSlidingFloorMinSamples such samples or without slip
+/// speeds.
 inline constexpr double kSlidingFloorQuantile = 0.25;
-
-/// mu_s and b_s of TrainParams::sliding_floor into model.sliding_mu, model.sliding_b (both 0
-/// with fewer than 20 sliding samples pressed with f_n >= 1 N or without TrainingSet::sliding):
-/// b_s >= 0 by least squares of |f_t| = mu f_n + b |v_t|, then mu_s = the kSlidingFloorQuantile
-/// quantile of (|f_t| - b_s |v_t|) / f_n.
+inline constexpr std::size_t kSlidingFloorMinSamples = 20;
 void fit_sliding_floor(const TrainingSet& data, ForceModel& model);
 
 /// The recording's depth-force law and the training proxies' support (fallback.hpp). With a

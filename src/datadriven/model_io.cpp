@@ -438,7 +438,10 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
   j["force_limit_n"] = m.force_limit_n;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
   if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
-  if (m.sliding_mu > 0) j["sliding_floor"] = {{"mu", m.sliding_mu}, {"b_n_s_per_mm", m.sliding_b}};
+  if (m.sliding_mu > 0) {
+    j["sliding_mu"] = m.sliding_mu;
+    j["sliding_b_n_s_per_mm"] = m.sliding_b;
+  }
   j["foaw"] = {{"dt_s", m.foaw.dt_s},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound_mm}};
@@ -540,12 +543,13 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
     m.friction_cone = r.num(j["friction_cone"], "friction_cone");
     if (!(m.friction_cone >= 0)) r.fail("friction_cone", "expected >= 0");
   }
-  if (j.contains("sliding_floor")) {
-    const json& sf = j["sliding_floor"];
-    m.sliding_mu = r.num(r.need(sf, "mu", "sliding_floor"), "sliding_floor/mu");
-    m.sliding_b = r.num(r.need(sf, "b_n_s_per_mm", "sliding_floor"), "sliding_floor/b_n_s_per_mm");
-    if (!(m.sliding_mu > 0)) r.fail("sliding_floor/mu", "expected > 0");
-    if (!(m.sliding_b >= 0)) r.fail("sliding_floor/b_n_s_per_mm", "expected >= 0");
+  if (j.contains("sliding_mu")) {
+    m.sliding_mu = r.num(j["sliding_mu"], "sliding_mu");
+    if (!(m.sliding_mu >= 0)) r.fail("sliding_mu", "expected >= 0");
+  }
+  if (j.contains("sliding_b_n_s_per_mm")) {
+    m.sliding_b = r.num(j["sliding_b_n_s_per_mm"], "sliding_b_n_s_per_mm");
+    if (!(m.sliding_b >= 0)) r.fail("sliding_b_n_s_per_mm", "expected >= 0");
   }
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt_s = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
@@ -620,7 +624,7 @@ void validate_model(const ForceModel& m, const std::string& where) {
   if (m.friction_cone > 0 && m.features != FeatureSet::kLocalFrame)
     fail("friction_cone: expected local-frame features (the cone is about the normal)");
   if (m.sliding_mu > 0 && m.features != FeatureSet::kLocalFrame)
-    fail("sliding_floor: expected local-frame features (the floor is about the normal)");
+    fail("sliding_mu: expected local-frame features (the floor is about the normal)");
   for (const auto& [map, name] :
        {std::pair{&m.prior, "stiffness_prior"}, {&m.shear, "shear_prior"}}) {
     if (map->log_k.empty()) continue;

@@ -32,7 +32,8 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     return Vec3::Zero();
   }
   state.velocity = foaw_step(model.foaw, state.foaw, p);
-  state.sliding = contact && state.contact && (q - state.q).norm() > kSlidingStepMm;
+  const double moved = contact && state.contact ? (q - state.q).norm() : 0.0;
+  state.slip = moved > kSlidingStepMm ? moved / model.foaw.dt_s : 0.0;
   state.contact = contact;
   if (contact) state.q = q;
   if (!contact || model.bins.empty()) {
@@ -41,8 +42,7 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     return state.force;
   }
   state.bin = model.bin_of((q - p).norm());
-  state.force =
-      model_force(model, p, state.velocity, q, normal, state.sliding);  // finite and clamped
+  state.force = model_force(model, p, state.velocity, q, normal, state.slip);  // finite and clamped
   return state.force;
 }
 

@@ -1,9 +1,9 @@
 // Sliding floor (TrainParams::sliding_floor) on synthetic data with a known law: a flat surface
 // (normal +z), f_n = k d^1.5; a sticking proxy pulls with a tangential spring k_t |u_t| below
-// the friction limit, a sliding one with |f_t| = mu f_n + b |v_t| (Coulomb plus viscous
-// friction) along u_t. The fit must recover mu and b from the samples the proxy track marks as
-// sliding, and the servo step must render at least that force while (and only while) its proxy
-// moves.
+// the friction limit, a sliding one with |f_t| = mu f_n + b s (Coulomb plus viscous friction,
+// s = slip speed) along u_t. The fit must recover mu and b from the samples the proxy track
+// marks as sliding, and the servo step must render at least that force while (and only while)
+// its proxy moves.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,7 +29,7 @@ double normal_force(double depth) {
 }
 
 // Samples on the plane z = 0, in three kinds: sticking (|u_t| < 1 mm, spring, at rest); sliding
-// (|u_t| = the yield radius mu f_n / k_t, |v_t| up to 40 mm/s, the force at the limit); and as
+// (|u_t| = the yield radius mu f_n / k_t, slipping at 1-40 mm/s, the force at the limit); and as
 // many that look the same as sliding ones (same |u_t|, same velocities) but pull half as much,
 // not marked sliding: what an estimated proxy's errors put beside the sliding samples. The RBFs
 // average the last two; the floor restores the limit where the proxy truly moves.
@@ -40,7 +40,7 @@ TrainingSet stick_slip_set(std::uint64_t seed, std::size_t n) {
     const int kind = static_cast<int>(i % 3);  // 0 sticking, 1 sliding, 2 look-alike
     const Vec3 q(rng.uniform(-20, 20), rng.uniform(-20, 20), 0.0);
     const double depth = rng.uniform(1.5, 5.0), fn = normal_force(depth);
-    const double a = rng.uniform(0.0, 2 * M_PI), speed = kind ? rng.uniform(0.0, 40.0) : 0.0;
+    const double a = rng.uniform(0.0, 2 * M_PI), speed = kind ? rng.uniform(1.0, 40.0) : 0.0;
     const Vec3 dir(std::cos(a), std::sin(a), 0.0);
     const double limit = kMu * fn + kB * speed;
     const double ft = kind == 0 ? kKt * rng.uniform(0.0, 1.0) : kind == 1 ? limit : 0.5 * limit;
@@ -50,7 +50,7 @@ TrainingSet stick_slip_set(std::uint64_t seed, std::size_t n) {
     s.q.push_back(q);
     s.f.push_back(ft * dir + Vec3(0, 0, fn));
     s.n.push_back(Vec3::UnitZ());
-    s.sliding.push_back(kind == 1 ? 1 : 0);
+    s.slip.push_back(kind == 1 ? speed : 0.0);  // slip speed, mm/s (> 0: sliding)
   }
   return s;
 }
@@ -61,20 +61,33 @@ TrainParams floor_params(bool floor) {
   return p;
 }
 
-TEST(SlidingFloor, RecoversCoulombAndViscousFriction) {
+TEST(SlidingFloor, RecoversTheFrictionCoefficient) {
   const TrainingSet s = stick_slip_set(1, 3000);
   const ForceModel m = train_force_model(s, floor_params(true));
-  // Every sample marked sliding has (|f_t| - b |v_t|) / f_n = mu exactly, so any quantile is mu.
+  // Every sample marked sliding has (|f_t| - b s) / f_n = mu exactly, so any quantile is mu.
   EXPECT_NEAR(m.sliding_mu, kMu, 1e-6);
   EXPECT_NEAR(m.sliding_b, kB, 1e-8);
+  // Sliding samples whose ratio spreads evenly over [0.8, 1.0] (the i-th of them 0.8 + 0.2 i /
+  // (count - 1)): the floor is their lower quartile, 0.85 (to the spacing of those pressed with
+  // f_n >= 1 N, a random subset).
+  TrainingSet spread = s;
+  std::size_t count = 0, seen = 0;
+  for (double v : spread.slip) count += v > 0;
+  for (std::size_t i = 0; i < spread.size(); ++i) {
+    if (!(spread.slip[i] > 0)) continue;
+    const double ratio = 0.8 + 0.2 * static_cast<double>(seen++) / static_cast<double>(count - 1);
+    const Vec3 ft(spread.f[i].x(), spread.f[i].y(), 0.0);
+    spread.f[i].head<2>() = (ratio * spread.f[i].z() / ft.norm() * ft).head<2>();
+  }
+  EXPECT_NEAR(train_force_model(spread, floor_params(true)).sliding_mu, 0.85, 5e-3);
   const ForceModel off = train_force_model(s, floor_params(false));
   EXPECT_EQ(off.sliding_mu, 0.0);
   // No sliding flags (or too few sliding samples): no floor.
   TrainingSet unflagged = s;
-  unflagged.sliding.clear();
+  unflagged.slip.clear();
   EXPECT_EQ(train_force_model(unflagged, floor_params(true)).sliding_mu, 0.0);
   TrainingSet few = s;
-  for (std::size_t i = 50; i < few.size(); ++i) few.sliding[i] = 0;  // 16 left
+  for (std::size_t i = 50; i < few.size(); ++i) few.slip[i] = 0;  // 17 left
   EXPECT_EQ(train_force_model(few, floor_params(true)).sliding_mu, 0.0);
 }
 
@@ -97,7 +110,10 @@ TEST(SlidingFloor, ServoRendersTheFrictionLimitWhileTheProxySlides) {
                  q = p - lag * dir + Vec3(0, 0, depth);
       const Vec3 f_with = servo_step(with, st_with, p, q, Vec3::UnitZ(), true);
       const Vec3 f_without = servo_step(without, st_without, p, q, Vec3::UnitZ(), true);
-      EXPECT_EQ(st_with.sliding, k > 0);
+      EXPECT_EQ(st_with.slip > 0, k > 0);
+      if (k > 0) {
+        EXPECT_NEAR(st_with.slip, speed, 1e-9);
+      }
       if (k < 20) continue;  // the velocity filter settles
       ++sliding_ticks;
       const double floor = with.sliding_mu * f_with.z() + with.sliding_b * speed;
@@ -117,8 +133,8 @@ TEST(SlidingFloor, ServoRendersTheFrictionLimitWhileTheProxySlides) {
   const Vec3 q(3, 2, 0), p = q - Vec3(0.5, 0, depth);
   for (int k = 0; k < 30; ++k) {
     const Vec3 fa = servo_step(with, a, p, q, Vec3::UnitZ(), true);
-    EXPECT_FALSE(a.sliding);
-    EXPECT_EQ(fa, model_force(with, p, a.velocity, q, Vec3::UnitZ(), false));
+    EXPECT_EQ(a.slip, 0.0);
+    EXPECT_EQ(fa, model_force(with, p, a.velocity, q, Vec3::UnitZ(), 0.0));
     (void)servo_step(without, b, p, q, Vec3::UnitZ(), true);
   }
 }
@@ -126,21 +142,24 @@ TEST(SlidingFloor, ServoRendersTheFrictionLimitWhileTheProxySlides) {
 TEST(SlidingFloor, TrainingSetMarksTheSamplesWhoseProxyMoved) {
   Recording rec;
   ProxyTrack track;
-  // Contact from sample 1: the proxy holds for three samples, then moves; contact lost at 7.
+  // Contact from sample 1: the proxy holds for three samples, then moves (0.5 mm in 1 ms, then
+  // in 2 ms); contact lost at 7.
   const double qx[] = {0, 0, 0, 0, 0.5, 1.0, 1.0, 2.0, 2.0};
+  const double t_ms[] = {0, 1, 2, 3, 4, 6, 7, 8, 9};
   const char contact[] = {0, 1, 1, 1, 1, 1, 1, 0, 1};
   for (int i = 0; i < 9; ++i) {
-    rec.t.push_back(1e-3 * i);
+    rec.t.push_back(1e-3 * t_ms[i]);
     rec.p.emplace_back(qx[i], 0, -1);
     rec.f.emplace_back(0, 0, 1);
     track.q.emplace_back(qx[i], 0, 0);
     track.contact.push_back(contact[i]);
   }
   const TrainingSet s = make_training_set(rec, track, FoawParams{});
-  // In-contact samples 1-6 and 8: moved since the previous in-contact tick at 4 and 5 only (8
-  // follows a tick out of contact).
-  const std::vector<char> expected = {0, 0, 0, 1, 1, 0, 0};
-  EXPECT_EQ(s.sliding, expected);
+  // In-contact samples 1-6 and 8: moved since the previous in-contact tick at 4 (500 mm/s) and 5
+  // (250 mm/s) only (8 follows a tick out of contact).
+  const std::vector<double> expected = {0, 0, 0, 500, 250, 0, 0};
+  ASSERT_EQ(s.slip.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(s.slip[i], expected[i], 1e-9);
 }
 
 TEST(SlidingFloor, FileRoundTripAndChecks) {
@@ -150,13 +169,11 @@ TEST(SlidingFloor, FileRoundTripAndChecks) {
   EXPECT_EQ(back.sliding_mu, m.sliding_mu);
   EXPECT_EQ(back.sliding_b, m.sliding_b);
   auto j = nlohmann::json::parse(force_model_to_json(m));
-  j["sliding_floor"]["mu"] = -1.0;
+  j["sliding_mu"] = -1.0;
   EXPECT_THROW(force_model_from_json(j.dump(), "bad.json"), ParseError);
-  j = nlohmann::json::parse(force_model_to_json(m));
-  j["sliding_floor"] = 3;
+  j["sliding_mu"] = "0.9";
   EXPECT_THROW(force_model_from_json(j.dump(), "bad.json"), ParseError);
-  j = nlohmann::json::parse(force_model_to_json(m));
-  j.erase("sliding_floor");  // a file from before the floor: no floor
+  j.erase("sliding_mu");  // a file from before the floor: no floor
   EXPECT_EQ(force_model_from_json(j.dump(), "old.json").sliding_mu, 0.0);
   TrainParams p = floor_params(true);
   p.features = FeatureSet::kDisplacementProxyVelocity;

@@ -91,9 +91,9 @@ struct TrainingSet {
   std::vector<Vec3> q;  ///< proxy, mm
   std::vector<Vec3> f;  ///< measured force, N
   std::vector<Vec3> n;  ///< outward surface normal at q (empty: +z; used by kLocalFrame)
-  /// 1 where the proxy moved by more than kSlidingStepMm since the previous in-contact sample
-  /// (the proxy slid: the sample is at the friction limit); empty: not known.
-  std::vector<char> sliding;
+  /// Slip speed: how fast the proxy moved since the previous in-contact sample, mm/s; 0 where it
+  /// held (moved by kSlidingStepMm or less: sticking); empty: not known.
+  std::vector<double> slip;
   std::size_t size() const { return p.size(); }
 };
 
@@ -178,13 +178,13 @@ struct TrainParams {
   /// tangential force).
   bool friction_cone = false;
   /// Local-frame features only: while the proxy slides (it moved since the previous tick in
-  /// contact, TrainingSet::sliding) render at least the sliding friction, |f_t| >= mu_s f_n +
-  /// b_s |v_t| along the proxy's tangential lag q - p (v_t = tangential probe velocity, mm/s):
-  /// Coulomb friction plus a viscous part, fitted to the training samples whose proxy slid,
-  /// pressed with f_n >= 1 N (b_s by least squares, then mu_s the lower quartile of (|f_t| -
-  /// b_s |v_t|) / f_n; at least 20 samples, else no floor). The RBFs regress a sliding sample's
-  /// tangential force towards its neighbours' (which stick and pull less); a proxy on its yield
-  /// surface says the probe is at the friction limit.
+  /// contact, TrainingSet::slip > 0) render at least the sliding friction |f_t| >= mu_s f_n +
+  /// b_s s along the proxy's tangential lag q - p (s = slip speed, mm/s): Coulomb friction plus
+  /// a viscous part, fitted to the training samples whose proxy slid, pressed with f_n >= 1 N
+  /// (b_s >= 0 by least squares, then mu_s the lower quartile of (|f_t| - b_s s) / f_n; at least
+  /// 20 samples, else no floor). The RBFs regress a sliding sample's tangential force towards
+  /// its neighbours' (which stick and pull less); a proxy on its yield surface says the probe is
+  /// at the friction limit.
   bool sliding_floor = false;
   /// Local-frame features only: outside the training support blend towards the recording's own
   /// depth-force law (fallback.hpp): the model as trained within fallback_near_mm of a training
@@ -327,9 +327,9 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
 /// Servo-safe: no allocation, no exceptions.
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
 /// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame) and whether
-/// the proxy is sliding (TrainParams::sliding_floor).
+/// the proxy's slip speed (mm/s, > 0 while it slides: TrainParams::sliding_floor).
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                 const Vec3& normal, bool sliding = false);
+                 const Vec3& normal, double slip_mm_s = 0);
 
 /// Where an input lies relative to the training data of its bin (a diagnostic, not for the
 /// servo loop).

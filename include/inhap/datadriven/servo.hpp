@@ -26,9 +26,9 @@ struct ServoState {
   Vec3 velocity = Vec3::Zero();  ///< last FOAW estimate, mm/s
   Vec3 force = Vec3::Zero();     ///< last output, N
   Vec3 q = Vec3::Zero();         ///< proxy at the last step in contact, mm
-  bool sliding = false;          ///< the proxy moved since the tick before (kSlidingStepMm)
-  int bin = -1;                  ///< bin used at the last step (-1 out of contact)
-  std::uint32_t resets = 0;      ///< how many times bad input forced a reset
+  double slip = 0;           ///< proxy speed since the tick before, mm/s (0: held, kSlidingStepMm)
+  int bin = -1;              ///< bin used at the last step (-1 out of contact)
+  std::uint32_t resets = 0;  ///< how many times bad input forced a reset
 
   void reset() {
     const std::uint32_t r = resets + 1;
@@ -45,8 +45,8 @@ inline constexpr double kAbsurdPositionMm = 1e5;
 inline constexpr double kMaxJumpMm = 20.0;
 
 /// One servo tick: probe centre p (mm), proxy q (mm) and contact flag in, force (N) out. The
-/// proxy slides when it moved by more than kSlidingStepMm since the last tick, both in contact
-/// (ForceModel::sliding_mu).
+/// proxy slides when it moved by more than kSlidingStepMm since the last tick, both in contact;
+/// its speed is that step over model.foaw.dt_s (ForceModel::sliding_mu).
 /// Zero force out of contact; the FOAW filter is updated every tick. Non-finite or absurd p or
 /// q gives zero force and a state reset, as does a jump of p by kMaxJumpMm or more in one tick
 /// (the tick after it renders as from a fresh state). The force is always finite and clamped
