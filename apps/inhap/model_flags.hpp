@@ -39,8 +39,8 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
        "|f_t| <= c max(f_n, 0.3 N) ("},
       {"sliding-floor", &datadriven::TrainParams::sliding_floor,
        "Local features: while the proxy slides (it moved since the last tick in contact) render "
-       "at least the sliding friction |f_t| >= mu_s f_n + b_s s along the proxy's lag (s = its "
-       "slip speed, mm/s), fitted to the training samples whose proxy slid ("},
+       "at least the Coulomb force |f_t| >= mu_s f_n along the proxy's lag, mu_s = the 10 % "
+       "quantile of |f_t| / f_n over the training samples whose proxy slid ("},
       {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},

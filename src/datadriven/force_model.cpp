@@ -27,7 +27,7 @@ namespace inhap::datadriven {
 using detail::fit_fallback;
 using detail::fit_friction_cone;
 using detail::fit_priors;
-using detail::fit_sliding_floor;
+using detail::fit_sliding_mu;
 
 const char* to_string(FeatureSet f) {
   if (f == FeatureSet::kLocalFrame) return "local";
@@ -414,7 +414,7 @@ TrainedForceModel train_kept(const TrainingSet& data, const TrainParams& params,
   if (params.features == FeatureSet::kLocalFrame) {
     if (params.stiffness_prior || params.shear_prior) fit_priors(data, params, model, base);
     if (params.friction_cone) model.friction_cone = fit_friction_cone(data);
-    if (params.sliding_floor) fit_sliding_floor(data, model);
+    if (params.sliding_floor) model.sliding_mu = fit_sliding_mu(data);
     if (params.fallback) model.fallback = fit_fallback(data, params, model.prior);
   }
   if (params.envelope) model.envelope = make_force_envelope(data.q, data.p, data.f);

@@ -112,15 +112,16 @@ Vec3 bin_force(const ForceModel& model, const BinModel& bm, const Vec3& p, const
   return model.features == FeatureSet::kLocalFrame ? fr.to_world(f) : f;
 }
 
-// A sliding proxy (slip speed s > 0, mm/s): the tangential force is at least mu_s f_n + b_s s,
-// along the proxy's tangential lag.
-Vec3 sliding_floor(const ForceModel& m, const Vec3& f, const Vec3& p, const Vec3& q, const Vec3& n,
-                   double slip) {
+// A sliding proxy: the tangential force is at least mu_s f_n (within the friction cone), along the
+// proxy's tangential lag.
+Vec3 sliding_floor(const ForceModel& m, const Vec3& f, const Vec3& p, const Vec3& q,
+                   const Vec3& n) {
   const double fn = n.dot(f);
   const Vec3 u = q - p, ut = u - n.dot(u) * n;
   const double len = ut.norm();
   if (!(fn > 0) || !(len > kSlidingStepMm)) return f;
-  const double floor = m.sliding_mu * fn + m.sliding_b * slip;
+  double floor = m.sliding_mu * fn;
+  if (m.friction_cone > 0) floor = std::min(floor, m.friction_cone * fn);  // never past the cone
   return fn * n + std::max((f - fn * n).norm(), floor) / len * ut;
 }
 
@@ -172,7 +173,7 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
     const double lim = model.friction_cone * std::max(fn, kConeFloorN), len = ft.norm();
     if (len > lim) f = fn * fr.n + ft * (lim / len);
   }
-  if (slip_mm_s > 0 && model.sliding_mu > 0) f = sliding_floor(model, f, p, q, fr.n, slip_mm_s);
+  if (slip_mm_s > 0 && model.sliding_mu > 0) f = sliding_floor(model, f, p, q, fr.n);
   if (!f.allFinite()) return Vec3::Zero();
   // The device profile's limit caps the model's: a model struct built in code cannot raise it;
   // the training data's envelope near this state caps it further.

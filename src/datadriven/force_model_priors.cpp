@@ -53,40 +53,21 @@ double fit_friction_cone(const TrainingSet& data) {
   return ratio[static_cast<std::size_t>(k)];
 }
 
-void fit_sliding_floor(const TrainingSet& data, ForceModel& model) {
-  model.sliding_mu = model.sliding_b = 0;
-  if (data.slip.size() != data.size()) return;
-  std::vector<double> fn, ft, sp;
+double fit_sliding_mu(const TrainingSet& data) {
+  if (data.slip.size() != data.size()) return 0.0;
+  std::vector<double> ratio;
   for (std::size_t i = 0; i < data.size(); ++i) {
-    if (!(data.slip[i] > 0) || !std::isfinite(data.slip[i])) continue;
+    if (!(data.slip[i] > 0)) continue;
     const Vec3 nn = surface_frame(data.n.empty() ? Vec3::UnitZ() : data.n[i]).n;
-    const double n_force = nn.dot(data.f[i]);
-    if (!(n_force >= 1.0)) continue;
-    fn.push_back(n_force);
-    ft.push_back((data.f[i] - n_force * nn).norm());
-    sp.push_back(data.slip[i]);
+    const double fn = nn.dot(data.f[i]);
+    if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
   }
-  const std::size_t m = fn.size();
-  if (m < kSlidingFloorMinSamples) return;
-  // |f_t| = mu f_n + b s by least squares (normal equations); b kept >= 0.
-  double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
-  for (std::size_t i = 0; i < m; ++i) {
-    aa += fn[i] * fn[i], ab += fn[i] * sp[i], bb += sp[i] * sp[i];
-    ay += fn[i] * ft[i], by += sp[i] * ft[i];
-  }
-  const double det = aa * bb - ab * ab;
-  double b = det > 1e-12 * aa * bb ? (aa * by - ab * ay) / det : 0.0;
-  if (!(b > 0) || !std::isfinite(b)) b = 0;
-  // mu: a low quantile of what the viscous part leaves (a floor that 3/4 of the sliding samples
-  // reach; samples wrongly seen as sliding pull less).
-  std::vector<double> ratio(m);
-  for (std::size_t i = 0; i < m; ++i) ratio[i] = (ft[i] - b * sp[i]) / fn[i];
-  const auto k = static_cast<std::ptrdiff_t>(kSlidingFloorQuantile * static_cast<double>(m - 1));
+  if (ratio.size() < kSlidingFloorMinSamples) return 0.0;
+  const auto k =
+      static_cast<std::ptrdiff_t>(kSlidingFloorQuantile * static_cast<double>(ratio.size() - 1));
   std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
   const double mu = ratio[static_cast<std::size_t>(k)];
-  if (!(mu > 0) || !std::isfinite(mu)) return;
-  model.sliding_mu = mu;
-  model.sliding_b = b;
+  return std::isfinite(mu) && mu > 0 ? mu : 0.0;
 }
 
 Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,

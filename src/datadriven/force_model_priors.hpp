@@ -31,14 +31,12 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
 /// with fewer than 10 such samples).
 double fit_friction_cone(const TrainingSet& data);
 
-/// mu_s and b_s of TrainParams::sliding_floor into model.sliding_mu, model.sliding_b: over the
-/// samples whose proxy slid (TrainingSet::slip > 0) pressed with f_n >= 1 N, b_s >= 0 by least
-/// squares of |f_t| = mu f_n + b s, then mu_s = the kSlidingFloorQuantile quantile of (|f_t| -
-/// b_s s) / f_n. Both 0 with fewer than kSlidingFloorMinSamples such samples or without slip
-/// speeds.
-inline constexpr double kSlidingFloorQuantile = 0.25;
+/// mu_s of TrainParams::sliding_floor: the kSlidingFloorQuantile quantile of |f_t| / f_n over
+/// the samples whose proxy slid (TrainingSet::slip > 0), pressed with f_n >= 1 N; 0 with fewer
+/// than kSlidingFloorMinSamples such samples or without slip speeds.
+inline constexpr double kSlidingFloorQuantile = 0.1;
 inline constexpr std::size_t kSlidingFloorMinSamples = 20;
-void fit_sliding_floor(const TrainingSet& data, ForceModel& model);
+double fit_sliding_mu(const TrainingSet& data);
 
 /// The recording's depth-force law and the training proxies' support (fallback.hpp). With a
 /// stiffness prior the law is fitted to f_n / k(q) (k(q) = the prior's local stiffness) and

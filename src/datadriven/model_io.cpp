@@ -438,10 +438,7 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
   j["force_limit_n"] = m.force_limit_n;
   if (m.bin_blend > 0) j["bin_blend_mm"] = m.bin_blend;
   if (m.friction_cone > 0) j["friction_cone"] = m.friction_cone;
-  if (m.sliding_mu > 0) {
-    j["sliding_mu"] = m.sliding_mu;
-    j["sliding_b_n_s_per_mm"] = m.sliding_b;
-  }
+  if (m.sliding_mu > 0) j["sliding_mu"] = m.sliding_mu;
   j["foaw"] = {{"dt_s", m.foaw.dt_s},
                {"max_window", m.foaw.max_window},
                {"noise_bound_mm", m.foaw.noise_bound_mm}};
@@ -547,10 +544,7 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
     m.sliding_mu = r.num(j["sliding_mu"], "sliding_mu");
     if (!(m.sliding_mu >= 0)) r.fail("sliding_mu", "expected >= 0");
   }
-  if (j.contains("sliding_b_n_s_per_mm")) {
-    m.sliding_b = r.num(j["sliding_b_n_s_per_mm"], "sliding_b_n_s_per_mm");
-    if (!(m.sliding_b >= 0)) r.fail("sliding_b_n_s_per_mm", "expected >= 0");
-  }
+
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt_s = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(

@@ -67,7 +67,6 @@ ojson model_json(const ForceModel& m, const ForceModelProvenance& pv) {
           {"shear_prior", map_summary(m.shear)},
           {"friction_cone", m.friction_cone},
           {"sliding_mu", m.sliding_mu},
-          {"sliding_b_n_s_per_mm", m.sliding_b},
           {"bin_blend_mm", m.bin_blend},
           {"seed", p.seed},
           {"edges_mm", m.edges},

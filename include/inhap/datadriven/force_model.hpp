@@ -178,13 +178,12 @@ struct TrainParams {
   /// tangential force).
   bool friction_cone = false;
   /// Local-frame features only: while the proxy slides (it moved since the previous tick in
-  /// contact, TrainingSet::slip > 0) render at least the sliding friction |f_t| >= mu_s f_n +
-  /// b_s s along the proxy's tangential lag q - p (s = slip speed, mm/s): Coulomb friction plus
-  /// a viscous part, fitted to the training samples whose proxy slid, pressed with f_n >= 1 N
-  /// (b_s >= 0 by least squares, then mu_s the lower quartile of (|f_t| - b_s s) / f_n; at least
-  /// 20 samples, else no floor). The RBFs regress a sliding sample's tangential force towards
-  /// its neighbours' (which stick and pull less); a proxy on its yield surface says the probe is
-  /// at the friction limit.
+  /// contact, TrainingSet::slip > 0) render at least the Coulomb force |f_t| >= mu_s f_n (and
+  /// at most the friction cone's c f_n) along the proxy's tangential lag q - p, with mu_s the
+  /// 10 % quantile of |f_t| / f_n over the training samples whose proxy slid, pressed with
+  /// f_n >= 1 N (at least 20 of them; else no floor). The RBFs regress a sliding sample's
+  /// tangential force towards its neighbours' (which stick and pull less); a proxy on its yield
+  /// surface says the probe is at the friction limit.
   bool sliding_floor = false;
   /// Local-frame features only: outside the training support blend towards the recording's own
   /// depth-force law (fallback.hpp): the model as trained within fallback_near_mm of a training
@@ -271,7 +270,6 @@ struct ForceModel {
   StiffnessPrior shear;  ///< local shear prior (empty: none), added along -u_t to the RBF force
   double friction_cone = 0;  ///< c of TrainParams::friction_cone (0: no guard)
   double sliding_mu = 0;     ///< mu_s of TrainParams::sliding_floor (0: no floor)
-  double sliding_b = 0;      ///< b_s of TrainParams::sliding_floor, N s/mm
   Fallback fallback;         ///< outside the training support (empty: none)
   ForceEnvelope envelope;    ///< cap on |f| from the training data (empty: none)
 
