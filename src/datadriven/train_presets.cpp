@@ -35,7 +35,6 @@ TrainParams preset_params(const std::string& name) {
     p.stiffness_prior = true;
     p.shear_prior = true;
     p.friction_cone = true;
-    p.sliding_floor = true;
     // Blend over 6-12 mm from the training proxies (TrainParams defaults; docs/force-model.md).
     p.fallback = true;
     // With the priors and the linear tail the certified l1 optimum renders as well as SpaRSA's
