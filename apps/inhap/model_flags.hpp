@@ -14,15 +14,16 @@
 namespace inhap::cli {
 
 /// Adds --[no-]tangent-mirror, --[no-]stiffness-prior, --[no-]shear-prior,
-/// --[no-]friction-cone, --[no-]fallback, --[no-]isotropic-positions, --[no-]envelope and --solver
-/// cd|sparsa bound to `p`; `defaults` ends each help line, e.g. "default on" (the command sets the
-/// defaults in `p`).
+/// --[no-]friction-cone, --[no-]sliding-floor, --[no-]fallback, --[no-]isotropic-positions,
+/// --[no-]envelope and --solver cd|sparsa bound to `p`; `defaults` ends each help line, e.g.
+/// "default on" (the command sets the defaults in `p`).
 inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
                                      const std::string& defaults) {
   struct Flag {
     const char* name;  // --NAME and --no-NAME
     bool datadriven::TrainParams::*value;
-    const char* help;  // completed by defaults + ")"
+    const char* help;                   // completed by defaults + ")"
+    const char* own_default = nullptr;  // instead of `defaults` (a flag off in every preset)
   };
   static constexpr Flag kFlags[] = {
       {"tangent-mirror", &datadriven::TrainParams::tangent_mirror,
@@ -40,7 +41,8 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
       {"sliding-floor", &datadriven::TrainParams::sliding_floor,
        "Local features: while the proxy slides (it moved since the last tick in contact) render "
        "at least the Coulomb force |f_t| >= mu_s f_n along the proxy's lag, mu_s = the 10 % "
-       "quantile of |f_t| / f_n over the training samples whose proxy slid ("},
+       "quantile of |f_t| / f_n over the training samples whose proxy slid (",
+       "default off in every preset"},
       {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},
@@ -53,7 +55,9 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
        "(within an 8 mm cell of q and 0.5 mm of ||q - p|| deeper) x 1.25 + 0.25 N (on in every "
        "preset; "},
   };
-  for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
+  for (const Flag& f : kFlags)
+    add_switch(cmd, f.name, p.*f.value,
+               f.help + (f.own_default ? std::string(f.own_default) : defaults) + ")", false);
   cmd.add_option_function<std::string>(
          "--solver",
          [&p](const std::string& s) { p.solver = datadriven::l1_solver_from_string(s); },
