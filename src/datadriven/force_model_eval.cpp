@@ -117,7 +117,7 @@ Vec3 bin_force(const ForceModel& model, const BinModel& bm, const Vec3& p, const
 Vec3 sliding_floor(const ForceModel& m, const Vec3& f, const Vec3& p, const Vec3& q,
                    const Vec3& n) {
   const double fn = n.dot(f);
-  const Vec3 u = q - p, ut = u - n.dot(u) * n;
+  const Vec3 ut = -detail::tangential_displacement(p, q, n);  // the proxy's lag q - p
   const double len = ut.norm();
   if (!(fn > 0) || !(len > kSlidingStepMm)) return f;
   double floor = m.sliding_mu * fn;

@@ -39,34 +39,36 @@ void fit_priors(const TrainingSet& data, const TrainParams& params, ForceModel& 
   }
 }
 
-// Lighter touches than 1 N are mostly noise and onset transients.
-double fit_friction_cone(const TrainingSet& data) {
-  std::vector<double> ratio;
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    const Vec3 nn = surface_frame(data.n[i]).n;
-    const double fn = nn.dot(data.f[i]);
-    if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
-  }
-  if (ratio.size() < 10) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(0.995 * static_cast<double>(ratio.size() - 1));
-  std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
-  return ratio[static_cast<std::size_t>(k)];
-}
+namespace {
 
-double fit_sliding_mu(const TrainingSet& data) {
-  if (data.slip.size() != data.size()) return 0.0;
+// The `quantile` of |f_t| / f_n over the samples pressed with f_n >= 1 N (lighter touches are
+// mostly noise and onset transients), only those whose proxy slid when `sliding_only`; 0 with
+// fewer than `min_samples` of them.
+double friction_ratio_quantile(const TrainingSet& data, bool sliding_only, double quantile,
+                               std::size_t min_samples) {
   std::vector<double> ratio;
   for (std::size_t i = 0; i < data.size(); ++i) {
-    if (!(data.slip[i] > 0)) continue;
+    if (sliding_only && !(data.slip[i] > 0)) continue;
     const Vec3 nn = surface_frame(data.n.empty() ? Vec3::UnitZ() : data.n[i]).n;
     const double fn = nn.dot(data.f[i]);
     if (fn >= 1.0) ratio.push_back((data.f[i] - fn * nn).norm() / fn);
   }
-  if (ratio.size() < kSlidingFloorMinSamples) return 0.0;
-  const auto k =
-      static_cast<std::ptrdiff_t>(kSlidingFloorQuantile * static_cast<double>(ratio.size() - 1));
+  if (ratio.size() < min_samples) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(quantile * static_cast<double>(ratio.size() - 1));
   std::nth_element(ratio.begin(), ratio.begin() + k, ratio.end());
-  const double mu = ratio[static_cast<std::size_t>(k)];
+  return ratio[static_cast<std::size_t>(k)];
+}
+
+}  // namespace
+
+double fit_friction_cone(const TrainingSet& data) {
+  return friction_ratio_quantile(data, false, 0.995, 10);
+}
+
+double fit_sliding_mu(const TrainingSet& data) {
+  if (data.slip.size() != data.size()) return 0.0;
+  const double mu =
+      friction_ratio_quantile(data, true, kSlidingFloorQuantile, kSlidingFloorMinSamples);
   return std::isfinite(mu) && mu > 0 ? mu : 0.0;
 }
 

@@ -544,7 +544,6 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
     m.sliding_mu = r.num(j["sliding_mu"], "sliding_mu");
     if (!(m.sliding_mu >= 0)) r.fail("sliding_mu", "expected >= 0");
   }
-
   const json& fo = r.need(j, "foaw", "(root)");
   m.foaw.dt_s = r.num(r.need(fo, "dt_s", "foaw"), "foaw/dt_s");
   m.foaw.max_window = static_cast<int>(

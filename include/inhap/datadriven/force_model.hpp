@@ -80,11 +80,11 @@ inline void make_features(FeatureSet set, const Vec3& p, const Vec3& v, const Ve
   make_features(set, p, v, q, SurfaceFrame{}, x);
 }
 
-/// In-contact training samples (all vectors the same length).
 /// A proxy that moved by more than this since the previous tick in contact is sliding, mm (the
 /// proxy estimator leaves q exactly where it was while the probe sticks).
 inline constexpr double kSlidingStepMm = 1e-6;
 
+/// In-contact training samples (all vectors the same length).
 struct TrainingSet {
   std::vector<Vec3> p;  ///< probe centre, mm
   std::vector<Vec3> v;  ///< probe velocity (FOAW), mm/s
@@ -324,8 +324,8 @@ ForceModel train_force_model(const TrainingSet& data, const TrainParams& params,
 /// the three expansions, clamp the magnitude to force_limit_n. Non-finite input gives zero.
 /// Servo-safe: no allocation, no exceptions.
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q);
-/// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame) and whether
-/// the proxy's slip speed (mm/s, > 0 while it slides: TrainParams::sliding_floor).
+/// The same with the outward surface normal at q (used by FeatureSet::kLocalFrame) and the
+/// proxy's slip speed (mm/s; > 0 while it slides turns on TrainParams::sliding_floor).
 Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
                  const Vec3& normal, double slip_mm_s = 0);
 
