@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <thread>
 
@@ -59,6 +60,8 @@ Lab make_lab(const LabDeviceOptions& o) {
 LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
   if (!(o.seconds > 0.0) || o.seconds > 86400.0)
     throw Error("lab device: --seconds must be in (0, 86400]");
+  if (!(o.silence_stop_s >= 0.0) || !std::isfinite(o.silence_stop_s))
+    throw Error("lab device: --silence-stop must be a finite number of seconds >= 0");
   Lab l = make_lab(o);
   lab::SimDevice& dev = *l.setup.device;
   const double rate = dev.info().servo_rate_hz;
@@ -92,6 +95,7 @@ LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
     }
   }
   const auto start = std::chrono::steady_clock::now();
+  auto last_answer = start;
   const long every = std::max(1L, static_cast<long>(rate));
   for (long i = 0; i < ticks; ++i) {
     if (i > 0) {
@@ -99,9 +103,16 @@ LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
       const double pp[3] = {p.x(), p.y(), p.z()}, ss[3] = {s.x(), s.y(), s.z()};
       if (inhap_bridge_exchange(&c.b, dev.time(), pp, ss, 0, f, &status, answer_us) == 1) {
         ++res.answered;
+        last_answer = std::chrono::steady_clock::now();
       } else {
         ++res.timeouts;
         f[0] = f[1] = f[2] = 0.0;
+        const double quiet =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - last_answer).count();
+        if (o.silence_stop_s > 0 && quiet >= o.silence_stop_s) {
+          res.silent = true;  // inhap is gone (crashed, or its "stopping" was lost)
+          break;
+        }
       }
     } else {
       ++res.answered;  // the join exchange answered tick 0
@@ -144,7 +155,11 @@ std::string lab_device_banner(const LabDeviceOptions& o) {
 std::string lab_device_summary(const LabDeviceResult& r) {
   return fmt::format(
       "\n{} ticks, {} answered, {} time-outs (zero force){}; largest force {:.3f} N\n", r.ticks,
-      r.answered, r.timeouts, r.stopped ? ", inhap stopped the session" : "", r.max_force_n);
+      r.answered, r.timeouts,
+      r.stopped  ? ", inhap stopped the session"
+      : r.silent ? ", stopped: inhap went silent"
+                 : "",
+      r.max_force_n);
 }
 
 }  // namespace inhap::eval

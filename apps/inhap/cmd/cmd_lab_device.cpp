@@ -73,6 +73,11 @@ void register_lab_device(CLI::App& app) {
   c->add_option("--connect-timeout", a->o.connect_timeout_s,
                 "give up if inhap does not answer within this, s")
       ->capture_default_str();
+  c->add_option("--silence-stop", a->o.silence_stop_s,
+                "after the join, stop when inhap has not answered for this long (it crashed, or "
+                "its 'stopping' was lost), s; 0: run all --seconds")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   c->add_option("--out,-o", a->o.out,
                 "also write the device side's own recording and truth (OUT.truth.csv)");
   c->callback([a] { run_lab_device(*a); });

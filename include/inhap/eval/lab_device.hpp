@@ -42,8 +42,11 @@ struct LabDeviceOptions {
   bool lockstep = false;
   double answer_timeout_s = 0.002;  ///< s (lockstep: 2 s when left at this default)
   double connect_timeout_s = 30.0;  ///< keep sending the first state this long, s
-  std::string out;                  ///< optional: the device side's own recording + truth
-  Progress progress;                ///< empty: silent
+  /// After the join: stop when inhap has not answered for this long (wall clock), as when it
+  /// crashed or its "stopping" datagram was lost, s; 0: never (run all `seconds`).
+  double silence_stop_s = 10.0;
+  std::string out;    ///< optional: the device side's own recording + truth
+  Progress progress;  ///< empty: silent
 };
 
 struct LabDeviceResult {
@@ -51,11 +54,13 @@ struct LabDeviceResult {
   long answered = 0;       ///< forces received in time
   long timeouts = 0;       ///< ticks with no answer in time (zero force)
   bool stopped = false;    ///< inhap said it was stopping (status bit 2)
+  bool silent = false;     ///< stopped because inhap went silent for silence_stop_s
   double max_force_n = 0;  ///< largest force inhap commanded, N
 };
 
-/// Runs the lab device until `seconds` are simulated or inhap stops. Throws inhap::Error when the
-/// socket cannot be opened, no inhap answers within connect_timeout_s, or the scene is invalid.
+/// Runs the lab device until `seconds` are simulated, inhap stops, or inhap has been silent for
+/// silence_stop_s. Throws inhap::Error when the socket cannot be opened, no inhap answers within
+/// connect_timeout_s, or the scene is invalid.
 LabDeviceResult run_lab_device(const LabDeviceOptions& options);
 
 /// The lines `inhap lab device` prints before and after the session.
