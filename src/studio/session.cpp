@@ -56,8 +56,11 @@ Session::Session(const StudioOptions& options, const Workspace& workspace, Broad
           fmt::format("--device: expected lab:SCENE, udp or udp:PORT (PORT 1-65535), got \"{}\"",
                       options_.device));
     lab_ = false;
+    if (!(options_.tool_mass_kg >= 0 && options_.tool_mass_kg <= 10))
+      throw Error(fmt::format("--tool-mass: expected 0-10 kg, got {}", options_.tool_mass_kg));
     haptics::BridgeOptions bo;
     bo.port = *port;
+    bo.info.tool_mass_kg = options_.tool_mass_kg;
     bridge_ = std::make_unique<haptics::BridgeDevice>(bo);
   }
   if (!(options_.speed >= 0.1 && options_.speed <= 20))

@@ -30,7 +30,8 @@ const check = (ok, what) => { log((ok ? 'ok   ' : 'FAIL ') + what); if (!ok) fai
 
 const udpPort = 20000 + Math.floor(Math.random() * 30000);
 const studio = spawn(bin, ['studio', '--device', `udp:${udpPort}`, '--workspace', workspace, '--port', '0',
-  '--web-dir', web, '--seconds', String(T(150)), '--connect-timeout', String(T(30))], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--web-dir', web, '--seconds', String(T(150)), '--connect-timeout', String(T(30)),
+  '--tool-mass', '0.01'], { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 studio.stderr.on('data', (d) => { stderr += d; });
 // The lab as the device: the tapping operator with the sharp tip, in lockstep (as fast as the

@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -73,6 +74,7 @@ struct Bridged : test::Broadcasts {
     });
     StudioOptions so;
     so.device = "udp:" + std::to_string(port);
+    so.tool_mass_kg = 0.01;  // the lab device's tool (its weight is in the raw sensed force)
     so.seed = 1;
     session = std::make_unique<Session>(so, ws, [this](const std::string& m) { add(m); });
     session->start(60);
@@ -94,7 +96,30 @@ struct Bridged : test::Broadcasts {
 
 }  // namespace
 
+// The compare broadcasts from index `from` on, one line each: source, ticks, and the largest
+// model and sensed force among the plotted points (for a failure's message).
+std::string compare_summary(test::Broadcasts& b, std::size_t from) {
+  std::lock_guard l(b.mu);
+  std::string out;
+  for (std::size_t i = from; i < b.msgs.size(); ++i) {
+    const auto& m = b.msgs[i];
+    if (!m.is_object() || m.value("type", "") != "compare") continue;
+    double fo = 0, fm = 0;
+    for (const auto& p : m.value("points", nlohmann::json::array())) {
+      fo = std::max(fo, std::hypot(p[1].get<double>(), p[2].get<double>(), p[3].get<double>()));
+      fm = std::max(fm, std::hypot(p[4].get<double>(), p[5].get<double>(), p[6].get<double>()));
+    }
+    char line[160];
+    std::snprintf(line, sizeof line, "\n  %s n %d: max sensed %.2f N, max model %.2f N",
+                  m.value("source", "?").c_str(), m.value("n", 0), fo, fm);
+    out += line;
+  }
+  return out;
+}
+
 TEST(StudioModelSession, BridgedDeviceRecordsTrainsAndCompares) {
+  // Line-buffered: a run that ctest kills at its time-out still shows how far it got.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   test::TempDir dir;
   Bridged b(dir.root());
   ASSERT_NE(b.port, 0);
@@ -131,6 +156,15 @@ TEST(StudioModelSession, BridgedDeviceRecordsTrainsAndCompares) {
   for (std::size_t i = 0; i < r.size(); ++i) fmax = std::max(fmax, r.f[i].norm());
   EXPECT_GT(fmax, 1.0);
   EXPECT_LT(fmax, 50.0);
+  // Compensated with --tool-mass: while the tool hangs in the air before the operator's first
+  // touch the force averages zero, not the tool's weight (0.098 N of a 10 g tool, -z).
+  Vec3 air = Vec3::Zero();
+  std::size_t n_air = 0;
+  for (std::size_t i = 0; i < r.size() && r.p[i].z() > r.p[0].z() - 0.5; ++i)
+    air += r.f[i], ++n_air;
+  ASSERT_GT(n_air, 20u);
+  EXPECT_LT((air / double(n_air)).norm(), 0.03)
+      << "mean force in the air " << (air / double(n_air)).transpose();
 
   // Train: the estimated proxy (no lab truth, no palpation), every file in the workspace.
   const auto tr = b.send({{"type", "model_train"}, {"recording", "rec.csv"}, {"out", "m.json"}});
@@ -147,6 +181,16 @@ TEST(StudioModelSession, BridgedDeviceRecordsTrainsAndCompares) {
 
   // Compare: the model's force on the device's path against the sensed force; then the object
   // (the device's sensed force, zero commanded) with the model still stepped beside it.
+  {  // what the training said, without its coverage map
+    nlohmann::json brief = done;
+    brief.erase("coverage");
+    std::printf("trained: %s\n", brief.dump().substr(0, 1500).c_str());
+  }
+  std::size_t compare_from = 0;
+  {
+    std::lock_guard l(b.mu);
+    compare_from = b.msgs.size();
+  }
   const auto mod = b.send({{"type", "model_source"}, {"source", "model"}});
   ASSERT_EQ(mod.value("source", ""), "model") << mod.dump();
   // A compare window can fall where the operator has lifted the tool (no force to render): wait
@@ -160,7 +204,8 @@ TEST(StudioModelSession, BridgedDeviceRecordsTrainsAndCompares) {
     return j.value("source", "") == "model" && j.value("has_model", false) &&
            j.value("n", 0) > 1000 && j.contains("points") && renders(j);
   });
-  ASSERT_FALSE(c2.is_null()) << "no compare window in 120 s in which the model rendered force";
+  ASSERT_FALSE(c2.is_null()) << "no compare window in 120 s in which the model rendered force:"
+                             << compare_summary(b, compare_from);
   double e2 = 0;
   for (const auto& e : c2["rmse"]) {
     ASSERT_TRUE(std::isfinite(e.get<double>()));
@@ -231,4 +276,20 @@ TEST(StudioModelSession, BridgedDeviceRecordsTrainsAndCompares) {
   ASSERT_EQ(ans.value("answers", 0), 1) << ans.dump();
   EXPECT_TRUE(fs::exists(dir.root() / "ab.csv"));
   EXPECT_EQ(b.device_error, "");
+}
+
+TEST(StudioModelSession, RefusesAnImpossibleToolMass) {
+  test::TempDir dir;
+  Workspace ws(dir.root());
+  for (double kg : {-0.01, 11.0, std::nan("")}) {
+    StudioOptions so;
+    so.device = "udp:" + std::to_string(free_udp_port());
+    so.tool_mass_kg = kg;
+    try {
+      Session s(so, ws, [](const std::string&) {});
+      ADD_FAILURE() << "accepted a tool mass of " << kg << " kg";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--tool-mass"), std::string::npos) << e.what();
+    }
+  }
 }

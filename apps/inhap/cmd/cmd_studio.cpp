@@ -99,6 +99,10 @@ void register_studio(CLI::App& app) {
       ->capture_default_str();
   c->add_option("--seed", a->session.seed, "lab:SCENE: seed of the operator and the device noise")
       ->capture_default_str();
+  c->add_option("--tool-mass", a->session.tool_mass_kg,
+                "udp: mass of the tool beyond the force sensor, kg; its weight and inertia are "
+                "removed from the sensed force (`inhap lab device`'s is 0.01)")
+      ->capture_default_str();
   c->add_option("--web-dir", a->web_dir,
                 "folder with studio/ and node_modules (default: web/ of the source tree, or "
                 "INHAP_WEB_DIR)");

@@ -44,6 +44,9 @@ struct StudioOptions {
   std::uint64_t seed = 1;
   bool realtime = false;  ///< ask for SCHED_FIFO + mlockall
   double stream_hz = 125;
+  /// udp: mass of the device's tool beyond its force sensor, kg; its weight and inertia are
+  /// taken out of the sensed force (recordings, taps, the Model view's object). The lab's is 0.01.
+  double tool_mass_kg = 0.0;
   /// Tests only: the n-th file a training writes (counting from 1) fails at its first write, as
   /// an I/O error would (0: off).
   int fail_training_file = 0;
