@@ -262,6 +262,10 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
   ps.reserve(idx.size());
   for (std::size_t i : idx) {
     const Vec3& p = rec.p[i];
+    // A force that pulls along -axis (by more than half the contact threshold, not noise) does
+    // not press this surface: a tool's weight left in the readings while it hangs in the air
+    // (-0.1 N for 10 g), adhesion on lifting off.
+    if (rec.f[i].dot(s.axis) < -0.5 * prm.contact_threshold_n) continue;
     if (prev) {
       const Vec3 n = normal_at(*prev, p);
       const double c = std::max(n.dot(s.axis), 0.5);  // tilts beyond 60 degrees: capped
@@ -468,6 +472,10 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
   RecordingEstimate e;
   e.surface = estimate_surface(rec, prm, path);
   e.mesh = e.surface.mesh();
+  for (std::size_t i = 0; i < rec.size(); ++i)
+    if (e.surface.depth(rec.p[i]) < -RecordingEstimate::kAirMm && rec.f[i].allFinite())
+      e.air_force += rec.f[i], ++e.air_samples;
+  if (e.air_samples) e.air_force /= double(e.air_samples);
   const friction::MeshSurface shape(e.mesh, 0.0);
   bool first = true;
   const auto consider = [&](double radius_per_n, double tau_s) {
@@ -513,6 +521,16 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
                      "found none");
   e.sys = cone_sys(e.surface, e.friction.radius_per_n, e.friction.mu, e.friction.tau_s);
   return e;
+}
+
+std::string estimate_warning(const RecordingEstimate& e) {
+  if (e.air_samples < 50 || !(e.air_force.norm() > 0.03)) return {};
+  return fmt::format(
+      "warning: {} samples more than {:g} mm above the estimated surface (in the air) average a "
+      "force of ({:.3f}, {:.3f}, {:.3f}) N, not zero: an uncompensated tool weight or a sensor "
+      "offset? It bends the depth-force law and the surface (`inhap record` / `inhap studio` "
+      "--tool-mass, or subtract the offset)",
+      e.air_samples, RecordingEstimate::kAirMm, e.air_force.x(), e.air_force.y(), e.air_force.z());
 }
 
 std::string estimate_note(const RecordingEstimate& e) {

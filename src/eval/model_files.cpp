@@ -210,7 +210,10 @@ TrainFileResult train_from_recording(const Recording& rec, const TrainFileOption
     r.notes.push_back(std::move(line));
   };
   ProxyTrack track = train_track(rec, o, r);
-  if (r.estimate) say(estimate_note(*r.estimate));
+  if (r.estimate) {
+    say(estimate_note(*r.estimate));
+    if (const std::string w = estimate_warning(*r.estimate); !w.empty()) say(w);
+  }
   const bool have_normals = has_normal_columns(rec) || !o.mesh.empty() || r.estimate;
   std::string note;
   TrainParams params = resolve_train_params(o.request, have_normals, &note);

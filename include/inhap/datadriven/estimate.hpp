@@ -14,11 +14,12 @@
 // residual) using every sample of the block, its slope b shrunk towards the recording's median b
 // (a ridge term, `slope_prior_spread`: a block pressed over a narrow force range takes the
 // recording's law and only its offset from the data); h, the position at zero force, is the
-// undeformed surface there. A last pass takes each sample's normal force and depth along the
-// local normal of that surface (on a slope tilted by t the depth along a is the normal depth /
-// cos t), so b is in normal depth as the proxy estimator measures it. Cells without enough
-// samples or force spread are filled front by front, each with the plane through the fitted
-// cells within 3 cells (a curved surface's slope carries on past the data), then the heights
+// undeformed surface there (samples whose force pulls along -a, e.g. a tool's weight left in
+// the readings while it hangs in the air, are left out). A last pass takes each sample's normal
+// force and depth along the local normal of that surface (on a slope tilted by t the depth along a
+// is the normal depth / cos t), so b is in normal depth as the proxy estimator measures it. Cells
+// without enough samples or force spread are filled front by front, each with the plane through the
+// fitted cells within 3 cells (a curved surface's slope carries on past the data), then the heights
 // are smoothed (3 x 3 mean, `smooth_passes`). The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
 //
@@ -99,6 +100,11 @@ struct RecordingEstimate {
   FrictionEstimate friction;
   friction::SysModel sys;  ///< the Coulomb-cone yield surfaces of `friction`
   TriMesh mesh;            ///< surface.mesh()
+  /// Mean force of the samples more than kAirMm above the surface (in the air: it should be
+  /// zero; an uncompensated tool weight or a sensor offset shows here), N, and their count.
+  Vec3 air_force = Vec3::Zero();
+  std::size_t air_samples = 0;
+  static constexpr double kAirMm = 5.0;
 };
 
 /// The surface (see file comment). Throws inhap::Error naming `path` when the recording has too
@@ -117,5 +123,9 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
 
 /// One line on what was estimated: surface cells, depth law, normals' spread, mu and radius_per_n.
 std::string estimate_note(const RecordingEstimate& e);
+
+/// A warning when the force in the air (see air_force) averages more than 0.03 N over at least
+/// 50 samples, else empty.
+std::string estimate_warning(const RecordingEstimate& e);
 
 }  // namespace inhap::datadriven
