@@ -41,8 +41,7 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
       {"sliding-floor", &datadriven::TrainParams::sliding_floor,
        "Local features: while the proxy slides (it moved since the last tick in contact) render "
        "at least the Coulomb force |f_t| >= mu_s f_n along the proxy's lag, mu_s = the 10 % "
-       "quantile of |f_t| / f_n over the training samples whose proxy slid (",
-       "default off in every preset"},
+       "quantile of |f_t| / f_n over the training samples whose proxy slid ("},
       {"fallback", &datadriven::TrainParams::fallback,
        "Local features: far from every training proxy blend towards the recording's own "
        "monotone depth-force law f_n(d) (plus the shear prior) ("},

@@ -37,6 +37,7 @@ TrainParams preset_params(const std::string& name) {
     p.friction_cone = true;
     // Blend over 6-12 mm from the training proxies (TrainParams defaults; docs/force-model.md).
     p.fallback = true;
+    p.sliding_floor = true;
     // With the priors and the linear tail the certified l1 optimum renders as well as SpaRSA's
     // early stop (eval forces: planar 0.086/0.055/0.036 N vs 0.089/0.057/0.039) and trains faster.
     p.solver = L1Solver::kCd;
