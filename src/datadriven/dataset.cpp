@@ -108,6 +108,8 @@ std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const Pr
     throw Error(fmt::format("replay: expected a proxy for each of the {} samples, got {}",
                             rec.size(), proxy.size()));
   ServoState st;
+  // The model's velocity filter at this recording's rate (it may differ from the training's).
+  const FoawParams foaw = model.foaw.at_period(median_dt(rec));
   std::vector<Vec3> out(rec.size());
   if (step_us) {
     step_us->clear();
@@ -116,7 +118,7 @@ std::vector<Vec3> replay(const ForceModel& model, const Recording& rec, const Pr
   using Clock = std::chrono::steady_clock;
   for (std::size_t i = 0; i < rec.size(); ++i) {
     const Clock::time_point t0 = step_us ? Clock::now() : Clock::time_point{};
-    out[i] = servo_step(model, st, rec.p[i], proxy.q[i],
+    out[i] = servo_step(model, foaw, st, rec.p[i], proxy.q[i],
                         proxy.n.size() == rec.size() ? proxy.n[i] : Vec3::UnitZ(),
                         proxy.contact[i] != 0);
     if (step_us && proxy.contact[i])

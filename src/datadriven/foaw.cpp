@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "inhap/core/error.hpp"
@@ -17,6 +18,16 @@ void FoawParams::validate() const {
                             max_window));
   if (!(noise_bound_mm >= 0) || !std::isfinite(noise_bound_mm))
     throw Error(fmt::format("FOAW: expected a noise bound >= 0 mm, got {}", noise_bound_mm));
+}
+
+FoawParams FoawParams::at_period(double period_s) const noexcept {
+  if (!(period_s > 0) || !std::isfinite(period_s) || !(dt_s > 0)) return *this;
+  if (std::abs(period_s - dt_s) <= 0.01 * dt_s) return *this;  // the same rate, give or take jitter
+  FoawParams p = *this;
+  const double samples = std::round(max_window * dt_s / period_s);
+  p.max_window = static_cast<int>(std::clamp(samples, 1.0, double(kFoawMaxWindow - 1)));
+  p.dt_s = period_s;
+  return p;
 }
 
 namespace {

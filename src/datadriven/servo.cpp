@@ -18,6 +18,11 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
 
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 const Vec3& normal, bool contact) {
+  return servo_step(model, model.foaw, state, p, q, normal, contact);
+}
+
+Vec3 servo_step(const ForceModel& model, const FoawParams& foaw, ServoState& state, const Vec3& p,
+                const Vec3& q, const Vec3& normal, bool contact) {
   if (!sane(p) || (contact && !sane(q))) {
     state.reset();
     return Vec3::Zero();
@@ -27,13 +32,13 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
     // A tracking glitch: the filter's history (and the velocity it would give) is meaningless
     // across it. Zero force; start afresh from this sample, as a new state would.
     state.reset();
-    state.velocity = foaw_step(model.foaw, state.foaw, p);
+    state.velocity = foaw_step(foaw, state.foaw, p);
     state.contact = contact;
     return Vec3::Zero();
   }
-  state.velocity = foaw_step(model.foaw, state.foaw, p);
+  state.velocity = foaw_step(foaw, state.foaw, p);
   const double moved = contact && state.contact ? (q - state.q).norm() : 0.0;
-  state.slip = moved > kSlidingStepMm ? moved / model.foaw.dt_s : 0.0;
+  state.slip = moved > kSlidingStepMm ? moved / foaw.dt_s : 0.0;
   state.contact = contact;
   if (contact) state.q = q;
   if (!contact || model.bins.empty()) {

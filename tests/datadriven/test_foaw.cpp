@@ -109,5 +109,32 @@ TEST(Foaw, ValidateRejectsBadParameters) {
   EXPECT_NO_THROW(FoawParams{}.validate());
 }
 
+// A filter trained at one rate, run at another: the window keeps its length in seconds and the
+// velocity of a constant motion comes out right at the new rate (at the old dt it is off by the
+// ratio of the rates).
+TEST(Foaw, AtPeriodKeepsTheWindowInSecondsAndTheVelocity) {
+  const FoawParams at66{1.0 / 66, 1, 0.01};
+  const FoawParams at1k = at66.at_period(1e-3);
+  EXPECT_DOUBLE_EQ(at1k.dt_s, 1e-3);
+  EXPECT_EQ(at1k.max_window, 15);  // 15.2 ms
+  EXPECT_EQ((FoawParams{1e-3, 16, 0.01}.at_period(1.0 / 66).max_window), 1);
+  EXPECT_EQ((FoawParams{1e-3, 63, 0.01}.at_period(1e-5).max_window), kFoawMaxWindow - 1);
+  for (double same : {1e-3 * 1.005, 1e-3 * 0.995, 0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    const FoawParams p = FoawParams{}.at_period(same);
+    EXPECT_EQ(p.dt_s, FoawParams{}.dt_s) << same;
+    EXPECT_EQ(p.max_window, FoawParams{}.max_window) << same;
+  }
+  // 12 mm/s sampled at 1 kHz.
+  FoawState right, wrong;
+  Vec3 v_right = Vec3::Zero(), v_wrong = Vec3::Zero();
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 p(12.0 * i * 1e-3, 0, 0);
+    v_right = foaw_step(at1k, right, p);
+    v_wrong = foaw_step(at66, wrong, p);
+  }
+  EXPECT_NEAR(v_right.x(), 12.0, 1e-9);
+  EXPECT_NEAR(v_wrong.x(), 12.0 * 66e-3, 1e-9);  // what a 66 Hz model saw before
+}
+
 }  // namespace
 }  // namespace inhap::datadriven

@@ -130,6 +130,32 @@ TEST(DataDrivenServo, StepNeverAllocates) {
   EXPECT_GE(st.servo.resets, 1u);  // the NaN went through the reset path
 }
 
+// A model trained on a 66 Hz recording (its filter: dt 1/66 s, a one-sample window) in a 1 kHz
+// loop: the step runs the filter at the ticks' own period, so a probe moving at 12 mm/s is seen
+// at 12 mm/s, not at the 0.8 mm/s of 1 ms steps taken for 15 ms ones; and replaying a 1 kHz
+// recording gives the forces of the same model with its filter at 1 kHz.
+TEST(DataDrivenServo, AModelTrainedAtAnotherRateSeesTheTicksVelocity) {
+  const LabServo& s = setup();
+  datadriven::ForceModel at66 = s.force;
+  at66.foaw.dt_s = 1.0 / 66;
+  at66.foaw.max_window = 1;
+  const DataDrivenModel model(s.sys, *s.plane, at66);
+  DataDrivenState st;
+  for (int i = 0; i < 200; ++i) {
+    ServoInput in;
+    in.t_s = 1e-3 * i;
+    in.p_mm = Vec3(12.0 * in.t_s, 0, 60);  // in the air above the object
+    step(model, st, in);
+  }
+  EXPECT_NEAR(st.period_s, 1e-3, 1e-9);
+  EXPECT_NEAR(st.servo.velocity.x(), 12.0, 1e-6);
+  const Recording& rec = s.lab.rec;
+  datadriven::ForceModel at1k = at66;
+  at1k.foaw = at66.foaw.at_period(datadriven::median_dt(rec));
+  EXPECT_EQ(at1k.foaw.max_window, 15);
+  EXPECT_EQ(datadriven::replay(at66, rec, s.track), datadriven::replay(at1k, rec, s.track));
+}
+
 TEST(DataDrivenServo, NoForceModelGivesZeroForceAndTheProxy) {
   const LabServo& s = setup();
   DataDrivenModel model;

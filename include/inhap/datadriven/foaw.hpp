@@ -31,6 +31,12 @@ struct FoawParams {
   double noise_bound_mm = 0.01;  ///< d: allowed deviation of a sample from the fitted line, mm
   /// Throws inhap::Error when dt_s <= 0, max_window out of range or noise_bound_mm < 0.
   void validate() const;
+  /// The same filter for samples `period_s` apart: the window cap keeps its length in seconds
+  /// (max_window x dt_s, at least one sample, at most kFoawMaxWindow - 1). A model trained on a
+  /// 66 Hz recording and run in a 1 kHz servo loop otherwise takes each 1 ms step for 15 ms
+  /// (velocities 15x too small), and the reverse 15x too large. A period within 1 % of dt_s, or
+  /// one that is not a positive finite number, gives *this. Servo-safe.
+  FoawParams at_period(double period_s) const noexcept;
 };
 
 struct FoawState {

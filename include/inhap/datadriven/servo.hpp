@@ -46,7 +46,7 @@ inline constexpr double kMaxJumpMm = 20.0;
 
 /// One servo tick: probe centre p (mm), proxy q (mm) and contact flag in, force (N) out. The
 /// proxy slides when it moved by more than kSlidingStepMm since the last tick, both in contact;
-/// its speed is that step over model.foaw.dt_s (ForceModel::sliding_mu).
+/// its speed is that step over the filter's dt_s (ForceModel::sliding_mu).
 /// Zero force out of contact; the FOAW filter is updated every tick. Non-finite or absurd p or
 /// q gives zero force and a state reset, as does a jump of p by kMaxJumpMm or more in one tick
 /// (the tick after it renders as from a fresh state). The force is always finite and clamped
@@ -57,6 +57,10 @@ Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const
 /// FeatureSet::kLocalFrame models, ignored by the others). A non-finite normal gives +z.
 Vec3 servo_step(const ForceModel& model, ServoState& state, const Vec3& p, const Vec3& q,
                 const Vec3& normal, bool contact);
+/// The same with the velocity filter `foaw` in place of model.foaw: the model's filter at the
+/// rate the samples come in (FoawParams::at_period), when it differs from the training's.
+Vec3 servo_step(const ForceModel& model, const FoawParams& foaw, ServoState& state, const Vec3& p,
+                const Vec3& q, const Vec3& normal, bool contact);
 
 /// Baseline proxy without the sliding yield surface: q = p_c, the probe centre at contact
 /// onset, held while contact lasts (the "u = p - p_c" of earlier data-driven methods).

@@ -34,6 +34,9 @@ struct DataDrivenState {
   datadriven::ServoState servo;  ///< FOAW buffer, last velocity, bin and force
   double t_prev_s = 0;           ///< time stamp of the previous tick, s
   bool has_prev = false;         ///< t_prev_s valid
+  /// The ticks' period, s: a running mean of t - t_prev (0 before the second tick). The force
+  /// model's velocity filter runs at it (FoawParams::at_period), not at the training's rate.
+  double period_s = 0;
 
   /// Back to the initial state.
   void reset() noexcept { *this = DataDrivenState{}; }
@@ -48,14 +51,17 @@ inline ServoOutput step(const DataDrivenModel& model, DataDrivenState& state,
   const double dt = state.has_prev ? input.t_s - state.t_prev_s : 0.0;
   state.t_prev_s = input.t_s;
   state.has_prev = true;
+  if (dt > 0 && dt < 1.0)  // a pause or a clock jump does not count
+    state.period_s = state.period_s > 0 ? state.period_s + 0.02 * (dt - state.period_s) : dt;
   const friction::ProxyOutput o = friction::proxy_step(model.proxy, state.proxy, p, dt);
   ServoOutput out;
   out.contact = o.contact && o.q.allFinite();
   const Vec3 q = out.contact ? o.q : p;
   // datadriven::servo_step is servo-safe (no allocation, no exceptions) although not declared
   // noexcept.
-  out.force_n = model.force ? datadriven::servo_step(*model.force, state.servo, p, q,
-                                                     out.contact ? o.n : Vec3::UnitZ(), out.contact)
+  out.force_n = model.force ? datadriven::servo_step(
+                                  *model.force, model.force->foaw.at_period(state.period_s),
+                                  state.servo, p, q, out.contact ? o.n : Vec3::UnitZ(), out.contact)
                             : Vec3::Zero();
   out.hip_mm = p;
   out.ihip_mm = q;
