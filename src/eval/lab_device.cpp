@@ -55,6 +55,21 @@ Lab make_lab(const LabDeviceOptions& o) {
   return l;
 }
 
+// Join: sends the device's first state until inhap answers it (its force and status land in f
+// and status); throws after connect_timeout_s.
+void join(Client& c, const lab::SimDevice& dev, const LabDeviceOptions& o, double f[3],
+          std::uint32_t& status) {
+  const Vec3 p = dev.position(), s = dev.force_sensor();
+  const double pp[3] = {p.x(), p.y(), p.z()}, ss[3] = {s.x(), s.y(), s.z()};
+  const auto t0 = std::chrono::steady_clock::now();
+  while (inhap_bridge_exchange(&c.b, dev.time(), pp, ss, 0, f, &status, 100000) != 1) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+        o.connect_timeout_s)
+      throw Error(fmt::format("lab device: no inhap answered on {}:{} within {:g} s", o.host,
+                              o.port, o.connect_timeout_s));
+  }
+}
+
 }  // namespace
 
 LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
@@ -82,18 +97,7 @@ LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
   LabDeviceResult res;
   double f[3] = {0, 0, 0};
   std::uint32_t status = 0;
-  // Join: send the first state until inhap answers it.
-  {
-    const Vec3 p = dev.position(), s = dev.force_sensor();
-    const double pp[3] = {p.x(), p.y(), p.z()}, ss[3] = {s.x(), s.y(), s.z()};
-    const auto t0 = std::chrono::steady_clock::now();
-    while (inhap_bridge_exchange(&c.b, dev.time(), pp, ss, 0, f, &status, 100000) != 1) {
-      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
-          o.connect_timeout_s)
-        throw Error(fmt::format("lab device: no inhap answered on {}:{} within {:g} s", o.host,
-                                o.port, o.connect_timeout_s));
-    }
-  }
+  join(c, dev, o, f, status);
   const auto start = std::chrono::steady_clock::now();
   auto last_answer = start;
   const long every = std::max(1L, static_cast<long>(rate));
