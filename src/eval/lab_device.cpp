@@ -151,9 +151,12 @@ LabDeviceResult run_lab_device(const LabDeviceOptions& o) {
 }
 
 std::string lab_device_banner(const LabDeviceOptions& o) {
-  return fmt::format("inhap lab device: scene {}, operator {}, joining inhap on {}:{}\n",
-                     o.scene_file.empty() ? o.scene : o.scene_file, o.operator_name, o.host,
-                     o.port);
+  // The raw sensed force carries the tool's weight: inhap compensates it when told the mass.
+  return fmt::format(
+      "inhap lab device: scene {}, operator {}, joining inhap on {}:{} (tool mass {:g} kg: give "
+      "inhap --tool-mass {:g})\n",
+      o.scene_file.empty() ? o.scene : o.scene_file, o.operator_name, o.host, o.port,
+      lab::DeviceParams{}.tool_mass_kg, lab::DeviceParams{}.tool_mass_kg);
 }
 
 std::string lab_device_summary(const LabDeviceResult& r) {
