@@ -22,8 +22,7 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
   struct Flag {
     const char* name;  // --NAME and --no-NAME
     bool datadriven::TrainParams::*value;
-    const char* help;                   // completed by defaults + ")"
-    const char* own_default = nullptr;  // instead of `defaults` (a flag off in every preset)
+    const char* help;  // completed by defaults + ")"
   };
   static constexpr Flag kFlags[] = {
       {"tangent-mirror", &datadriven::TrainParams::tangent_mirror,
@@ -54,9 +53,7 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
        "(within an 8 mm cell of q and 0.5 mm of ||q - p|| deeper) x 1.25 + 0.25 N (on in every "
        "preset; "},
   };
-  for (const Flag& f : kFlags)
-    add_switch(cmd, f.name, p.*f.value,
-               f.help + (f.own_default ? std::string(f.own_default) : defaults) + ")", false);
+  for (const Flag& f : kFlags) add_switch(cmd, f.name, p.*f.value, f.help + defaults + ")", false);
   cmd.add_option_function<std::string>(
          "--solver",
          [&p](const std::string& s) { p.solver = datadriven::l1_solver_from_string(s); },
