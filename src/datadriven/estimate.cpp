@@ -465,6 +465,22 @@ FrictionEstimate fit_radius(const Recording& rec, const SurfaceEstimate& s,
   return e;
 }
 
+// The pressing samples of `rec` and how many of them the estimated surface leaves in the air.
+void count_pressing(const Recording& rec, double threshold_n, RecordingEstimate& e) {
+  std::vector<double> fn;
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const double f = rec.f[i].dot(e.surface.axis);
+    if (!(f > threshold_n) || !rec.p[i].allFinite()) continue;
+    fn.push_back(f);
+    if (e.surface.depth(rec.p[i]) < 0) ++e.pressing_above;
+  }
+  e.pressing_samples = fn.size();
+  if (fn.empty()) return;
+  std::sort(fn.begin(), fn.end());
+  const auto at = [&](double q) { return fn[std::size_t(q * double(fn.size() - 1))]; };
+  e.pressing_fn_p5 = at(0.05), e.pressing_fn_p95 = at(0.95);
+}
+
 }  // namespace
 
 RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams& prm,
@@ -476,6 +492,7 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
     if (e.surface.depth(rec.p[i]) < -RecordingEstimate::kAirMm && rec.f[i].allFinite())
       e.air_force += rec.f[i], ++e.air_samples;
   if (e.air_samples) e.air_force /= double(e.air_samples);
+  count_pressing(rec, prm.contact_threshold_n, e);
   const friction::MeshSurface shape(e.mesh, 0.0);
   bool first = true;
   const auto consider = [&](double radius_per_n, double tau_s) {
@@ -525,12 +542,30 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
 
 std::string estimate_warning(const RecordingEstimate& e) {
   if (e.air_samples < 50 || !(e.air_force.norm() > 0.03)) return {};
+  // A surface that leaves pressing samples in the air (estimate_contact_warning) says nothing
+  // about the force in the air.
+  if (!estimate_contact_warning(e).empty()) return {};
   return fmt::format(
       "warning: {} samples more than {:g} mm above the estimated surface (in the air) average a "
       "force of ({:.3f}, {:.3f}, {:.3f}) N, not zero: an uncompensated tool weight or a sensor "
       "offset? It bends the depth-force law and the surface (`inhap record` / `inhap studio` "
       "--tool-mass, or subtract the offset)",
       e.air_samples, RecordingEstimate::kAirMm, e.air_force.x(), e.air_force.y(), e.air_force.z());
+}
+
+std::string estimate_contact_warning(const RecordingEstimate& e) {
+  if (e.pressing_samples < 50) return {};
+  const double share = double(e.pressing_above) / double(e.pressing_samples);
+  if (!(share > 0.05)) return {};
+  return fmt::format(
+      "warning: {:.0f} % of the {} samples pressing with more than the contact threshold lie above "
+      "the estimated surface, so the model renders no force there; their normal force spans "
+      "{:.2f}-{:.2f} N (5-95 %), a depth of {:.2f}-{:.2f} mm by the fitted law: a surface known "
+      "to less than that depth (a force-controlled exploration at one light force?). Presses over "
+      "a wider force range make the surface and the depth law measurable; compare the model with "
+      "the nearest-neighbour baselines (`inhap model eval`, `inhap eval recordings`)",
+      100 * share, e.pressing_samples, e.pressing_fn_p5, e.pressing_fn_p95,
+      e.surface.depth_for_force(e.pressing_fn_p5), e.surface.depth_for_force(e.pressing_fn_p95));
 }
 
 std::string estimate_note(const RecordingEstimate& e) {

@@ -212,7 +212,9 @@ TrainFileResult train_from_recording(const Recording& rec, const TrainFileOption
   ProxyTrack track = train_track(rec, o, r);
   if (r.estimate) {
     say(estimate_note(*r.estimate));
-    if (const std::string w = estimate_warning(*r.estimate); !w.empty()) say(w);
+    for (const std::string& w :
+         {estimate_warning(*r.estimate), estimate_contact_warning(*r.estimate)})
+      if (!w.empty()) say(w);
   }
   const bool have_normals = has_normal_columns(rec) || !o.mesh.empty() || r.estimate;
   std::string note;

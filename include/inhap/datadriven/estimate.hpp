@@ -105,6 +105,11 @@ struct RecordingEstimate {
   Vec3 air_force = Vec3::Zero();
   std::size_t air_samples = 0;
   static constexpr double kAirMm = 5.0;
+  /// Samples that press the surface (normal force along the push axis above the contact
+  /// threshold), those of them above the estimated surface (the model renders them as free
+  /// space), and the 5 % and 95 % quantiles of their normal force, N.
+  std::size_t pressing_samples = 0, pressing_above = 0;
+  double pressing_fn_p5 = 0, pressing_fn_p95 = 0;
 };
 
 /// The surface (see file comment). Throws inhap::Error naming `path` when the recording has too
@@ -125,7 +130,13 @@ RecordingEstimate estimate_recording(const Recording& rec, const EstimateParams&
 std::string estimate_note(const RecordingEstimate& e);
 
 /// A warning when the force in the air (see air_force) averages more than 0.03 N over at least
-/// 50 samples, else empty.
+/// 50 samples, else empty (also when estimate_contact_warning has one: then the surface cannot
+/// tell the air from contact).
 std::string estimate_warning(const RecordingEstimate& e);
+
+/// A warning when more than 5 % of at least 50 pressing samples lie above the estimated surface
+/// (a surface known to less than the depth the recorded force gives, e.g. a force-controlled
+/// exploration at one light force), else empty.
+std::string estimate_contact_warning(const RecordingEstimate& e);
 
 }  // namespace inhap::datadriven
