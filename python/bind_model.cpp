@@ -130,7 +130,7 @@ struct PyForceModel {
   std::vector<std::string> notes;
   std::string path;
   std::optional<datadriven::RecordingEstimate> estimate;
-  std::optional<datadriven::TrainingSet> set;
+  std::optional<datadriven::TrainingSet> set, baseline_set;
 
   eval::ModelSource source(const std::string& mesh_flag, const TriMesh* mesh) const {
     eval::ModelSource s;
@@ -138,6 +138,7 @@ struct PyForceModel {
     s.path = path;
     s.estimate = estimate ? &*estimate : nullptr;
     s.set = set ? &*set : nullptr;
+    s.baseline_set = baseline_set ? &*baseline_set : nullptr;
     s.mesh_flag = mesh_flag;
     s.mesh = mesh;
     return s;
@@ -202,6 +203,7 @@ PyForceModel train(const pyb::object& recording, const std::string& out, pyb::ob
   r.m = std::move(res.model);
   r.estimate = std::move(res.estimate);
   r.set = std::move(res.set);
+  r.baseline_set = std::move(res.baseline_set);
   if (!out.empty())
     for (std::string& line : save_model(r, out)) r.notes.push_back(std::move(line));
   return r;

@@ -186,6 +186,9 @@ void EstimateParams::validate() const {
       !(contact_threshold_n >= 0) || smooth_passes < 0 || radii.empty() ||
       !(slope_prior_spread >= 0) || !std::isfinite(slope_prior_spread))
     throw Error("surface estimate: cell and margin must be positive mm, at least 3 samples a cell");
+  if (!(hold_quantile >= 0 && hold_quantile < 1))
+    throw Error(
+        fmt::format("surface estimate: hold quantile must be in [0, 1), got {}", hold_quantile));
   for (double s : radii)
     if (!(s > 0) || !std::isfinite(s))
       throw Error(fmt::format("friction estimate: radii must be positive, got {}", s));
@@ -352,6 +355,56 @@ SurfaceEstimate surface_about(const Recording& rec, const std::vector<std::size_
   return s;
 }
 
+// Raises the surface where it leaves the samples pressing there above it: a sample that presses
+// (f . axis above the contact threshold) lies under the undeformed surface. Per cell, the
+// `hold_quantile` quantile of the pressing samples' height above the surface (cells with at least
+// 4 of them; 0 where they are under it); that lift is spread to the 8 neighbours (the largest)
+// and smoothed by three 3 x 3 mean passes, so the normals stay smooth.
+void hold_pressing_samples(const Recording& rec, const std::vector<std::size_t>& idx,
+                           const EstimateParams& prm, SurfaceEstimate& s) {
+  if (!(prm.hold_quantile > 0)) return;
+  const int W = s.height.width, H = s.height.height;
+  std::vector<std::vector<double>> above(std::size_t(W) * H);
+  for (std::size_t i : idx) {
+    if (!(rec.f[i].dot(s.axis) > prm.contact_threshold_n)) continue;
+    const Vec3 d = rec.p[i] - s.origin;
+    const int x = std::clamp(int(d.dot(s.e1) / s.cell_mm), 0, W - 1);
+    const int y = std::clamp(int(d.dot(s.e2) / s.cell_mm), 0, H - 1);
+    above[std::size_t(y) * W + x].push_back(-s.depth(rec.p[i]));
+  }
+  Grid lift(W, H, 0.0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      std::vector<double>& v = above[std::size_t(y) * W + x];
+      if (v.size() < 4) continue;
+      const auto k = v.begin() + std::ptrdiff_t(prm.hold_quantile * double(v.size() - 1));
+      std::nth_element(v.begin(), k, v.end());
+      if (*k > 0) lift.at(x, y) = *k, ++s.cells_raised;
+    }
+  if (s.cells_raised == 0) return;
+  const auto pass = [&](bool largest) {
+    Grid out(W, H, 0.0);
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        double acc = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const double v = lift.at(std::clamp(x + dx, 0, W - 1), std::clamp(y + dy, 0, H - 1));
+            acc = largest ? std::max(acc, v) : acc + v / 9;
+          }
+        out.at(x, y) = acc;
+      }
+    lift = std::move(out);
+  };
+  pass(true);
+  for (int k = 0; k < 3; ++k) pass(false);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      s.height.at(x, y) += lift.at(x, y);
+      s.raised_max_mm = std::max(s.raised_max_mm, lift.at(x, y));
+    }
+}
+
 }  // namespace
 
 SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm,
@@ -383,6 +436,7 @@ SurfaceEstimate estimate_surface(const Recording& rec, const EstimateParams& prm
   const SurfaceEstimate about_axis = s;
   uvh.clear();
   s = surface_about(rec, idx, prm, axis, path, uvh, &about_axis);
+  hold_pressing_samples(rec, idx, prm, s);
   return s;
 }
 
@@ -570,16 +624,22 @@ std::string estimate_contact_warning(const RecordingEstimate& e) {
 
 std::string estimate_note(const RecordingEstimate& e) {
   const SurfaceEstimate& s = e.surface;
+  const std::string raised = s.cells_raised
+                                 ? fmt::format(
+                                       ", {} cells raised by up to {:.2f} mm to hold the samples "
+                                       "pressing there",
+                                       s.cells_raised, s.raised_max_mm)
+                                 : std::string();
   return fmt::format(
       "estimated from the recording: surface ({} x {} cells of {:g} mm, {} fitted, push axis "
-      "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm), normals from it, proxy on "
+      "({:.2f}, {:.2f}, {:.2f}), depth law d = {:.3f} f_n^{:.2f} mm{}), normals from it, proxy on "
       "it, "
       "friction mu = {:.3f} with g_s radius {:.2f} mm/N x f_n, slip relaxation {:.3g} s "
       "(tangential "
       "RMS {:.3f} -> {:.3f} N)",
       s.height.width, s.height.height, s.cell_mm, s.cells_fitted, s.axis.x(), s.axis.y(),
-      s.axis.z(), s.b_median, s.gamma, e.friction.mu, e.friction.radius_per_n, e.friction.tau_s,
-      e.friction.rmse_t0_n, e.friction.rmse_t_n);
+      s.axis.z(), s.b_median, s.gamma, raised, e.friction.mu, e.friction.radius_per_n,
+      e.friction.tau_s, e.friction.rmse_t0_n, e.friction.rmse_t_n);
 }
 
 }  // namespace inhap::datadriven

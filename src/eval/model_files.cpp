@@ -233,6 +233,7 @@ TrainFileResult train_from_recording(const Recording& rec, const TrainFileOption
   if (!o.request.given.count("--foaw-window"))
     foaw.max_window = foaw_window_samples(o.velocity_window_s, foaw.dt_s);
   r.set = make_training_set(rec, track, foaw);
+  r.baseline_set = r.estimate ? baseline_samples(rec, track, foaw, o.proxy) : r.set;
   say(fmt::format("{} samples, {} in contact ({}), proxy from {}", rec.size(), r.set.size(),
                   track.contact_source, track.proxy_source));
   const double contact_s = static_cast<double>(r.set.size()) * foaw.dt_s;
@@ -456,6 +457,12 @@ std::vector<char> scored_samples(const Recording& rec, const ProxyTrack& t,
   return t.proxy_source == "estimated" ? force_contact(rec, proxy.contact_threshold_n) : t.contact;
 }
 
+TrainingSet baseline_samples(const Recording& rec, ProxyTrack track, const FoawParams& foaw,
+                             const ProxyColumnsSpec& proxy) {
+  track.contact = scored_samples(rec, track, proxy);
+  return make_training_set(rec, track, foaw);
+}
+
 namespace {
 
 // The samples the baselines are fitted on: `train` when given, else the training samples in
@@ -467,11 +474,12 @@ std::optional<TrainingSet> baseline_set(const ModelSource& m, const ProxyColumns
   const TrainedForceModel& tm = *m.model;
   if (train) {
     note = fmt::format("baselines fitted on {}", train_name);
-    return make_training_set(*train, replay_track(m, *train, train_name, proxy), tm.model.foaw);
+    return baseline_samples(*train, replay_track(m, *train, train_name, proxy), tm.model.foaw,
+                            proxy);
   }
-  if (m.set) {
+  if (m.baseline_set || m.set) {
     note = "baselines fitted on the training samples";
-    return *m.set;
+    return m.baseline_set ? *m.baseline_set : *m.set;
   }
   const ForceModelProvenance& pv = tm.provenance;
   if (pv.recording_path.empty()) {
@@ -487,7 +495,7 @@ std::optional<TrainingSet> baseline_set(const ModelSource& m, const ProxyColumns
   }
   const Recording rec = read_recording_in(path, {pv.time_unit, pv.length_unit});
   note = fmt::format("baselines fitted on {}", path);
-  return make_training_set(rec, replay_track(m, rec, path, proxy), tm.model.foaw);
+  return baseline_samples(rec, replay_track(m, rec, path, proxy), tm.model.foaw, proxy);
 }
 
 }  // namespace

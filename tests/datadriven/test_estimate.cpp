@@ -1,7 +1,6 @@
 // The surface, normals and friction estimated from a recording with no proxy, against the
 // known answer of a synthetic continuous-palpation rig (tests/support/palpation_rig.hpp) at the
 // rates of real rigs.
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include "inhap/datadriven/estimate.hpp"
 #include "inhap/friction/mesh_surface.hpp"
 #include "support/palpation_rig.hpp"
+#include "support/relief_recording.hpp"
 
 namespace inhap::datadriven {
 namespace test_estimate {
@@ -147,48 +147,50 @@ TEST(RecordingEstimate, ACurvedSurfacesSlopeCarriesOnPastThePressedRegion) {
   EXPECT_LT(median(deg), 12.0);
 }
 
-// Samples pressing on a surface with 1 mm of relief every 8 mm (a linear law, 1 N/mm): pressed
-// 1.5-2.5 mm deep, the estimate holds them (the surface is known to better than that depth); a
-// force-controlled exploration at 0.2 N (0.2 mm deep, with 20 % of the samples pressed 0.2-2.5 N
-// so that the law can be fitted) leaves a share of them above the estimated surface, where the
-// model renders free space, and the estimate says so.
-TEST(RecordingEstimate, PressingSamplesAboveTheSurfaceAreCountedAndWarnedOf) {
-  constexpr double A = 1.0, wavelength = 8.0;
-  const auto record = [&](double light_share) {
-    Recording rec;
-    std::uint64_t state = 777;
-    const auto uniform = [&state] {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return double(state >> 11) / double(1ULL << 53);
-    };
-    const double w = 2 * std::numbers::pi / wavelength;
-    for (int i = 0; i < 6000; ++i) {
-      const double x = 40 * uniform(), y = 40 * uniform();
-      const Vec3 on(x, y, A * std::sin(w * x) * std::sin(w * y));
-      const Vec3 n = Vec3(-A * w * std::cos(w * x) * std::sin(w * y),
-                          -A * w * std::sin(w * x) * std::cos(w * y), 1.0)
-                         .normalized();
-      const double f = uniform() < light_share
-                           ? 0.2
-                           : (light_share > 0 ? 0.2 + 2.3 * uniform() : 1.5 + uniform());
-      rec.t.push_back(i / 66.0);
-      rec.p.push_back(on - f * n);  // depth = f / (1 N/mm)
-      rec.f.push_back(f * n);
-    }
-    return rec;
-  };
-  const RecordingEstimate deep = estimate_recording(record(0.0), {}, "deep.csv");
+// Samples pressing on a surface with 1 mm of relief every 8 mm (support/relief_recording.hpp):
+// pressed 1.5-2.5 mm deep, the estimate holds them all (the surface is known to better than that
+// depth). A force-controlled exploration at 0.2 N (0.2 mm deep; 20 % of the samples pressed
+// 0.2-2.5 N so that the law can be fitted) leaves a share of them above the fitted surface: the
+// estimate says so, and raising the cells where they lie (hold_quantile) puts most of them under
+// it.
+TEST(RecordingEstimate, PressingSamplesAboveTheSurfaceAreHeldAndWarnedOf) {
+  inhap::test::ReliefRecording relief;
+  relief.light_share = 0.0;
+  const RecordingEstimate deep = estimate_recording(relief.record(), {}, "deep.csv");
   EXPECT_EQ(deep.pressing_samples, 6000u);
-  EXPECT_LT(double(deep.pressing_above), 0.05 * 6000) << deep.pressing_above;
+  EXPECT_EQ(deep.pressing_above, 0u);
+  EXPECT_EQ(deep.surface.cells_raised, 0u);
   EXPECT_EQ(estimate_contact_warning(deep), "");
-  const RecordingEstimate light = estimate_recording(record(0.8), {}, "light.csv");
-  EXPECT_GT(double(light.pressing_above), 0.1 * 6000) << light.pressing_above;
+
+  relief.light_share = 0.8;
+  const Recording light = relief.record();
+  EstimateParams no_hold;
+  no_hold.hold_quantile = 0;
+  const RecordingEstimate fitted = estimate_recording(light, no_hold, "light.csv");
+  EXPECT_GT(double(fitted.pressing_above), 0.1 * 6000) << fitted.pressing_above;
   // f_n along the push axis: 0.2 N times the cosine of the relief's tilt (up to 38 degrees).
-  EXPECT_GT(light.pressing_fn_p5, 0.15);
-  EXPECT_LE(light.pressing_fn_p5, 0.2);
-  const std::string w = estimate_contact_warning(light);
-  EXPECT_NE(w.find(fmt::format("of the 6000 samples")), std::string::npos) << w;
+  EXPECT_GT(fitted.pressing_fn_p5, 0.15);
+  EXPECT_LE(fitted.pressing_fn_p5, 0.2);
+  const std::string w = estimate_contact_warning(fitted);
+  EXPECT_NE(w.find("of the 6000 samples"), std::string::npos) << w;
   EXPECT_NE(w.find("force-controlled"), std::string::npos) << w;
+
+  const RecordingEstimate held = estimate_recording(light, {}, "light.csv");
+  EXPECT_GT(held.surface.cells_raised, 0u);
+  EXPECT_LT(double(held.pressing_above), 0.5 * double(fitted.pressing_above))
+      << held.pressing_above << " against " << fitted.pressing_above;
+  // The raise is spread to the neighbours and smoothed (on the real explorations that rendered
+  // better than the raw per-cell raise: docs/real-recordings.md), so it overshoots in the
+  // valleys: at the light samples' places the surface is off by 0.55 mm (median) where the fit
+  // alone was 0.37 mm off, still under the relief's 1 mm.
+  std::vector<double> error;
+  for (std::size_t i = 0; i < light.size(); ++i)
+    if (light.f[i].norm() == relief.light_n) {
+      const Vec3& p = light.p[i];
+      error.push_back(
+          std::abs(held.surface.depth(Vec3(p.x(), p.y(), relief.height(p.x(), p.y())))));
+    }
+  EXPECT_LT(median(error), 0.75 * relief.amplitude);
 }
 
 }  // namespace test_estimate

@@ -7,6 +7,7 @@
 
 #include "inhap/datadriven/model_io.hpp"
 #include "inhap/eval/model_files.hpp"
+#include "support/relief_recording.hpp"
 #include "support/temp_dir.hpp"
 
 namespace inhap::eval {
@@ -92,6 +93,29 @@ TEST(ModelFiles, AModelScoredOnItsOwnRenderingHasNoError) {
   EXPECT_FALSE(e.support.known);  // no coverage file beside the model
   EXPECT_NE(support_note(e.support).find("training support unknown"), std::string::npos);
   EXPECT_EQ(e.json["contact_samples"], 4000);
+}
+
+// With an estimated proxy the model trains on the samples in contact with the estimated surface;
+// the baselines are fitted on every sample that presses (|f| above the contact threshold, the
+// rule the test recording is scored by), so a surface that misses some does not weaken them. A
+// force-controlled exploration at 0.2 N over 1 mm of relief (support/relief_recording.hpp), the
+// surface not raised to hold its samples: a share of them lie above it.
+TEST(ModelFiles, TheBaselinesOfAnEstimatedProxyAreFittedOnEveryPressingSample) {
+  const Recording rec = test::ReliefRecording{}.record();
+  TrainFileOptions o;
+  o.recording = "relief.csv";
+  o.request.params.centers = 30;
+  o.request.given = {"--centers"};
+  o.estimate.hold_quantile = 0;
+  const TrainFileResult r = train_from_recording(rec, o);
+  ASSERT_TRUE(r.estimate);
+  EXPECT_GT(r.estimate->pressing_above, 600u);
+  EXPECT_LT(r.set.size(), 6000u - 600u);
+  ASSERT_EQ(r.baseline_set.size(), 6000u);
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    EXPECT_EQ(r.baseline_set.p[i], rec.p[i]);
+    EXPECT_EQ(r.baseline_set.f[i], rec.f[i]);
+  }
 }
 
 }  // namespace

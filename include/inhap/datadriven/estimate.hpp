@@ -20,7 +20,10 @@
 // is the normal depth / cos t), so b is in normal depth as the proxy estimator measures it. Cells
 // without enough samples or force spread are filled front by front, each with the plane through the
 // fitted cells within 3 cells (a curved surface's slope carries on past the data), then the heights
-// are smoothed (3 x 3 mean, `smooth_passes`). The
+// are smoothed (3 x 3 mean, `smooth_passes`). A sample that presses lies under the undeformed
+// surface: where more than 10 % of a cell's pressing samples lie above it (a surface known to
+// less than the depth of a light force, e.g. a force-controlled exploration), the cell is raised
+// until 90 % are under it (`hold_quantile`), the raise spread to the neighbours and smoothed. The
 // surface is a height field over that plane: a triangle mesh whose normals face +a.
 //
 // Friction. With the surface, a sliding-yield-surface model with an isotropic Coulomb cone at
@@ -56,6 +59,9 @@ struct EstimateParams {
   /// Weight of the recording's depth law in each cell's fit: the cell's slope b is shrunk towards
   /// the median b as if the cell's f_n^gamma had this relative spread (0: every cell on its own).
   double slope_prior_spread = 1.0;
+  /// Where more than (1 - hold_quantile) of a cell's pressing samples lie above the surface, the
+  /// surface is raised until that quantile of them is under it (then smoothed; 0: never).
+  double hold_quantile = 0.9;
   /// Candidates of the g_s radius per newton of normal load, mm/N.
   std::vector<double> radii{0.05, 0.08, 0.13, 0.2, 0.33, 0.5, 0.8, 1.3, 2.0, 3.2, 5.0, 8.0};
   /// Candidates of the slip relaxation time (viscous creep beyond g_s), s.
@@ -72,6 +78,8 @@ struct SurfaceEstimate {
   double gamma = 1.0;  ///< exponent of the depth-force law d = b f_n^gamma
   double b_median = 0;  ///< median b over the fitted cells (mm / N^gamma)
   std::size_t cells_fitted = 0, cells_filled = 0;
+  std::size_t cells_raised = 0;  ///< cells raised to hold the samples pressing there
+  double raised_max_mm = 0;      ///< the largest raise (after smoothing), mm
 
   /// Height (along axis) at plane coordinates (u, v), bilinear, clamped to the grid, mm.
   double height_at(double u, double v) const;

@@ -87,6 +87,11 @@ struct TrainFileOptions {
 struct TrainFileResult {
   datadriven::TrainedForceModel model;  ///< with its provenance (references, proxy source)
   datadriven::TrainingSet set;
+  /// The samples the baselines are fitted on: `set`, except with an estimated proxy the
+  /// recording's samples pressing with |f| above the contact threshold, the rule a test
+  /// recording is scored by (the model's set keeps those in contact with the estimated surface;
+  /// the baselines should not depend on it).
+  datadriven::TrainingSet baseline_set;
   std::vector<std::string> notes;  ///< what the program says on stderr, in order
   /// What was estimated when the recording had no proxy (the caller writes its surface mesh and
   /// yield surfaces beside the model and references them).
@@ -132,8 +137,10 @@ struct ModelSource {
   std::string path;  ///< the model file; empty for a model in memory
   /// The estimated surface and yield surfaces of a training in memory (estimated proxy).
   const datadriven::RecordingEstimate* estimate = nullptr;
-  /// The training samples of a training in memory: the baselines and the training support.
+  /// The training samples of a training in memory: the training support (and the baselines
+  /// unless baseline_set is given).
   const datadriven::TrainingSet* set = nullptr;
+  const datadriven::TrainingSet* baseline_set = nullptr;  ///< TrainFileResult::baseline_set
   std::string mesh_flag;          ///< a shape mesh file given explicitly (--mesh)
   const TriMesh* mesh = nullptr;  ///< a shape mesh in memory (before mesh_flag)
 };
@@ -158,6 +165,13 @@ datadriven::ProxyTrack replay_track(const std::string& model_path,
 /// estimated proxy, else the track's contact.
 std::vector<char> scored_samples(const Recording& rec, const datadriven::ProxyTrack& t,
                                  const ProxyColumnsSpec& proxy);
+
+/// The samples the baselines are fitted on, from a training recording and its proxy track: those
+/// of scored_samples (with an estimated proxy, |f| above the contact threshold, not the contact
+/// with the estimated surface), p, FOAW velocity and f.
+datadriven::TrainingSet baseline_samples(const Recording& rec, datadriven::ProxyTrack track,
+                                         const datadriven::FoawParams& foaw,
+                                         const ProxyColumnsSpec& proxy);
 
 /// Replays a recording file through the servo renderer (normals from its columns, else from the
 /// model's mesh or `mesh_flag`).
