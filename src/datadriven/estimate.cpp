@@ -610,16 +610,25 @@ std::string estimate_warning(const RecordingEstimate& e) {
 std::string estimate_contact_warning(const RecordingEstimate& e) {
   if (e.pressing_samples < 50) return {};
   const double share = double(e.pressing_above) / double(e.pressing_samples);
-  if (!(share > 0.05)) return {};
+  const bool above = share > 0.05;
+  const bool narrow = e.pressing_fn_p95 - e.pressing_fn_p5 < RecordingEstimate::kNarrowForceN;
+  if (!above && !narrow) return {};
+  const std::string what =
+      above ? fmt::format(
+                  "{:.0f} % of the {} samples pressing with more than the contact "
+                  "threshold lie above the estimated surface, so the model renders no "
+                  "force there; their normal force spans",
+                  100 * share, e.pressing_samples)
+            : fmt::format("the {} samples pressing with more than the contact threshold span only",
+                          e.pressing_samples);
   return fmt::format(
-      "warning: {:.0f} % of the {} samples pressing with more than the contact threshold lie above "
-      "the estimated surface, so the model renders no force there; their normal force spans "
-      "{:.2f}-{:.2f} N (5-95 %), a depth of {:.2f}-{:.2f} mm by the fitted law: a surface known "
-      "to less than that depth (a force-controlled exploration at one light force?). Presses over "
-      "a wider force range make the surface and the depth law measurable; compare the model with "
-      "the nearest-neighbour baselines (`inhap model eval`, `inhap eval recordings`)",
-      100 * share, e.pressing_samples, e.pressing_fn_p5, e.pressing_fn_p95,
-      e.surface.depth_for_force(e.pressing_fn_p5), e.surface.depth_for_force(e.pressing_fn_p95));
+      "warning: {} {:.2f}-{:.2f} N (5-95 %), a depth of {:.2f}-{:.2f} mm by the fitted law: a "
+      "force-controlled exploration at one light force? The surface and the depth-force law are "
+      "poorly determined from it; presses over a wider force range make them measurable. Compare "
+      "the model with the nearest-neighbour baselines (`inhap model eval`, `inhap eval "
+      "recordings`)",
+      what, e.pressing_fn_p5, e.pressing_fn_p95, e.surface.depth_for_force(e.pressing_fn_p5),
+      e.surface.depth_for_force(e.pressing_fn_p95));
 }
 
 std::string estimate_note(const RecordingEstimate& e) {

@@ -152,7 +152,7 @@ TEST(RecordingEstimate, ACurvedSurfacesSlopeCarriesOnPastThePressedRegion) {
 // depth). A force-controlled exploration at 0.2 N (0.2 mm deep; 20 % of the samples pressed
 // 0.2-2.5 N so that the law can be fitted) leaves a share of them above the fitted surface: the
 // estimate says so, and raising the cells where they lie (hold_quantile) puts most of them under
-// it.
+// it. A recording that holds one force is said to be one.
 TEST(RecordingEstimate, PressingSamplesAboveTheSurfaceAreHeldAndWarnedOf) {
   inhap::test::ReliefRecording relief;
   relief.light_share = 0.0;
@@ -191,6 +191,18 @@ TEST(RecordingEstimate, PressingSamplesAboveTheSurfaceAreHeldAndWarnedOf) {
           std::abs(held.surface.depth(Vec3(p.x(), p.y(), relief.height(p.x(), p.y())))));
     }
   EXPECT_LT(median(error), 0.75 * relief.amplitude);
+
+  // A flat surface, 97 % of its samples at 0.2 N: none above it, but the force held is said.
+  relief.amplitude = 0;
+  relief.light_share = 0.97;
+  const RecordingEstimate held_force = estimate_recording(relief.record(), {}, "held.csv");
+  EXPECT_LT(held_force.pressing_fn_p95 - held_force.pressing_fn_p5,
+            RecordingEstimate::kNarrowForceN);
+  EXPECT_LT(double(held_force.pressing_above), 0.05 * 6000);
+  const std::string narrow = estimate_contact_warning(held_force);
+  EXPECT_NE(narrow.find("samples pressing with more than the contact threshold span only"),
+            std::string::npos)
+      << narrow;
 }
 
 }  // namespace test_estimate

@@ -118,6 +118,8 @@ struct RecordingEstimate {
   /// space), and the 5 % and 95 % quantiles of their normal force, N.
   std::size_t pressing_samples = 0, pressing_above = 0;
   double pressing_fn_p5 = 0, pressing_fn_p95 = 0;
+  /// A pressing force spanning less than this (5-95 %) is one force held: N.
+  static constexpr double kNarrowForceN = 0.5;
 };
 
 /// The surface (see file comment). Throws inhap::Error naming `path` when the recording has too
@@ -143,8 +145,9 @@ std::string estimate_note(const RecordingEstimate& e);
 std::string estimate_warning(const RecordingEstimate& e);
 
 /// A warning when more than 5 % of at least 50 pressing samples lie above the estimated surface
-/// (a surface known to less than the depth the recorded force gives, e.g. a force-controlled
-/// exploration at one light force), else empty.
+/// (a surface known to less than the depth the recorded force gives), or when their normal force
+/// spans less than kNarrowForceN (5-95 %: a force-controlled exploration at one light force,
+/// which determines neither the depth-force law nor the surface well), else empty.
 std::string estimate_contact_warning(const RecordingEstimate& e);
 
 }  // namespace inhap::datadriven
