@@ -113,6 +113,24 @@ bool plane_extrapolate(const Grid& h, const std::vector<char>& known, int x, int
   return true;
 }
 
+// Each cell's 3 x 3 neighbourhood (clamped at the edges) reduced to its mean, or its largest
+// value with `largest`.
+Grid mean3x3(const Grid& h, bool largest = false) {
+  const int W = h.width, H = h.height;
+  Grid out(W, H, 0.0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      double acc = largest ? h.at(x, y) : 0.0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const double v = h.at(std::clamp(x + dx, 0, W - 1), std::clamp(y + dy, 0, H - 1));
+          acc = largest ? std::max(acc, v) : acc + v;
+        }
+      out.at(x, y) = largest ? acc : acc / 9;
+    }
+  return out;
+}
+
 // Fills unfitted cells (mask 0) front by front, each with the plane through the known cells
 // around it (so a curved surface's slope carries on past the data instead of levelling off),
 // then smooths every cell.
@@ -140,21 +158,7 @@ void fill_and_smooth(Grid& h, std::vector<char> known, int passes) {
     known.swap(next);
     if (!any) break;
   }
-  for (int pass = 0; pass < passes; ++pass) {
-    Grid s = h;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        double sum = 0;
-        int cnt = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = std::clamp(x + dx, 0, W - 1), yy = std::clamp(y + dy, 0, H - 1);
-            sum += h.at(xx, yy), ++cnt;
-          }
-        s.at(x, y) = sum / cnt;
-      }
-    h = std::move(s);
-  }
+  for (int pass = 0; pass < passes; ++pass) h = mean3x3(h);
 }
 
 // The plane frame around `axis`.
@@ -382,22 +386,8 @@ void hold_pressing_samples(const Recording& rec, const std::vector<std::size_t>&
       if (*k > 0) lift.at(x, y) = *k, ++s.cells_raised;
     }
   if (s.cells_raised == 0) return;
-  const auto pass = [&](bool largest) {
-    Grid out(W, H, 0.0);
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        double acc = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const double v = lift.at(std::clamp(x + dx, 0, W - 1), std::clamp(y + dy, 0, H - 1));
-            acc = largest ? std::max(acc, v) : acc + v / 9;
-          }
-        out.at(x, y) = acc;
-      }
-    lift = std::move(out);
-  };
-  pass(true);
-  for (int k = 0; k < 3; ++k) pass(false);
+  lift = mean3x3(lift, true);
+  for (int k = 0; k < 3; ++k) lift = mean3x3(lift);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       s.height.at(x, y) += lift.at(x, y);
