@@ -58,6 +58,8 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
                                        "fallback",
                                        "fallback_near",
                                        "fallback_far",
+                                       "fallback_normal_near",
+                                       "fallback_normal_far",
                                        "solver",
                                        "feature_weights",
                                        "bin_blend",
@@ -101,6 +103,8 @@ eval::TrainFileOptions train_options(const std::string& recording, const pyb::di
   take_switch(kw, "fallback", "--fallback", p.fallback, q);
   take(kw, "fallback_near", "--fallback-near", p.fallback_near_mm, q);
   take(kw, "fallback_far", "--fallback-far", p.fallback_far_mm, q);
+  take(kw, "fallback_normal_near", "--fallback-normal-near", p.fallback_normal_near_mm, q);
+  take(kw, "fallback_normal_far", "--fallback-normal-far", p.fallback_normal_far_mm, q);
   if (kw.contains("solver") && !kw["solver"].is_none()) {
     p.solver = datadriven::l1_solver_from_string(kw["solver"].cast<std::string>());
     q.given.insert("--solver");
@@ -441,7 +445,7 @@ in memory (used in place; t s, p mm, f N unless time_unit/length_unit say otherw
 'best' by default ('world', 'thesis'); every keyword given overrides the preset like the flag
 of the same name (bins, centers, nonzeros, lambda_ratio, seed, design, features, tail,
 tangent_mirror, stiffness_prior, shear_prior, friction_cone, sliding_floor, fallback,
-fallback_near mm, fallback_far mm, solver 'cd'|'sparsa', feature_weights (3), bin_blend mm, threads,
+fallback_near mm, fallback_far mm, fallback_normal_near mm, fallback_normal_far mm, solver 'cd'|'sparsa', feature_weights (3), bin_blend mm, threads,
 modeling_range N, above_range 'keep'|'exclude', foaw_window samples, foaw_noise mm,
 velocity_window s, force_limit N, proxy_prefix, contact_column, contact_threshold N, time_unit
 's'|'ms', length_unit 'mm'|'m', mesh, sys). With proxy columns qx,qy,qz (mm) and a contact

@@ -62,16 +62,33 @@ inline void add_local_training_flags(CLI::App& cmd, datadriven::TrainParams& p,
          "progress (default: cd in preset best, which eval forces uses; sparsa in world and "
          "thesis)")
       ->check(CLI::IsMember({"cd", "sparsa"}));
-  cmd.add_option("--fallback-near", p.fallback_near_mm,
-                 "Fallback: within this distance of a training proxy the model renders as trained, "
-                 "mm")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--fallback-far", p.fallback_far_mm,
-                 "Fallback: beyond this distance from every training proxy the law alone renders, "
-                 "mm")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  struct Distance {
+    const char* name;
+    double datadriven::TrainParams::*value;
+    const char* help;
+    bool positive;  // > 0, else >= 0
+  };
+  static constexpr Distance kDistances[] = {
+      {"--fallback-near", &datadriven::TrainParams::fallback_near_mm,
+       "Fallback: within this distance of a training proxy the model renders as trained, mm",
+       false},
+      {"--fallback-far", &datadriven::TrainParams::fallback_far_mm,
+       "Fallback: beyond this distance from every training proxy the law alone renders, mm", true},
+      {"--fallback-normal-near", &datadriven::TrainParams::fallback_normal_near_mm,
+       "Fallback: from this distance of the nearest training proxy the normal force blends "
+       "towards the model's with the probe on the proxy's normal line at the same depth (the "
+       "tangential displacement's effect is not extrapolated between training spots), mm",
+       false},
+      {"--fallback-normal-far", &datadriven::TrainParams::fallback_normal_far_mm,
+       "Fallback: from this distance on the normal force is the normal line's alone, mm "
+       "(--fallback-normal-near 0 --fallback-normal-far 0: off)",
+       false},
+  };
+  for (const Distance& d : kDistances)
+    cmd.add_option(d.name, p.*d.value, d.help)
+        ->capture_default_str()
+        ->check(d.positive ? CLI::Validator(CLI::PositiveNumber)
+                           : CLI::Validator(CLI::NonNegativeNumber));
 }
 
 }  // namespace inhap::cli

@@ -194,13 +194,33 @@ double SupportDistance::distance(const Vec3& q) const {
   return lerp(lerp(c00, c10, t[1]), lerp(c01, c11, t[1]), t[2]);
 }
 
-double Fallback::weight(const Vec3& q) const {
-  if (empty()) return 0.0;
-  const double d = support.distance(q);
-  if (!(d > near_mm)) return 0.0;
-  if (d >= far_mm) return 1.0;
-  const double t = (d - near_mm) / (far_mm - near_mm);
+namespace {
+
+// 0 up to lo, 1 from hi on, smoothstep between (0 for a NaN distance).
+double smooth_ramp(double d, double lo, double hi) {
+  if (!(d > lo)) return 0.0;
+  if (d >= hi) return 1.0;
+  const double t = (d - lo) / (hi - lo);
   return t * t * (3 - 2 * t);
+}
+
+}  // namespace
+
+double Fallback::weight_at(double dist_mm) const {
+  return empty() ? 0.0 : smooth_ramp(dist_mm, near_mm, far_mm);
+}
+
+double Fallback::normal_weight_at(double dist_mm) const {
+  if (empty() || !(normal_far_mm > 0)) return 0.0;
+  return smooth_ramp(dist_mm, normal_near_mm, normal_far_mm);
+}
+
+void validate_normal_blend(double near_mm, double far_mm, const std::string& where) {
+  if (near_mm == 0 && far_mm == 0) return;  // off
+  if (!(near_mm >= 0) || !(far_mm > near_mm) || !std::isfinite(far_mm))
+    throw Error(fmt::format(
+        "{}: expected 0 <= normal_near_mm < normal_far_mm (finite; 0 and 0: off), got {} and {}",
+        where, near_mm, far_mm));
 }
 
 void validate_fallback(const Fallback& f, const std::string& where) {
@@ -227,6 +247,7 @@ void validate_fallback(const Fallback& f, const std::string& where) {
   if (!(f.near_mm >= 0) || !(f.far_mm > f.near_mm) || !std::isfinite(f.far_mm))
     throw Error(fmt::format("{}: expected 0 <= near_mm < far_mm (finite), got {} and {}", where,
                             f.near_mm, f.far_mm));
+  validate_normal_blend(f.normal_near_mm, f.normal_far_mm, where);
 }
 
 }  // namespace inhap::datadriven

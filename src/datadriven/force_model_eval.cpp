@@ -125,18 +125,14 @@ Vec3 sliding_floor(const ForceModel& m, const Vec3& f, const Vec3& p, const Vec3
   return fn * n + std::max((f - fn * n).norm(), floor) / len * ut;
 }
 
-}  // namespace
-
-Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
-                 const Vec3& normal, double slip_mm_s) {
-  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
+// The RBF expansions' force at (p, v, q) in world axes: the bin of ||q - p||, blended with the
+// neighbouring bin within bin_blend of an edge (weight of the upper bin
+// smoothstep((key - e + w) / 2w)), so the force is continuous across the edge.
+Vec3 rbf_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+               const SurfaceFrame& fr) {
   const double key = (q - p).norm();
   const auto b = static_cast<std::size_t>(model.bin_of(key));
-  const SurfaceFrame fr =
-      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
   Vec3 f = bin_force(model, model.bins[b], p, v, q, fr);
-  // Within bin_blend of an edge, blend with the neighbouring bin (weight of the upper bin
-  // smoothstep((key - e + w) / 2w)), so the force is continuous across the edge.
   const double w = model.bin_blend;
   if (w > 0) {
     const std::size_t ne = model.edges.size();
@@ -156,13 +152,32 @@ Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Ve
       f = lo == b ? Vec3((1 - s) * f + s * other) : Vec3((1 - s) * other + s * f);
     }
   }
-  if (!model.prior.empty()) f += model.prior.normal_force(q, fr.n.dot(q - p)) * fr.n;
+  return f;
+}
+
+}  // namespace
+
+Vec3 model_force(const ForceModel& model, const Vec3& p, const Vec3& v, const Vec3& q,
+                 const Vec3& normal, double slip_mm_s) {
+  if (!p.allFinite() || !v.allFinite() || !q.allFinite() || model.bins.empty()) return Vec3::Zero();
+  const double key = (q - p).norm();
+  const SurfaceFrame fr =
+      model.features == FeatureSet::kLocalFrame ? surface_frame(normal) : SurfaceFrame{};
+  Vec3 f = rbf_force(model, p, v, q, fr);
+  const double depth = fr.n.dot(q - p);
+  const double dist = model.fallback.empty() ? 0.0 : model.fallback.support.distance(q);
+  // Off the training spots: the normal force of the probe on the proxy's normal line at the same
+  // depth (fallback.hpp), the tangential displacement's effect not extrapolated.
+  if (const double wn = model.fallback.normal_weight_at(dist); wn > 0) {
+    const double fn_line = fr.n.dot(rbf_force(model, q - depth * fr.n, v, q, fr));
+    f += wn * (fn_line - fr.n.dot(f)) * fr.n;
+  }
+  if (!model.prior.empty()) f += model.prior.normal_force(q, depth) * fr.n;
   if (!model.shear.empty()) f += shear_force(model.shear, p, q, fr.n);
   if (!model.fallback.empty()) {  // far from the training proxies: the data's own law
-    const double wl = model.fallback.weight(q);
+    const double wl = model.fallback.weight_at(dist);
     if (wl > 0) {
-      Vec3 law =
-          model.fallback.law.force(fr.n.dot(q - p)) * detail::fallback_scale(model.prior, q) * fr.n;
+      Vec3 law = model.fallback.law.force(depth) * detail::fallback_scale(model.prior, q) * fr.n;
       if (!model.shear.empty()) law += shear_force(model.shear, p, q, fr.n);
       f = (1 - wl) * f + wl * law;
     }

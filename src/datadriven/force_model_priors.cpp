@@ -87,7 +87,9 @@ Fallback fit_fallback(const TrainingSet& data, const TrainParams& params,
   fb.support = make_support_distance(data.q);
   fb.near_mm = params.fallback_near_mm;
   fb.far_mm = params.fallback_far_mm;
-  fb.support.build(fb.far_mm);  // the distance grid: the fallback is complete when returned
+  fb.normal_near_mm = params.fallback_normal_near_mm;
+  fb.normal_far_mm = params.fallback_normal_far_mm;
+  fb.support.build(fb.reach_mm());  // the distance grid: the fallback is complete when returned
   return fb;
 }
 

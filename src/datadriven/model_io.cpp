@@ -213,6 +213,8 @@ json train_json(const ForceModelProvenance& pv) {
           {"envelope", p.envelope},
           {"fallback_near_mm", p.fallback_near_mm},
           {"fallback_far_mm", p.fallback_far_mm},
+          {"fallback_normal_near_mm", p.fallback_normal_near_mm},
+          {"fallback_normal_far_mm", p.fallback_normal_far_mm},
           {"samples", st.samples},
           {"seconds", st.seconds},
           {"support", arr3(st.support)},
@@ -314,6 +316,10 @@ void read_train(const Reader& r, const json& t, ForceModelProvenance& pv) {
     if (t.contains("envelope")) pv.params.envelope = t["envelope"].get<bool>();
     get("fallback_near_mm", pv.params.fallback_near_mm);
     get("fallback_far_mm", pv.params.fallback_far_mm);
+    // Files from before the normal line: it was off.
+    pv.params.fallback_normal_near_mm = pv.params.fallback_normal_far_mm = 0;
+    get("fallback_normal_near_mm", pv.params.fallback_normal_near_mm);
+    get("fallback_normal_far_mm", pv.params.fallback_normal_far_mm);
     get("samples", pv.stats.samples);
     get("seconds", pv.stats.seconds);
     get("support", pv.stats.support);
@@ -342,6 +348,10 @@ Fallback read_fallback(const Reader& r, const json& fb) {
   Fallback f;
   f.near_mm = r.num(r.need(fb, "near_mm", "fallback"), "fallback/near_mm");
   f.far_mm = r.num(r.need(fb, "far_mm", "fallback"), "fallback/far_mm");
+  if (fb.contains("normal_near_mm") || fb.contains("normal_far_mm")) {  // absent: off (older files)
+    f.normal_near_mm = r.num(r.need(fb, "normal_near_mm", "fallback"), "fallback/normal_near_mm");
+    f.normal_far_mm = r.num(r.need(fb, "normal_far_mm", "fallback"), "fallback/normal_far_mm");
+  }
   const json& law = r.need(fb, "law", "fallback");
   f.law.depth_mm = r.nums(r.need(law, "depth_mm", "fallback/law"), "fallback/law/depth_mm");
   f.law.force_n = r.nums(r.need(law, "force_n", "fallback/law"), "fallback/law/force_n");
@@ -484,9 +494,14 @@ std::string force_model_to_json(const ForceModel& m, const ForceModelProvenance&
     j["fallback"] = {
         {"about",
          "f = (1 - w) f_model + w (law(n . (q - p)) n + shear prior), w = smoothstep of the "
-         "distance from q to the nearest training proxy between near_mm and far_mm"},
+         "distance from q to the nearest training proxy between near_mm and far_mm; before "
+         "that, f_model's normal component blends towards f_model's at p' = q - (n . (q - p)) n "
+         "(no tangential displacement) with the smoothstep between normal_near_mm and "
+         "normal_far_mm (0 and 0: off)"},
         {"near_mm", fb.near_mm},
         {"far_mm", fb.far_mm},
+        {"normal_near_mm", fb.normal_near_mm},
+        {"normal_far_mm", fb.normal_far_mm},
         {"law",
          {{"depth_mm", fb.law.depth_mm},
           {"force_n", fb.law.force_n},
@@ -591,7 +606,7 @@ TrainedForceModel trained_force_model_from_json(const std::string& text,
   } catch (const Error& e) {
     throw ParseError(source, 0, e.what());
   }
-  if (!m.fallback.support.empty()) m.fallback.support.build(m.fallback.far_mm);
+  if (!m.fallback.support.empty()) m.fallback.support.build(m.fallback.reach_mm());
   return out;
 }
 

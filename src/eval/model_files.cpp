@@ -111,6 +111,8 @@ void override_given(TrainParams& p, const TrainRequest& r) {
   if (given("--isotropic-positions")) p.isotropic_positions = g.isotropic_positions;
   if (given("--fallback-near")) p.fallback_near_mm = g.fallback_near_mm;
   if (given("--fallback-far")) p.fallback_far_mm = g.fallback_far_mm;
+  if (given("--fallback-normal-near")) p.fallback_normal_near_mm = g.fallback_normal_near_mm;
+  if (given("--fallback-normal-far")) p.fallback_normal_far_mm = g.fallback_normal_far_mm;
   if (given("--solver")) p.solver = g.solver;
   if (given("--feature-weights")) p.feature_weights = g.feature_weights;
   if (given("--bin-blend")) p.bin_blend = g.bin_blend;

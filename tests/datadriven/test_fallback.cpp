@@ -1,10 +1,13 @@
 // The force model's fallback outside the training support (fallback.hpp): the monotone
 // depth-force law, the distance to the training proxies and, end to end, a model trained on a
-// recording of a known law that stiffens with depth renders that law far from its proxies.
+// recording of a known law that stiffens with depth renders that law far from its proxies; off
+// the training spots the normal force is the one on the proxy's normal line.
 // Units: mm, N.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "inhap/core/error.hpp"
 #include "inhap/core/random.hpp"
@@ -122,6 +125,66 @@ TEST(Fallback, FarFromTheTrainingProxiesTheModelRendersTheRecordingsLaw) {
                model_force(m, p, Vec3::Zero(), q, Vec3::UnitZ()))
                   .norm(),
               0.0, 1e-6);
+}
+
+// Off the training spots the normal force is the model's with the probe on the proxy's normal
+// line at the same depth; the tangential force stays the model's. Checked against the same
+// model with that blend off (friction cone and envelope off, so nothing else moves the force).
+TEST(Fallback, OffTheTrainingSpotsTheNormalForceIsTheNormalLines) {
+  TrainParams prm = preset_params("best");
+  prm.centers = 60;
+  prm.friction_cone = prm.sliding_floor = prm.envelope = false;
+  ASSERT_GT(prm.fallback_normal_far_mm, prm.fallback_normal_near_mm);
+  ASSERT_LT(prm.fallback_normal_far_mm, prm.fallback_near_mm);
+  const ForceModel on = train_force_model(known_law_set(), prm);
+  ForceModel off = on;
+  off.fallback.normal_near_mm = off.fallback.normal_far_mm = 0;
+  const Vec3 n = Vec3::UnitZ(), v(1.0, 0.0, 0.0);
+  int blended = 0;
+  double moved = 0;  // largest |f_n(line) - f_n(probe)| where the blend is on, N
+  // Along y = 0 from inside the explored region (x <= -5 mm) to 5 mm beyond its edge; the
+  // probe 2.5 mm deep and 3 mm sideways (ten times the data's tangential spread).
+  for (double x = -8.0; x <= 0.0; x += 0.5) {
+    const Vec3 q(x, 0.0, 0.0), p = q - 2.5 * n + Vec3(3.0, 1.0, 0.0), line = q - 2.5 * n;
+    const double dist = on.fallback.support.distance(q);
+    const double wn = on.fallback.normal_weight_at(dist);
+    ASSERT_EQ(on.fallback.weight_at(dist), 0.0) << x;  // the law stays out of this test
+    const Vec3 f_on = model_force(on, p, v, q, n), f_off = model_force(off, p, v, q, n);
+    const Vec3 f_line = model_force(off, line, v, q, n);
+    EXPECT_NEAR(f_on.x(), f_off.x(), 1e-9) << x;
+    EXPECT_NEAR(f_on.y(), f_off.y(), 1e-9) << x;
+    EXPECT_NEAR(f_on.z(), f_off.z() + wn * (f_line.z() - f_off.z()), 1e-9) << x;
+    if (dist <= prm.fallback_normal_near_mm) {
+      EXPECT_EQ(wn, 0.0) << x;
+    }
+    if (dist >= prm.fallback_normal_far_mm) {
+      EXPECT_EQ(wn, 1.0) << x;
+    }
+    blended += wn == 1.0;
+    if (wn > 0) moved = std::max(moved, std::abs(f_line.z() - f_off.z()));
+  }
+  EXPECT_GE(blended, 2);   // the walk reached the normal line's own region
+  EXPECT_GT(moved, 0.01);  // where the blend is on, the sideways probe's normal force differs
+  // A file keeps the blend; a file without its fields (written before it) renders without it.
+  const std::string text = force_model_to_json(on);
+  const ForceModel back = force_model_from_json(text, "test");
+  EXPECT_EQ(back.fallback.normal_far_mm, on.fallback.normal_far_mm);
+  auto j = nlohmann::json::parse(text);
+  j["fallback"].erase("normal_near_mm");
+  j["fallback"].erase("normal_far_mm");
+  const ForceModel old = force_model_from_json(j.dump(), "old");
+  const Vec3 q(0.0, 0.0, 0.0), p = q - 2.5 * n + Vec3(3.0, 0.0, 0.0);
+  EXPECT_EQ(model_force(old, p, v, q, n), model_force(off, p, v, q, n));
+  EXPECT_EQ(model_force(back, p, v, q, n), model_force(on, p, v, q, n));
+  // Distances the other way round are refused, naming the field.
+  j["fallback"]["normal_near_mm"] = 4.0;
+  j["fallback"]["normal_far_mm"] = 2.0;
+  try {
+    force_model_from_json(j.dump(), "bad.json");
+    ADD_FAILURE() << "accepted normal_near_mm > normal_far_mm";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("normal_near_mm"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -19,6 +19,17 @@
 // Rendering blends: f = (1 - w) f_model + w (k(q) law(d) n + shear prior), with
 // w = smoothstep((dist - near_mm) / (far_mm - near_mm)): the model as trained within near_mm of
 // the data, the law beyond far_mm. A few flops and one trilinear lookup: servo-safe.
+//
+// Closer in, between normal_near_mm and normal_far_mm (2 and 4 mm by default, before the law
+// takes over), the model's normal force comes from the probe moved onto the proxy's normal line
+// at the same depth (p' = q - d n, no tangential displacement), with weight
+// w_n = smoothstep((dist - normal_near_mm) / (normal_far_mm - normal_near_mm)); its tangential
+// force stays the model's. Between training spots the RBFs otherwise extrapolate their
+// dependence on the tangential displacement u_t: a probe stuck 5 mm sideways at a depth the data
+// showed only at other spots was rendered with half the normal force the data show there (the
+// lab's MuJoCo dome, whose training data, spot by spot, show f_n independent of |u_t|). Costs one
+// more RBF evaluation where w_n > 0. normal_far_mm = 0 turns this off (model files written
+// before it: off, so they render as before).
 #pragma once
 
 #include <array>
@@ -71,13 +82,25 @@ struct Fallback {
   SupportDistance support;
   double near_mm = 6.0;  ///< within this distance of a training proxy: the model as trained
   double far_mm = 12.0;  ///< beyond it: the law alone
+  /// The normal force from the normal line (see above) blends in from normal_near_mm to
+  /// normal_far_mm; 0 and 0: never.
+  double normal_near_mm = 0.0, normal_far_mm = 0.0;
   bool empty() const { return law.empty() || support.empty(); }
   /// Blend weight of the law at proxy q: 0 near the data, 1 far from it. Servo-safe.
-  double weight(const Vec3& q) const;
+  double weight(const Vec3& q) const { return weight_at(support.distance(q)); }
+  /// The same for a distance to the support (mm) already looked up.
+  double weight_at(double dist_mm) const;
+  /// Weight of the normal line's normal force at that distance: 0 near the data (and when off),
+  /// 1 from normal_far_mm on. Servo-safe.
+  double normal_weight_at(double dist_mm) const;
+  /// How far the distance grid must reach: the larger of far_mm and normal_far_mm.
+  double reach_mm() const { return far_mm > normal_far_mm ? far_mm : normal_far_mm; }
 };
 
 /// Checks sizes, ordering and finiteness; throws inhap::Error naming what is wrong, prefixed by
 /// `where`.
 void validate_fallback(const Fallback& f, const std::string& where);
+/// Checks the normal line's distances: 0 and 0 (off), or 0 <= near < far, finite (mm).
+void validate_normal_blend(double near_mm, double far_mm, const std::string& where);
 
 }  // namespace inhap::datadriven

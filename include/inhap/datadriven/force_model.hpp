@@ -192,6 +192,11 @@ struct TrainParams {
   bool fallback = false;
   double fallback_near_mm = 6.0;
   double fallback_far_mm = 12.0;
+  /// With the fallback, between fallback_normal_near_mm and fallback_normal_far_mm of the nearest
+  /// training proxy the normal force blends towards the model's on the proxy's normal line at the
+  /// same depth (no tangential displacement; fallback.hpp), mm; 0 and 0: off.
+  double fallback_normal_near_mm = 2.0;
+  double fallback_normal_far_mm = 4.0;
   /// Bound every rendered force by the training data's force envelope near the state
   /// (envelope.hpp): |f| <= (1 + 0.25) max |f| seen within one 8 mm cell of q and one 0.5 mm step
   /// of ||q - p|| deeper, + 0.25 N. No force the data never showed.
