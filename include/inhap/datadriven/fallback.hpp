@@ -28,7 +28,7 @@
 // dependence on the tangential displacement u_t: a probe stuck 5 mm sideways at a depth the data
 // showed only at other spots was rendered with half the normal force the data show there (the
 // lab's MuJoCo dome, whose training data, spot by spot, show f_n independent of |u_t|). Costs one
-// more RBF evaluation where w_n > 0. normal_far_mm = 0 turns this off (model files written
+// more RBF evaluation where w_n > 0. normal_near_mm = normal_far_mm = 0 turns it off (files written
 // before it: off, so they render as before).
 #pragma once
 
