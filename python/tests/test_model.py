@@ -131,3 +131,21 @@ def test_errors_carry_the_programs_message(recordings, tmp_path):
     with pytest.raises(inhap.Error) as e:
         inhap.evaluate_force_model(str(bad), test)
     assert str(e.value) == line[len("inhap: error: "):]
+
+
+def test_fallback_normal_line_keywords(tmp_path):
+    """The fallback's normal line (model train --fallback-normal-near/far) from Python: on by
+    default at 2-4 mm, 0 and 0 turn it off, reversed distances are refused naming the flags."""
+    lab = inhap.lab_record(scene="planar", seconds=15, seed=1, progress=False)
+    path = str(tmp_path / "raw.csv")
+    lab.recording.write(path)  # no proxy columns: the proxy is estimated, preset best
+    on = inhap.train_force_model(path, centers=30, progress=False)
+    assert on.estimated and on.json["fallback"]["normal_near_mm"] == 2.0
+    assert on.json["fallback"]["normal_far_mm"] == 4.0
+    off = inhap.train_force_model(path, centers=30, fallback_normal_near=0,
+                                  fallback_normal_far=0, progress=False)
+    assert off.json["fallback"]["normal_far_mm"] == 0.0
+    assert off.json["train"]["fallback_normal_far_mm"] == 0.0
+    with pytest.raises(inhap.Error, match="--fallback-normal-near"):
+        inhap.train_force_model(path, centers=30, fallback_normal_near=5, fallback_normal_far=4,
+                                progress=False)
