@@ -215,9 +215,13 @@ double Fallback::normal_weight_at(double dist_mm) const {
   return smooth_ramp(dist_mm, normal_near_mm, normal_far_mm);
 }
 
+bool valid_normal_blend(double near_mm, double far_mm) {
+  return (near_mm == 0 && far_mm == 0) ||  // off
+         (near_mm >= 0 && far_mm > near_mm && std::isfinite(far_mm));
+}
+
 void validate_normal_blend(double near_mm, double far_mm, const std::string& where) {
-  if (near_mm == 0 && far_mm == 0) return;  // off
-  if (!(near_mm >= 0) || !(far_mm > near_mm) || !std::isfinite(far_mm))
+  if (!valid_normal_blend(near_mm, far_mm))
     throw Error(fmt::format(
         "{}: expected 0 <= normal_near_mm < normal_far_mm (finite; 0 and 0: off), got {} and {}",
         where, near_mm, far_mm));

@@ -90,9 +90,7 @@ void TrainParams::validate() const {
       !std::isfinite(fallback_far_mm))
     throw Error(fmt::format("expected 0 <= fallback near < far distance (mm), got {} and {}",
                             fallback_near_mm, fallback_far_mm));
-  if (!(fallback_normal_near_mm == 0 && fallback_normal_far_mm == 0) &&
-      (!(fallback_normal_near_mm >= 0) || !(fallback_normal_far_mm > fallback_normal_near_mm) ||
-       !std::isfinite(fallback_normal_far_mm)))
+  if (!valid_normal_blend(fallback_normal_near_mm, fallback_normal_far_mm))
     throw Error(fmt::format(
         "expected 0 <= fallback normal near < far distance (mm; --fallback-normal-near, "
         "--fallback-normal-far; 0 and 0: off), got {} and {}",

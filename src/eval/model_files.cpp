@@ -235,7 +235,7 @@ TrainFileResult train_from_recording(const Recording& rec, const TrainFileOption
   if (!o.request.given.count("--foaw-window"))
     foaw.max_window = foaw_window_samples(o.velocity_window_s, foaw.dt_s);
   r.set = make_training_set(rec, track, foaw);
-  r.baseline_set = r.estimate ? baseline_samples(rec, track, foaw, o.proxy) : r.set;
+  if (r.estimate) r.baseline_set = baseline_samples(rec, track, foaw, o.proxy);
   say(fmt::format("{} samples, {} in contact ({}), proxy from {}", rec.size(), r.set.size(),
                   track.contact_source, track.proxy_source));
   const double contact_s = static_cast<double>(r.set.size()) * foaw.dt_s;

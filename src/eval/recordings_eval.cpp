@@ -31,7 +31,7 @@ void score(RecordingsEval& e, const TrainFileOptions& o, const std::string& test
   }
   e.rendered = replay(e.train.model.model, e.test, track);
   e.scored = scored_samples(e.test, track, o.proxy);
-  e.report = score_with_baselines(e.rendered, e.train.baseline_set, e.test,
+  e.report = score_with_baselines(e.rendered, e.train.baselines(), e.test,
                                   foaw_velocities(e.test.p, e.train.model.model.foaw), e.scored);
 }
 

@@ -111,10 +111,10 @@ TEST(ModelFiles, TheBaselinesOfAnEstimatedProxyAreFittedOnEveryPressingSample) {
   ASSERT_TRUE(r.estimate);
   EXPECT_GT(r.estimate->pressing_above, 600u);
   EXPECT_LT(r.set.size(), 6000u - 600u);
-  ASSERT_EQ(r.baseline_set.size(), 6000u);
+  ASSERT_EQ(r.baselines().size(), 6000u);
   for (std::size_t i = 0; i < rec.size(); ++i) {
-    EXPECT_EQ(r.baseline_set.p[i], rec.p[i]);
-    EXPECT_EQ(r.baseline_set.f[i], rec.f[i]);
+    EXPECT_EQ(r.baselines().p[i], rec.p[i]);
+    EXPECT_EQ(r.baselines().f[i], rec.f[i]);
   }
 }
 

@@ -100,7 +100,9 @@ struct Fallback {
 /// Checks sizes, ordering and finiteness; throws inhap::Error naming what is wrong, prefixed by
 /// `where`.
 void validate_fallback(const Fallback& f, const std::string& where);
-/// Checks the normal line's distances: 0 and 0 (off), or 0 <= near < far, finite (mm).
+/// The normal line's distances are 0 and 0 (off), or 0 <= near < far, finite (mm).
+bool valid_normal_blend(double near_mm, double far_mm);
+/// Throws inhap::Error, prefixed by `where`, unless valid_normal_blend.
 void validate_normal_blend(double near_mm, double far_mm, const std::string& where);
 
 }  // namespace inhap::datadriven

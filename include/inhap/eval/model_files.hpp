@@ -87,11 +87,13 @@ struct TrainFileOptions {
 struct TrainFileResult {
   datadriven::TrainedForceModel model;  ///< with its provenance (references, proxy source)
   datadriven::TrainingSet set;
-  /// The samples the baselines are fitted on: `set`, except with an estimated proxy the
-  /// recording's samples pressing with |f| above the contact threshold, the rule a test
-  /// recording is scored by (the model's set keeps those in contact with the estimated surface;
-  /// the baselines should not depend on it).
-  datadriven::TrainingSet baseline_set;
+  /// With an estimated proxy, the samples the baselines are fitted on: the recording's samples
+  /// pressing with |f| above the contact threshold, the rule a test recording is scored by (the
+  /// model's set keeps those in contact with the estimated surface; the baselines should not
+  /// depend on it). Empty otherwise: the baselines use `set`.
+  std::optional<datadriven::TrainingSet> baseline_set;
+  /// The samples the baselines are fitted on.
+  const datadriven::TrainingSet& baselines() const { return baseline_set ? *baseline_set : set; }
   std::vector<std::string> notes;  ///< what the program says on stderr, in order
   /// What was estimated when the recording had no proxy (the caller writes its surface mesh and
   /// yield surfaces beside the model and references them).
